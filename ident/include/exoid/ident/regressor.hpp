@@ -1,0 +1,49 @@
+#pragma once
+// The corrected 2-link regressor: [T_hip; T_knee] = Y(q, qd, qdd) X (paper.md, "Regressor").
+#include "exoid/ident/params.hpp"
+
+#include <Eigen/Core>
+
+namespace exoid::ident {
+
+/// Constants the regressor needs besides X: the thigh length Lt and gravity.
+struct LegConstants {
+  double thigh_length_m = 0.45;  ///< Lt, hip to knee axis. A 1 cm error biases thigh params ~20 %.
+  double gravity_mps2 = 9.81;    ///< g
+  /// Throws std::invalid_argument unless both are finite and positive.
+  void validate() const;
+};
+
+enum class Joint : int { kHip = 0, kKnee = 1 };
+
+using RegressorRow = Eigen::Matrix<double, 1, kNumParams>;
+
+/// sgn with sgn(0) = 0, as in the paper's friction model.
+inline double sgn(double v) { return (v > 0.0) - (v < 0.0); }
+
+/// Both regressor rows at one state. q = (hip, knee) in rad, qd in rad/s, qdd in rad/s^2.
+void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
+                   const Eigen::Vector2d& qdd, RegressorRow& hip, RegressorRow& knee);
+
+/// Time series of the two joints (column 0 = hip, 1 = knee), SI units. Rows are samples.
+struct JointSignals {
+  Eigen::VectorXd t_s;
+  Eigen::MatrixX2d q_rad;
+  Eigen::MatrixX2d qd_radps;
+  Eigen::MatrixX2d qdd_radps2;
+  Eigen::MatrixX2d tau_Nm;
+  Eigen::Index size() const { return t_s.size(); }
+  /// Throws std::invalid_argument if the sizes disagree or a value is not finite.
+  void validate() const;
+};
+
+/// N x 10 regressor of one joint's equation over a record.
+Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c);
+/// 2N x 10: all hip rows, then all knee rows (matches stackedTorque()).
+Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c);
+/// 2N: tau_hip then tau_knee.
+Eigen::VectorXd stackedTorque(const JointSignals& s);
+/// N x 2 torques predicted by X along a record.
+Eigen::MatrixX2d predictTorque(const JointSignals& s, const ParamVector& x, const LegConstants& c);
+
+}  // namespace exoid::ident
