@@ -39,9 +39,10 @@ struct JointSignals {
 
 /// N x 10 regressor of one joint's equation over a record.
 Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c);
-/// 2N x 10: all hip rows, then all knee rows (matches stackedTorque()).
+/// 2N x 10, both equations in time order: row 2i is sample i's hip row, 2i+1 its knee row
+/// (so RLS over the rows sees the record in time order). Matches stackedTorque().
 Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c);
-/// 2N: tau_hip then tau_knee.
+/// 2N: [tau_hip_0, tau_knee_0, tau_hip_1, ...].
 Eigen::VectorXd stackedTorque(const JointSignals& s);
 /// N x 2 torques predicted by X along a record.
 Eigen::MatrixX2d predictTorque(const JointSignals& s, const ParamVector& x, const LegConstants& c);

@@ -1,0 +1,67 @@
+#pragma once
+// Identification runs as the CLI and the experiments use them: one method on one record (all
+// 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
+#include "exoid/ident/methods.hpp"
+#include "exoid/ident/metrics.hpp"
+#include "exoid/ident/regressor.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// One estimator call and which entries of X it estimated.
+struct Stage {
+  std::string name;          ///< "all", "knee", "hip"
+  std::vector<int> indices;  ///< into the 10-vector X
+  ident::Estimate estimate;
+};
+
+struct MethodOutcome {
+  ident::Method method = ident::Method::kLs;
+  ident::ParamVector x = ident::ParamVector::Zero();
+  std::vector<Stage> stages;
+  bool usable() const;        ///< every stage usable
+  std::string problems() const;  ///< the messages of unusable stages
+  double wallTime_s() const;
+};
+
+/// All 10 parameters from both joint equations of one record (rows in time order).
+MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
+                          const ident::MethodOptions& o);
+/// The paper's segmental strategy.
+MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
+                                const ident::JointSignals& both_record, const ident::LegConstants& c,
+                                const ident::MethodOptions& o);
+
+/// Per-joint validation torque errors of X on a record.
+struct Validation {
+  ident::TorqueErrorStats hip;
+  ident::TorqueErrorStats knee;
+};
+Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c);
+
+/// {"Mxt": ..., ...} and back (all 10 names required; unknown names rejected with the name).
+nlohmann::json paramsJson(const ident::ParamVector& x);
+nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices);
+ident::ParamVector paramsFromJson(const nlohmann::json& j, const std::string& where);
+
+nlohmann::json toJson(const ident::TorqueErrorStats& s);
+nlohmann::json toJson(const Validation& v);
+nlohmann::json toJson(const ident::ParamError& e);
+nlohmann::json toJson(const Stage& s, bool with_history);
+nlohmann::json toJson(const MethodOutcome& m, bool with_history);
+
+/// Named truth vectors from a JSON file: {"parameters": {...}} (named "truth"), or a simulation
+/// sidecar's {"truth": {"<name>": {"parameters": {...}}, ...}}. Errors name the file and key.
+std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path);
+
+/// {"name": "exoid", "version": ..., "revision": ...}
+nlohmann::json toolJson();
+/// Writes pretty JSON atomically.
+void writeJsonFile(const std::string& path, const nlohmann::json& j);
+
+}  // namespace exoid::experiments

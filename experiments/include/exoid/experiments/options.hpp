@@ -1,0 +1,31 @@
+#pragma once
+// Command-line flags shared by the identification commands (identify, identifiability,
+// reproduce, sweep), and their JSON echo for outputs.
+#include "exoid/ident/methods.hpp"
+#include "exoid/ident/preprocess.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <optional>
+
+namespace exoid::experiments {
+
+/// --diff, --no-filter, --cutoff-hz, --filter-order, --no-filter-torque, --differentiate.
+void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
+/// --seed, PSO, RLS, range and cost flags.
+void addMethodOptions(CLI::App& app, ident::MethodOptions& o);
+
+/// Leg constants from flags, else from the dataset's "# thigh_length_m:" / "# gravity_mps2:"
+/// metadata, else the defaults (0.45 m, 9.81 m/s^2). `origin` says which, for the output.
+struct ConstantsFlags {
+  std::optional<double> thigh_length_m;
+  std::optional<double> gravity_mps2;
+};
+void addConstantsOptions(CLI::App& app, ConstantsFlags& f);
+ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin);
+
+nlohmann::json toJson(const ident::SignalOptions& o);
+nlohmann::json toJson(const ident::MethodOptions& o);
+
+}  // namespace exoid::experiments

@@ -1,0 +1,27 @@
+#pragma once
+// Plain-text tables for stdout.
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+class TextTable {
+ public:
+  explicit TextTable(std::vector<std::string> header) : header_(std::move(header)) {}
+  void addRow(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  void print(std::ostream& out) const;
+  /// GitHub markdown table.
+  void printMarkdown(std::ostream& out) const;
+
+ private:
+  std::vector<std::string> header_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+/// printf-style "%.*g" of a double.
+std::string fmt(double v, int significant = 5);
+/// Fixed decimals, "%.*f".
+std::string fixed(double v, int decimals = 4);
+
+}  // namespace exoid::experiments

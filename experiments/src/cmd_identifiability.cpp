@@ -1,0 +1,110 @@
+// `exoid identifiability`: what a record can identify, before anyone runs an experiment.
+#include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/options.hpp"
+#include "exoid/experiments/table.hpp"
+#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/identifiability.hpp"
+#include "exoid/ident/preprocess.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace exoid::experiments {
+
+namespace {
+
+struct Args {
+  std::string data, json_out;
+  double noise_tau_Nm = 0.5;
+  ConstantsFlags constants;
+  ident::SignalOptions signals;
+};
+
+struct Block {
+  std::string name;
+  std::vector<int> columns;
+  Eigen::MatrixXd H;
+  Eigen::VectorXd y;
+};
+
+Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
+  Eigen::MatrixXd out(H.rows(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = H.col(cols[k]);
+  return out;
+}
+
+void run(const Args& a) {
+  const ident::Dataset d = ident::readDatasetCsv(a.data);
+  const ident::LegConstants c = resolveConstants(a.constants, d, nullptr);
+  const ident::JointSignals s = ident::prepareSignals(d, a.signals);
+  const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
+  const Eigen::MatrixXd Hh = ident::jointRegressor(s, ident::Joint::kHip, c);
+  const Eigen::MatrixXd Hk = ident::jointRegressor(s, ident::Joint::kKnee, c);
+  std::vector<Block> blocks = {
+      {"both equations, all 10", all, ident::stackedRegressor(s, c), ident::stackedTorque(s)},
+      {"hip equation, params 1-5", thigh, pick(Hh, thigh), s.tau_Nm.col(0)},
+      {"knee equation, params 6-10", shank, pick(Hk, shank), s.tau_Nm.col(1)},
+  };
+  // The hip block's torque keeps the knee part: its LS estimate only scales the relative stds.
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["command"] = "identifiability";
+  j["data"] = a.data;
+  j["noise_tau_Nm"] = a.noise_tau_Nm;
+  j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}};
+  j["signal_options"] = toJson(a.signals);
+  std::cout << "Record " << a.data << ": " << s.size() << " samples; torque noise " << a.noise_tau_Nm
+            << " N m (Cramer-Rao std relative to the LS estimate of the block)\n";
+  for (Block& b : blocks) {
+    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.H, b.y, a.noise_tau_Nm);
+    std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
+              << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
+    nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};
+    bj["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number) : nlohmann::json(nullptr);
+    nlohmann::json unid = nlohmann::json::array();
+    std::string names;
+    for (Eigen::Index k : r.unidentifiable) {
+      const std::string n(ident::paramName(b.columns[static_cast<std::size_t>(k)]));
+      unid.push_back(n);
+      names += (names.empty() ? "" : ", ") + n;
+    }
+    bj["unidentifiable"] = unid;
+    if (!names.empty()) std::cout << "; NOT identifiable: " << names;
+    std::cout << '\n';
+    TextTable t({"param", "CRB std", "CRB rel std", "R^2 on others"});
+    for (std::size_t k = 0; k < b.columns.size(); ++k) {
+      const auto i = static_cast<Eigen::Index>(k);
+      const std::string n(ident::paramName(b.columns[k]));
+      const bool finite = std::isfinite(r.crb_rel_std[i]);
+      t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
+                finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf", fixed(r.collinearity_r2[i], 5)});
+      bj["crb_std"][n] = std::isfinite(r.crb_std[i]) ? nlohmann::json(r.crb_std[i]) : nlohmann::json(nullptr);
+      bj["crb_rel_std"][n] = finite ? nlohmann::json(r.crb_rel_std[i]) : nlohmann::json(nullptr);
+      bj["collinearity_r2"][n] = r.collinearity_r2[i];
+    }
+    t.print(std::cout);
+    j["blocks"].push_back(bj);
+  }
+  if (!a.json_out.empty()) writeJsonFile(a.json_out, j);
+}
+
+}  // namespace
+
+void addIdentifiabilityCommand(CLI::App& app) {
+  auto args = std::make_shared<Args>();
+  CLI::App* cmd = app.add_subcommand(
+      "identifiability",
+      "Say what a record can identify: rank and condition number (columns scaled) of the stacked\n"
+      "and of each joint's regressor, unidentifiable parameters, Cramer-Rao relative std at a\n"
+      "torque noise level, and each column's collinearity (R^2 on the others).");
+  cmd->add_option("--data", args->data, "Dataset CSV")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--noise-tau", args->noise_tau_Nm, "Torque noise std for the Cramer-Rao bound, N m")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--json", args->json_out, "Write the report as JSON here");
+  addConstantsOptions(*cmd, args->constants);
+  addSignalOptions(*cmd, args->signals);
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,196 @@
+#include "exoid/experiments/identification.hpp"
+
+#include "exoid/experiments/version.hpp"
+#include "exoid/ident/atomic_file.hpp"
+#include "exoid/ident/segmental.hpp"
+
+#include <fstream>
+#include <numeric>
+#include <stdexcept>
+
+namespace exoid::experiments {
+
+using ident::kNumParams;
+
+bool MethodOutcome::usable() const {
+  for (const Stage& s : stages) {
+    if (!ident::usable(s.estimate.summary.status)) return false;
+  }
+  return !stages.empty();
+}
+
+std::string MethodOutcome::problems() const {
+  std::string out;
+  for (const Stage& s : stages) {
+    if (!ident::usable(s.estimate.summary.status)) {
+      out += (out.empty() ? "" : "; ") + s.name + " stage: " + ident::toString(s.estimate.summary.status) +
+             ": " + s.estimate.summary.message;
+    }
+  }
+  return out;
+}
+
+double MethodOutcome::wallTime_s() const {
+  double t = 0.0;
+  for (const Stage& s : stages) t += s.estimate.summary.wall_time_s;
+  return t;
+}
+
+namespace {
+std::vector<int> range(int first, int count) {
+  std::vector<int> v(static_cast<std::size_t>(count));
+  std::iota(v.begin(), v.end(), first);
+  return v;
+}
+
+// Rank-deficiency messages name columns of the stage's problem; name the parameters instead.
+void nameColumns(Stage& s) {
+  auto& e = s.estimate;
+  if (e.unidentifiable.empty()) return;
+  std::string names;
+  for (Eigen::Index c : e.unidentifiable) {
+    names += (names.empty() ? "" : ", ") +
+             std::string(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
+  }
+  e.summary.message += " (not identifiable from this record: " + names + ")";
+}
+}  // namespace
+
+MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
+                          const ident::MethodOptions& o) {
+  MethodOutcome out;
+  out.method = m;
+  Stage st{"all", range(0, kNumParams), ident::estimate(m, ident::stackedRegressor(s, c), ident::stackedTorque(s), o)};
+  nameColumns(st);
+  out.x = st.estimate.x;
+  out.stages.push_back(std::move(st));
+  return out;
+}
+
+MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
+                                const ident::JointSignals& both_record, const ident::LegConstants& c,
+                                const ident::MethodOptions& o) {
+  MethodOutcome out;
+  out.method = m;
+  const ident::SegmentalResult r = ident::identifySegmental(m, knee_record, both_record, c, o);
+  out.x = r.x;
+  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
+  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
+  for (Stage& st : out.stages) nameColumns(st);
+  return out;
+}
+
+Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c) {
+  const Eigen::MatrixX2d pred = ident::predictTorque(s, x, c);
+  return {ident::torqueError(s.tau_Nm.col(0), pred.col(0)), ident::torqueError(s.tau_Nm.col(1), pred.col(1))};
+}
+
+nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    j[std::string(ident::paramName(indices[k]))] = values[static_cast<Eigen::Index>(k)];
+  }
+  return j;
+}
+
+nlohmann::json paramsJson(const ident::ParamVector& x) { return paramsJson(x, range(0, kNumParams)); }
+
+ident::ParamVector paramsFromJson(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object()) throw std::invalid_argument(where + ": expected an object of the 10 parameters by name");
+  ident::ParamVector x;
+  for (int i = 0; i < kNumParams; ++i) {
+    const std::string name(ident::paramName(i));
+    if (!j.contains(name)) throw std::invalid_argument(where + ": missing parameter '" + name + "'");
+    if (!j[name].is_number()) throw std::invalid_argument(where + "." + name + ": expected a number");
+    x[i] = j[name].get<double>();
+  }
+  for (const auto& [key, value] : j.items()) {
+    if (ident::paramIndex(key) < 0) {
+      throw std::invalid_argument(where + ": unknown parameter '" + key + "' (expected Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2)");
+    }
+  }
+  return x;
+}
+
+nlohmann::json toJson(const ident::TorqueErrorStats& s) {
+  return {{"mean_abs_Nm", s.mean_abs}, {"std_abs_Nm", s.std_abs}, {"rms_Nm", s.rms}, {"max_abs_Nm", s.max_abs}};
+}
+
+nlohmann::json toJson(const Validation& v) { return {{"hip", toJson(v.hip)}, {"knee", toJson(v.knee)}}; }
+
+nlohmann::json toJson(const ident::ParamError& e) {
+  const auto all = range(0, static_cast<int>(e.abs.size()));
+  return {{"abs", paramsJson(e.abs, all)}, {"rel", paramsJson(e.rel, all)}, {"norm_rel", e.norm_rel},
+          {"max_abs_rel", e.max_abs_rel}};
+}
+
+nlohmann::json toJson(const Stage& s, bool with_history) {
+  const ident::Estimate& e = s.estimate;
+  nlohmann::json j = {{"stage", s.name},
+                      {"parameters", paramsJson(e.x, s.indices)},
+                      {"status", ident::toString(e.summary.status)},
+                      {"message", e.summary.message},
+                      {"iterations", e.summary.iterations},
+                      {"l1_cost", e.l1_cost},
+                      {"wall_time_s", e.summary.wall_time_s}};
+  if (e.rank) j["rank"] = *e.rank;
+  if (e.condition_number) j["condition_number"] = *e.condition_number;
+  if (!e.unidentifiable.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    for (Eigen::Index c : e.unidentifiable) names.push_back(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
+    j["unidentifiable"] = names;
+  }
+  if (e.box) j["box"] = {{"lower", paramsJson(e.box->lower, s.indices)}, {"upper", paramsJson(e.box->upper, s.indices)}};
+  if (e.optimum_l1_cost) {
+    j["optimum_l1_cost"] = *e.optimum_l1_cost;
+    j["optimality_gap_rel"] = *e.optimality_gap_rel;
+  }
+  if (!e.cost_history.empty()) {
+    j["initial_cost"] = e.summary.initial_cost;
+    if (with_history) j["best_cost_history"] = e.cost_history;
+  }
+  return j;
+}
+
+nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const Stage& s : m.stages) stages.push_back(toJson(s, with_history));
+  return {{"method", ident::toString(m.method)},
+          {"parameters", paramsJson(m.x)},
+          {"usable", m.usable()},
+          {"wall_time_s", m.wallTime_s()},
+          {"stages", stages}};
+}
+
+std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open truth file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
+  std::map<std::string, ident::ParamVector> out;
+  if (j.contains("parameters")) {
+    out["truth"] = paramsFromJson(j["parameters"], path + ": parameters");
+  } else if (j.contains("truth") && j["truth"].is_object()) {
+    for (const auto& [name, t] : j["truth"].items()) {
+      if (t.is_object() && t.contains("parameters")) {
+        out[name] = paramsFromJson(t["parameters"], path + ": truth." + name + ".parameters");
+      }
+    }
+  }
+  if (out.empty()) {
+    throw std::invalid_argument(path + ": expected {\"parameters\": {...}} or {\"truth\": {\"<name>\": {\"parameters\": {...}}}}");
+  }
+  return out;
+}
+
+nlohmann::json toolJson() { return {{"name", "exoid"}, {"version", kVersion}, {"revision", kGitRevision}}; }
+
+void writeJsonFile(const std::string& path, const nlohmann::json& j) {
+  ident::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+}  // namespace exoid::experiments

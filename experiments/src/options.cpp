@@ -1,0 +1,143 @@
+#include "exoid/experiments/options.hpp"
+
+#include <map>
+
+namespace exoid::experiments {
+
+void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
+  static const std::map<std::string, ident::Differentiation> kDiff = {
+      {"forward", ident::Differentiation::kForward}, {"central", ident::Differentiation::kCentral}};
+  app.add_option("--diff", o.differentiation, "Differentiation of angles: forward (paper) or central")
+      ->transform(CLI::CheckedTransformer(kDiff, CLI::ignore_case))
+      ->default_str("forward")
+      ->group("Signal processing");
+  app.add_flag("!--no-filter", o.filter, "Do not low-pass filter (paper: zero-phase 10 Hz)")
+      ->group("Signal processing");
+  app.add_option("--cutoff-hz", o.cutoff_hz, "Zero-phase Butterworth cutoff of one pass, Hz")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str()
+      ->group("Signal processing");
+  app.add_option("--filter-order", o.filter_order, "Butterworth order of one pass (forward-backward doubles it)")
+      ->check(CLI::Range(1, 8))
+      ->capture_default_str()
+      ->group("Signal processing");
+  app.add_flag("!--no-filter-torque", o.filter_torque, "Do not filter the measured torques")
+      ->group("Signal processing");
+  app.add_flag("!--differentiate", o.use_recorded_derivatives,
+               "Differentiate the angles even when the dataset has qd_*/qdd_* columns")
+      ->group("Signal processing");
+}
+
+void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
+  auto& pso = o.rls_pso.pso;
+  static const std::map<std::string, ident::BoundaryPolicy> kBoundary = {
+      {"clamp", ident::BoundaryPolicy::kClamp}, {"reflect", ident::BoundaryPolicy::kReflect}};
+  static const std::map<std::string, ident::CostNorm> kNorm = {{"l1", ident::CostNorm::kL1},
+                                                              {"l2", ident::CostNorm::kL2}};
+  const char* g = "PSO";
+  app.add_option("--seed", pso.seed, "Seed of every random draw of PSO")->capture_default_str()->group(g);
+  app.add_option("--pso-iterations", pso.max_iterations, "PSO iterations G (paper: 10000)")
+      ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  app.add_option("--swarm", pso.swarm_size, "PSO particles")->check(CLI::Range(2, 100000))->capture_default_str()->group(g);
+  app.add_option("--pso-tolerance", pso.cost_tolerance, "Stop when the best cost < this (paper: 1e-2)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--w-max", pso.w_max, "Inertia at the first iteration")->capture_default_str()->group(g);
+  app.add_option("--w-min", pso.w_min, "Inertia at the last iteration")->capture_default_str()->group(g);
+  app.add_option("--c1", pso.c1, "Cognitive weight")->capture_default_str()->group(g);
+  app.add_option("--c2", pso.c2, "Social weight")->capture_default_str()->group(g);
+  app.add_option("--velocity-fraction", pso.velocity_fraction, "Velocity range as a fraction of the box width")
+      ->capture_default_str()->group(g);
+  app.add_option("--boundary", pso.boundary, "Out-of-box positions: clamp (paper) or reflect")
+      ->transform(CLI::CheckedTransformer(kBoundary, CLI::ignore_case))->default_str("clamp")->group(g);
+  app.add_option("--cost", o.rls_pso.cost, "PSO cost: l1 (paper) or l2")
+      ->transform(CLI::CheckedTransformer(kNorm, CLI::ignore_case))->default_str("l1")->group(g);
+  app.add_option("--wide-box", o.wide_box_half_width, "Half-width of the PSO baseline's box in every parameter")
+      ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  const char* r = "RLS";
+  app.add_option("--rls-forgetting", o.rls_pso.rls.forgetting, "Forgetting factor lambda in (0, 1]")
+      ->capture_default_str()->group(r);
+  app.add_option("--rls-p0", o.rls_pso.rls.initial_covariance, "Initial covariance P0 = p0 * I")
+      ->check(CLI::PositiveNumber)->capture_default_str()->group(r);
+  app.add_option("--burn-in", o.rls_pso.range.burn_in_fraction,
+                 "Fraction of RLS updates ignored for the fluctuation range")->capture_default_str()->group(r);
+  app.add_option("--box-margin", o.rls_pso.range.margin_fraction,
+                 "Widen each side of the RLS box by this fraction of its width")->capture_default_str()->group(r);
+  app.add_flag("!--no-optimality-gap", o.report_optimality_gap,
+               "Skip the exact L1 optimum (each PSO run's optimality gap)")->group(g);
+}
+
+void addConstantsOptions(CLI::App& app, ConstantsFlags& f) {
+  app.add_option("--thigh-length", f.thigh_length_m,
+                 "Thigh length Lt in m (default: dataset metadata 'thigh_length_m', else 0.45)")
+      ->check(CLI::PositiveNumber)->group("Model");
+  app.add_option("--gravity", f.gravity_mps2, "Gravity in m/s^2 (default: metadata 'gravity_mps2', else 9.81)")
+      ->check(CLI::PositiveNumber)->group("Model");
+}
+
+namespace {
+std::optional<double> metadataNumber(const ident::Dataset& d, const std::string& key) {
+  const auto v = d.metadata(key);
+  if (!v) return std::nullopt;
+  try {
+    std::size_t used = 0;
+    const double x = std::stod(*v, &used);
+    if (used == v->size()) return x;
+  } catch (const std::exception&) {
+  }
+  throw std::invalid_argument("dataset metadata '" + key + "' must be a number, got '" + *v + "'");
+}
+}  // namespace
+
+ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin) {
+  ident::LegConstants c;
+  std::string how;
+  if (f.thigh_length_m) {
+    c.thigh_length_m = *f.thigh_length_m;
+    how = "thigh length from --thigh-length";
+  } else if (auto v = metadataNumber(d, "thigh_length_m")) {
+    c.thigh_length_m = *v;
+    how = "thigh length from dataset metadata";
+  } else {
+    how = "thigh length default 0.45 m";
+  }
+  if (f.gravity_mps2) {
+    c.gravity_mps2 = *f.gravity_mps2;
+    how += ", gravity from --gravity";
+  } else if (auto v = metadataNumber(d, "gravity_mps2")) {
+    c.gravity_mps2 = *v;
+    how += ", gravity from dataset metadata";
+  } else {
+    how += ", gravity default 9.81 m/s^2";
+  }
+  c.validate();
+  if (origin) *origin = how;
+  return c;
+}
+
+nlohmann::json toJson(const ident::SignalOptions& o) {
+  return {{"differentiation", o.differentiation == ident::Differentiation::kForward ? "forward" : "central"},
+          {"use_recorded_derivatives", o.use_recorded_derivatives},
+          {"filter", o.filter ? "butterworth_filtfilt" : "none"},
+          {"filter_order", o.filter_order},
+          {"cutoff_hz", o.cutoff_hz},
+          {"filter_torque", o.filter_torque}};
+}
+
+nlohmann::json toJson(const ident::MethodOptions& o) {
+  const auto& p = o.rls_pso.pso;
+  return {{"pso",
+           {{"seed", p.seed}, {"swarm_size", p.swarm_size}, {"max_iterations", p.max_iterations},
+            {"cost_tolerance", p.cost_tolerance}, {"w_max", p.w_max}, {"w_min", p.w_min}, {"c1", p.c1},
+            {"c2", p.c2}, {"velocity_fraction", p.velocity_fraction},
+            {"boundary", ident::toString(p.boundary)}, {"cost", ident::toString(o.rls_pso.cost)},
+            {"wide_box_half_width", o.wide_box_half_width}}},
+          {"rls",
+           {{"forgetting", o.rls_pso.rls.forgetting}, {"initial_covariance", o.rls_pso.rls.initial_covariance},
+            {"burn_in_fraction", o.rls_pso.range.burn_in_fraction},
+            {"margin_fraction", o.rls_pso.range.margin_fraction}}},
+          {"ls", {{"rank_tolerance", o.ls.rank_tolerance}}},
+          {"lad", {{"gap_tolerance", o.lad.gap_tolerance}, {"max_iterations", o.lad.max_iterations}}},
+          {"report_optimality_gap", o.report_optimality_gap}};
+}
+
+}  // namespace exoid::experiments

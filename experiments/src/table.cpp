@@ -1,0 +1,54 @@
+#include "exoid/experiments/table.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace exoid::experiments {
+
+void TextTable::print(std::ostream& out) const {
+  std::vector<std::size_t> w(header_.size(), 0);
+  auto widen = [&](const std::vector<std::string>& r) {
+    for (std::size_t c = 0; c < r.size() && c < w.size(); ++c) w[c] = std::max(w[c], r[c].size());
+  };
+  widen(header_);
+  for (const auto& r : rows_) widen(r);
+  auto line = [&](const std::vector<std::string>& r) {
+    for (std::size_t c = 0; c < w.size(); ++c) {
+      const std::string cell = c < r.size() ? r[c] : "";
+      out << (c ? "  " : "") << cell << std::string(w[c] - cell.size(), ' ');
+    }
+    out << '\n';
+  };
+  line(header_);
+  std::size_t total = 0;
+  for (std::size_t c = 0; c < w.size(); ++c) total += w[c] + (c ? 2 : 0);
+  out << std::string(total, '-') << '\n';
+  for (const auto& r : rows_) line(r);
+}
+
+void TextTable::printMarkdown(std::ostream& out) const {
+  auto line = [&](const std::vector<std::string>& r) {
+    out << '|';
+    for (std::size_t c = 0; c < header_.size(); ++c) out << ' ' << (c < r.size() ? r[c] : "") << " |";
+    out << '\n';
+  };
+  line(header_);
+  out << '|';
+  for (std::size_t c = 0; c < header_.size(); ++c) out << "---|";
+  out << '\n';
+  for (const auto& r : rows_) line(r);
+}
+
+std::string fmt(double v, int significant) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
+  return buf;
+}
+
+std::string fixed(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+}  // namespace exoid::experiments

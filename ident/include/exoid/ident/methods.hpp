@@ -1,0 +1,59 @@
+#pragma once
+// One entry point per identification method over a linear problem y = H x, with one result
+// shape, so callers (CLI, segmental strategy, sweeps) treat methods alike.
+#include "exoid/ident/lad.hpp"
+#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/rls_pso.hpp"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace exoid::ident {
+
+enum class Method {
+  kLs,      ///< least squares by column-pivoted QR (paper Eq. 5)
+  kRls,     ///< final RLS estimate (paper Eq. 6)
+  kPso,     ///< PSO over a wide box (the paper's "PSO" baseline)
+  kRlsPso,  ///< RLS box + PSO (the paper's method)
+  kLad,     ///< exact minimum of the L1 cost (reference the paper lacks)
+};
+const char* toString(Method m);  ///< "ls", "rls", "pso", "rls-pso", "lad"
+/// Parses a method name; throws std::invalid_argument listing the valid names.
+Method parseMethod(const std::string& name);
+const std::vector<Method>& allMethods();
+
+struct MethodOptions {
+  LsOptions ls;
+  RlsPsoOptions rls_pso;  ///< RLS, range and PSO settings (PSO settings shared with kPso)
+  LadOptions lad;
+  /// The PSO baseline's box: [-wide_box_half_width, +wide_box_half_width] in every parameter,
+  /// standing in for the paper's "infinite domain". Range > 0. Default 50 (about 10x the
+  /// largest parameter of an APAL-sized leg, in SI units).
+  double wide_box_half_width = 50.0;
+  /// Also solve the exact L1 minimum and report each PSO run's optimality gap against it.
+  bool report_optimality_gap = true;
+  void validate() const;
+};
+
+struct Estimate {
+  Method method = Method::kLs;
+  Eigen::VectorXd x;
+  Summary summary;
+  double l1_cost = 0.0;                   ///< sum |y - H x| of the estimate (the paper's cost)
+  std::optional<Eigen::Index> rank;       ///< LS: numerical rank
+  std::optional<double> condition_number;  ///< LS: of the column-scaled regressor
+  std::vector<Eigen::Index> unidentifiable;  ///< LS: columns beyond the rank
+  std::optional<Box> box;                  ///< PSO / RLS-PSO search box; RLS fluctuation range
+  std::vector<double> cost_history;        ///< PSO: best cost per iteration
+  std::optional<double> optimum_l1_cost;   ///< exact L1 minimum (when report_optimality_gap)
+  /// (l1_cost - optimum) / optimum: how far the estimate is from the best the cost allows.
+  std::optional<double> optimality_gap_rel;
+};
+
+/// Runs one method on y = H x. Precondition failures throw std::invalid_argument; numerical
+/// trouble is reported in summary.status.
+Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
+                  const MethodOptions& options);
+
+}  // namespace exoid::ident

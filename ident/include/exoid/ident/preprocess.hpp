@@ -1,0 +1,35 @@
+#pragma once
+// From a recorded dataset to the signals the regressor needs: velocities and accelerations by
+// differentiation (or from recorded columns), zero-phase low-pass filtering (paper Sec. 3).
+#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/signals.hpp"
+
+namespace exoid::ident {
+
+struct SignalOptions {
+  /// How qd and qdd are computed from the angles. Paper: forward differences.
+  Differentiation differentiation = Differentiation::kForward;
+  /// Use recorded qd_* / qdd_* columns instead of differentiating, when the dataset has them.
+  bool use_recorded_derivatives = true;
+  /// Zero-phase Butterworth low-pass (filtfilt) of angles, velocities and accelerations. Paper: on.
+  bool filter = true;
+  /// Butterworth order of one pass (forward-backward doubles it). Range 1..8. Default 2
+  /// (the paper does not say).
+  int filter_order = 2;
+  /// -3 dB cutoff of one pass in Hz. Range (0, fs/2). Paper: 10 Hz.
+  double cutoff_hz = 10.0;
+  /// Filter the measured torques with the same filter (paper: "all measured ... signals").
+  bool filter_torque = true;
+  void validate() const;  ///< throws std::invalid_argument naming the field
+};
+
+/// Angles are filtered, differentiated, the velocity filtered, differentiated again and the
+/// acceleration filtered ("all measured and computed signals"). Recorded derivatives, when used,
+/// are filtered too if filtering is on.
+JointSignals prepareSignals(const Dataset& d, const SignalOptions& options);
+
+/// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).
+JointSignals recordedSignals(const Dataset& d);
+
+}  // namespace exoid::ident

@@ -1,0 +1,31 @@
+#pragma once
+// The paper's segmental strategy (Fig. 5, Eq. 9): knee parameters X(6:10) from a knee-only record
+// (hip fixed), then hip parameters X(1:5) from a record where both joints swing, after
+// subtracting the knee part of the hip equation: T1' = T1 - H_hip(6:10) X(6:10).
+#include "exoid/ident/methods.hpp"
+#include "exoid/ident/regressor.hpp"
+
+namespace exoid::ident {
+
+/// The two linear problems of the strategy, for any estimator.
+struct SegmentalProblem {
+  Eigen::MatrixXd H;  ///< N x 5
+  Eigen::VectorXd y;  ///< N
+};
+/// Stage 1: knee equation of the knee record, columns 6-10.
+SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c);
+/// Stage 2: hip equation of the two-joint record, columns 1-5, with the knee part subtracted.
+SegmentalProblem hipStage(const JointSignals& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee,
+                          const LegConstants& c);
+
+struct SegmentalResult {
+  Estimate knee;  ///< over Mxs, Mys, Js, fc2, fv2
+  Estimate hip;   ///< over Mxt, Myt, Jt, fc1, fv1
+  ParamVector x;  ///< the assembled 10-vector
+};
+
+SegmentalResult identifySegmental(Method method, const JointSignals& knee_record,
+                                  const JointSignals& both_record, const LegConstants& c,
+                                  const MethodOptions& options);
+
+}  // namespace exoid::ident

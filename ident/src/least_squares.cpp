@@ -1,0 +1,79 @@
+#include "exoid/ident/least_squares.hpp"
+
+#include "exoid/ident/stopwatch.hpp"
+
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include <stdexcept>
+#include <string>
+
+namespace exoid::ident {
+
+void LsOptions::validate() const {
+  if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0)) {
+    throw std::invalid_argument("'rank_tolerance' must be in (0, 1), got " +
+                                std::to_string(rank_tolerance));
+  }
+}
+
+Eigen::VectorXd columnScales(const Eigen::MatrixXd& H) {
+  Eigen::VectorXd s(H.cols());
+  for (Eigen::Index j = 0; j < H.cols(); ++j) {
+    const double n = H.col(j).norm();
+    s[j] = n > 0.0 ? 1.0 / n : 1.0;
+  }
+  return s;
+}
+
+LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
+                           const LsOptions& options) {
+  options.validate();
+  if (H.rows() != y.size()) {
+    throw std::invalid_argument("least squares: regressor has " + std::to_string(H.rows()) +
+                                " rows but the torque vector has " + std::to_string(y.size()));
+  }
+  if (H.cols() == 0 || H.rows() < H.cols()) {
+    throw std::invalid_argument("least squares: need at least as many rows as parameters, got " +
+                                std::to_string(H.rows()) + " x " + std::to_string(H.cols()));
+  }
+  if (!H.allFinite() || !y.allFinite()) {
+    throw std::invalid_argument("least squares: regressor or torque contains NaN or Inf");
+  }
+  Stopwatch clock;
+  const Eigen::VectorXd scale = columnScales(H);
+  const Eigen::MatrixXd Hs = H * scale.asDiagonal();
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Hs);
+  qr.setThreshold(options.rank_tolerance);
+  LsResult r;
+  r.rank = qr.rank();
+  const Eigen::Index p = H.cols();
+  // Singular values of the p x p triangular factor equal those of the scaled regressor.
+  const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(p, p).template triangularView<Eigen::Upper>();
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+  r.condition_number = sv[p - 1] > 0.0 ? sv[0] / sv[p - 1] : std::numeric_limits<double>::infinity();
+  r.x = scale.asDiagonal() * qr.solve(y);
+  const Eigen::VectorXd res = y - H * r.x;
+  r.residual_rms = std::sqrt(res.squaredNorm() / static_cast<double>(res.size()));
+  r.summary.iterations = 1;
+  r.summary.final_cost = res.squaredNorm();
+  r.summary.initial_cost = y.squaredNorm();
+  if (r.rank < p) {
+    std::string names;
+    for (Eigen::Index k = r.rank; k < p; ++k) {
+      const Eigen::Index col = qr.colsPermutation().indices()[k];
+      r.unidentifiable.push_back(col);
+      names += (names.empty() ? "" : ", ") + std::to_string(col);
+    }
+    r.summary.status = Status::kRankDeficient;
+    r.summary.message = "rank " + std::to_string(r.rank) + " < " + std::to_string(p) +
+                        ": columns {" + names + "} cannot be separated from the others";
+  } else {
+    r.summary.status = Status::kConverged;
+    r.summary.message = "full rank";
+  }
+  r.summary.wall_time_s = clock.seconds();
+  return r;
+}
+
+}  // namespace exoid::ident

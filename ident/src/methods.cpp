@@ -1,0 +1,104 @@
+#include "exoid/ident/methods.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace exoid::ident {
+
+const char* toString(Method m) {
+  switch (m) {
+    case Method::kLs: return "ls";
+    case Method::kRls: return "rls";
+    case Method::kPso: return "pso";
+    case Method::kRlsPso: return "rls-pso";
+    case Method::kLad: return "lad";
+  }
+  return "unknown";
+}
+
+const std::vector<Method>& allMethods() {
+  static const std::vector<Method> all = {Method::kLs, Method::kRls, Method::kPso, Method::kRlsPso,
+                                          Method::kLad};
+  return all;
+}
+
+Method parseMethod(const std::string& name) {
+  for (Method m : allMethods()) {
+    if (name == toString(m)) return m;
+  }
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso or lad)");
+}
+
+void MethodOptions::validate() const {
+  ls.validate();
+  rls_pso.rls.validate();
+  rls_pso.range.validate();
+  rls_pso.pso.validate();
+  lad.validate();
+  if (!(wide_box_half_width > 0.0 && std::isfinite(wide_box_half_width))) {
+    throw std::invalid_argument("'wide_box_half_width' must be > 0, got " +
+                                std::to_string(wide_box_half_width));
+  }
+}
+
+namespace {
+void fromPso(Estimate& e, PsoResult&& pso) {
+  e.x = std::move(pso.x);
+  e.summary = pso.summary;
+  e.cost_history = std::move(pso.best_cost_history);
+}
+}  // namespace
+
+Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
+                  const MethodOptions& o) {
+  o.validate();
+  Estimate e;
+  e.method = method;
+  std::optional<LadResult> lad;
+  if (method == Method::kLad || (o.report_optimality_gap && (method == Method::kPso || method == Method::kRlsPso))) {
+    lad = solveLeastAbsoluteDeviations(H, y, o.lad);
+  }
+  switch (method) {
+    case Method::kLs: {
+      LsResult ls = solveLeastSquares(H, y, o.ls);
+      e.x = ls.x;
+      e.summary = ls.summary;
+      e.rank = ls.rank;
+      e.condition_number = ls.condition_number;
+      e.unidentifiable = ls.unidentifiable;
+      break;
+    }
+    case Method::kRls: {
+      RlsResult rls = runRls(H, y, o.rls_pso.rls);
+      e.box = fluctuationRange(rls.history, o.rls_pso.range);
+      e.x = rls.x;
+      e.summary = rls.summary;
+      break;
+    }
+    case Method::kPso: {
+      const Box box = Box::uniform(H.cols(), -o.wide_box_half_width, o.wide_box_half_width);
+      e.box = box;
+      fromPso(e, identifyPso(H, y, box, o.rls_pso.pso, o.rls_pso.cost));
+      break;
+    }
+    case Method::kRlsPso: {
+      RlsPsoResult r = identifyRlsPso(H, y, o.rls_pso);
+      e.box = r.box;
+      fromPso(e, std::move(r.pso));
+      e.summary.wall_time_s += r.rls.summary.wall_time_s;
+      break;
+    }
+    case Method::kLad:
+      e.x = lad->x;
+      e.summary = lad->summary;
+      break;
+  }
+  e.l1_cost = (y - H * e.x).cwiseAbs().sum();
+  if (lad && usable(lad->summary.status)) {
+    e.optimum_l1_cost = lad->cost;
+    e.optimality_gap_rel = lad->cost > 0.0 ? (e.l1_cost - lad->cost) / lad->cost : 0.0;
+  }
+  return e;
+}
+
+}  // namespace exoid::ident

@@ -1,0 +1,53 @@
+#include "exoid/ident/preprocess.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace exoid::ident {
+
+void SignalOptions::validate() const {
+  if (filter_order < 1 || filter_order > 8) {
+    throw std::invalid_argument("'filter_order' must be in 1..8, got " + std::to_string(filter_order));
+  }
+  if (!(cutoff_hz > 0.0)) {
+    throw std::invalid_argument("'cutoff_hz' must be > 0, got " + std::to_string(cutoff_hz));
+  }
+}
+
+JointSignals recordedSignals(const Dataset& d) {
+  if (!d.qd_radps || !d.qdd_radps2) {
+    throw std::invalid_argument("dataset has no qd_hip/qd_knee/qdd_hip/qdd_knee columns");
+  }
+  JointSignals s;
+  s.t_s = d.t_s;
+  s.q_rad = d.q_rad;
+  s.qd_radps = *d.qd_radps;
+  s.qdd_radps2 = *d.qdd_radps2;
+  s.tau_Nm = d.tau_Nm;
+  return s;
+}
+
+JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
+  o.validate();
+  const double dt = d.sampleInterval_s();
+  const double fs = 1.0 / dt;
+  const bool recorded = o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2;
+  SosFilter lowpass;
+  if (o.filter) lowpass = butterworthLowpass(o.filter_order, o.cutoff_hz, fs);
+  auto smooth = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd { return o.filter ? filtfilt(lowpass, x) : x; };
+
+  JointSignals s;
+  s.t_s = d.t_s;
+  s.q_rad = smooth(d.q_rad);
+  if (recorded) {
+    s.qd_radps = smooth(*d.qd_radps);
+    s.qdd_radps2 = smooth(*d.qdd_radps2);
+  } else {
+    s.qd_radps = smooth(differentiate(s.q_rad, dt, o.differentiation));
+    s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
+  }
+  s.tau_Nm = o.filter && o.filter_torque ? smooth(d.tau_Nm) : Eigen::MatrixXd(d.tau_Nm);
+  return s;
+}
+
+}  // namespace exoid::ident

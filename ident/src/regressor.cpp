@@ -1,0 +1,104 @@
+#include "exoid/ident/regressor.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace exoid::ident {
+
+void LegConstants::validate() const {
+  if (!(std::isfinite(thigh_length_m) && thigh_length_m > 0.0)) {
+    throw std::invalid_argument("thigh length must be finite and > 0 m, got " +
+                                std::to_string(thigh_length_m));
+  }
+  if (!(std::isfinite(gravity_mps2) && gravity_mps2 > 0.0)) {
+    throw std::invalid_argument("gravity must be finite and > 0 m/s^2, got " +
+                                std::to_string(gravity_mps2));
+  }
+}
+
+void JointSignals::validate() const {
+  const Eigen::Index n = t_s.size();
+  if (q_rad.rows() != n || qd_radps.rows() != n || qdd_radps2.rows() != n || tau_Nm.rows() != n) {
+    throw std::invalid_argument("joint signals: expected " + std::to_string(n) +
+                                " rows in q, qd, qdd and tau, got " + std::to_string(q_rad.rows()) +
+                                ", " + std::to_string(qd_radps.rows()) + ", " +
+                                std::to_string(qdd_radps2.rows()) + ", " +
+                                std::to_string(tau_Nm.rows()));
+  }
+  if (!t_s.allFinite() || !q_rad.allFinite() || !qd_radps.allFinite() || !qdd_radps2.allFinite() ||
+      !tau_Nm.allFinite()) {
+    throw std::invalid_argument("joint signals contain a NaN or Inf value");
+  }
+}
+
+void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
+                   const Eigen::Vector2d& qdd, RegressorRow& hip, RegressorRow& knee) {
+  const double g = c.gravity_mps2;
+  const double Lt = c.thigh_length_m;
+  const double s1 = std::sin(q[0]), c1 = std::cos(q[0]);
+  const double s2 = std::sin(q[1]), c2 = std::cos(q[1]);
+  const double s12 = std::sin(q[0] + q[1]), c12 = std::cos(q[0] + q[1]);
+  const double a = -qd[1] * (2.0 * qd[0] + qd[1]);  // qd1^2 - (qd1 + qd2)^2
+  const double b = 2.0 * qdd[0] + qdd[1];
+  hip << g * s1, g * c1, qdd[0], sgn(qd[0]), qd[0],
+      Lt * (b * c2 + a * s2) + g * s12,
+      Lt * (-b * s2 + a * c2) + g * c12,
+      qdd[1],
+      // The paper prints sgn(qd1), qd1 here; knee friction does not act on the hip equation.
+      0.0, 0.0;
+  const double qd1sq = qd[0] * qd[0];
+  // The print garbles the Mys entry; this is the Lagrange-derived form (paper.md).
+  knee << 0.0, 0.0, 0.0, 0.0, 0.0,
+      Lt * (qdd[0] * c2 + qd1sq * s2) + g * s12,
+      Lt * (-qdd[0] * s2 + qd1sq * c2) + g * c12,
+      qdd[0] + qdd[1], sgn(qd[1]), qd[1];
+}
+
+namespace {
+template <typename Fn>
+void forEachSample(const JointSignals& s, const LegConstants& c, Fn&& fn) {
+  c.validate();
+  s.validate();
+  RegressorRow hip, knee;
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    regressorRows(c, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(),
+                  s.qdd_radps2.row(i).transpose(), hip, knee);
+    fn(i, hip, knee);
+  }
+}
+}  // namespace
+
+Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c) {
+  Eigen::MatrixXd y(s.size(), kNumParams);
+  forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {
+    y.row(i) = joint == Joint::kHip ? hip : knee;
+  });
+  return y;
+}
+
+Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c) {
+  Eigen::MatrixXd y(2 * s.size(), kNumParams);
+  forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {
+    y.row(2 * i) = hip;
+    y.row(2 * i + 1) = knee;
+  });
+  return y;
+}
+
+Eigen::VectorXd stackedTorque(const JointSignals& s) {
+  // Row-major copy of an N x 2 matrix is the interleaved [hip_0, knee_0, hip_1, ...].
+  const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rows = s.tau_Nm;
+  return Eigen::Map<const Eigen::VectorXd>(rows.data(), rows.size());
+}
+
+Eigen::MatrixX2d predictTorque(const JointSignals& s, const ParamVector& x, const LegConstants& c) {
+  Eigen::MatrixX2d tau(s.size(), 2);
+  forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {
+    tau(i, 0) = hip.dot(x);
+    tau(i, 1) = knee.dot(x);
+  });
+  return tau;
+}
+
+}  // namespace exoid::ident

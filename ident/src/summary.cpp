@@ -1,0 +1,15 @@
+#include "exoid/ident/summary.hpp"
+
+namespace exoid::ident {
+
+const char* toString(Status s) {
+  switch (s) {
+    case Status::kConverged: return "converged";
+    case Status::kMaxIterations: return "max_iterations";
+    case Status::kRankDeficient: return "rank_deficient";
+    case Status::kFailed: return "failed";
+  }
+  return "unknown";
+}
+
+}  // namespace exoid::ident

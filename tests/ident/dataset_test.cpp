@@ -1,0 +1,132 @@
+#include "exoid/ident/dataset.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace exoid::ident {
+namespace {
+
+std::string header() { return "t,q_hip,q_knee,tau_hip,tau_knee\n"; }
+std::string rows(int n, double dt = 0.001) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += std::to_string(i * dt) + ",0.1,0.2,1.5,-2.5\n";
+  return s;
+}
+
+// Parses `text`; expects a DatasetError whose message contains every fragment.
+void expectError(const std::string& text, std::vector<std::string> fragments, long line, long column) {
+  std::istringstream in(text);
+  try {
+    parseDatasetCsv(in, "log.csv");
+    FAIL() << "no error for:\n" << text.substr(0, 200);
+  } catch (const DatasetError& e) {
+    const std::string msg = e.what();
+    for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "'" << f << "' not in: " << msg;
+    EXPECT_EQ(e.line(), line) << msg;
+    EXPECT_EQ(e.column(), column) << msg;
+    EXPECT_EQ(msg.rfind("log.csv", 0), 0u) << msg;
+  }
+}
+
+TEST(Dataset, ParsesRequiredOptionalAndExtraColumnsInAnyOrder) {
+  std::string text = "# exoid dataset\n# thigh_length_m: 0.44\n"
+                     "q_knee,t,tau_knee,tau_hip,q_hip,qd_hip,qd_knee,qdd_hip,qdd_knee,temperature\n";
+  for (int i = 0; i < 30; ++i) {
+    text += "0.2," + std::to_string(0.002 * i) + ",-2,1,0.1,3,4,5,6,36.5\n";
+  }
+  std::istringstream in(text);
+  const Dataset d = parseDatasetCsv(in, "mem");
+  ASSERT_EQ(d.size(), 30);
+  EXPECT_DOUBLE_EQ(d.sampleInterval_s(), 0.002);
+  EXPECT_EQ(d.q_rad(5, 0), 0.1);
+  EXPECT_EQ(d.q_rad(5, 1), 0.2);
+  EXPECT_EQ(d.tau_Nm(5, 0), 1.0);
+  EXPECT_EQ(d.tau_Nm(5, 1), -2.0);
+  ASSERT_TRUE(d.qd_radps && d.qdd_radps2);
+  EXPECT_EQ((*d.qdd_radps2)(0, 1), 6.0);
+  ASSERT_EQ(d.extra_names, std::vector<std::string>{"temperature"});
+  EXPECT_EQ(d.extraColumn("temperature")[29], 36.5);
+  EXPECT_EQ(d.metadata("thigh_length_m").value(), "0.44");
+  EXPECT_FALSE(d.metadata("gravity_mps2"));
+}
+
+TEST(Dataset, WriteReadRoundTripIsLossless) {
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> u(-1e3, 1e3);
+  Dataset d;
+  const Eigen::Index n = 200;
+  d.comments = {" seed: 7", " note: round trip"};
+  d.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, 0.199);
+  d.q_rad = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e-3; });
+  d.tau_Nm = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) / 3.0; });
+  d.qd_radps = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e-17; });
+  d.qdd_radps2 = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e300 / 1e3; });
+  d.extra_names = {"a", "b"};
+  d.extra = Eigen::MatrixXd::NullaryExpr(n, 2, [&] { return u(gen); });
+  const std::string path = ::testing::TempDir() + "/exoid_roundtrip.csv";
+  writeDatasetCsv(d, path);
+  const Dataset r = readDatasetCsv(path, CsvReadOptions{20, 1e-6});
+  EXPECT_EQ(r.comments, d.comments);
+  EXPECT_TRUE(r.t_s == d.t_s);  // bitwise equality: %.17g round-trips every double
+  EXPECT_TRUE(r.q_rad == d.q_rad);
+  EXPECT_TRUE(r.tau_Nm == d.tau_Nm);
+  EXPECT_TRUE(*r.qd_radps == *d.qd_radps);
+  EXPECT_TRUE(*r.qdd_radps2 == *d.qdd_radps2);
+  EXPECT_EQ(r.extra_names, d.extra_names);
+  EXPECT_TRUE(r.extra == d.extra);
+  std::remove(path.c_str());
+}
+
+TEST(DatasetErrors, EmptyFile) { expectError("", {"empty file", "header"}, 0, 0); }
+TEST(DatasetErrors, OnlyComments) { expectError("# a\n# b\n", {"empty file"}, 0, 0); }
+TEST(DatasetErrors, MissingColumn) {
+  expectError("t,q_hip,q_knee,tau_hip\n" + rows(30), {"missing required column 'tau_knee'"}, 1, 0);
+}
+TEST(DatasetErrors, DuplicateColumn) {
+  expectError("t,q_hip,q_knee,tau_hip,tau_knee,q_hip\n", {"duplicate column 'q_hip'"}, 1, 6);
+}
+TEST(DatasetErrors, UnpairedDerivative) {
+  expectError("t,q_hip,q_knee,tau_hip,tau_knee,qd_hip\n", {"missing column 'qd_knee'"}, 1, 0);
+}
+TEST(DatasetErrors, NonNumericCell) {
+  expectError(header() + rows(5) + "0.005,0.1,abc,1,2\n" + rows(30), {"column 'q_knee'", "expected a number", "'abc'"}, 7, 3);
+}
+TEST(DatasetErrors, EmptyCell) {
+  expectError(header() + "0,0.1,0.2,,1\n", {"column 'tau_hip'", "expected a number"}, 2, 4);
+}
+TEST(DatasetErrors, NaNAndInf) {
+  expectError(header() + "0,0.1,0.2,nan,1\n", {"column 'tau_hip'", "finite"}, 2, 4);
+  expectError(header() + "0,inf,0.2,1,1\n", {"column 'q_hip'", "finite"}, 2, 2);
+}
+TEST(DatasetErrors, WrongCellCount) {
+  expectError(header() + "0,0.1,0.2,1\n", {"expected 5 cells", "got 4"}, 2, 0);
+}
+TEST(DatasetErrors, TooFewRows) {
+  expectError(header() + rows(10), {"at least 20 data rows", "got 10"}, 0, 0);
+}
+TEST(DatasetErrors, TimeNotIncreasing) {
+  expectError(header() + "0,0,0,0,0\n0.001,0,0,0,0\n0.001,0,0,0,0\n" + rows(30), {"strictly increasing"}, 4, 1);
+}
+TEST(DatasetErrors, NonUniformSampling) {
+  std::string text = header();
+  for (int i = 0; i < 30; ++i) text += std::to_string(i == 29 ? 0.0295 : 0.001 * i) + ",0,0,0,0\n";
+  expectError(text, {"not uniform", "median"}, 31, 1);
+}
+TEST(DatasetErrors, CommentAfterHeader) {
+  expectError(header() + rows(3) + "# late\n", {"only allowed before the header"}, 5, 1);
+}
+TEST(DatasetErrors, MissingFileNamesPath) {
+  try {
+    readDatasetCsv("/nonexistent/exoid.csv");
+    FAIL();
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/exoid.csv"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace exoid::ident

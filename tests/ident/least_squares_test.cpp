@@ -1,0 +1,74 @@
+#include "exoid/ident/least_squares.hpp"
+
+#include "exoid/ident/segmental.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace exoid::ident {
+namespace {
+
+const LegConstants kC{0.45, 9.81};
+
+// Noise-free data from an independent dynamics: LS must return X to roundoff amplified by the
+// condition number (~1e3 for the stacked record): 1e-16 * 1e3 * margin << 1e-8.
+TEST(LeastSquares, RecoversTruthFromExactTwoJointRecord) {
+  const LegPhysical leg = defaultLeg();
+  const ParamVector truth = toParamVector(leg);
+  const JointSignals s = test::exactRecord(3, leg, kC.gravity_mps2);
+  const LsResult r = solveLeastSquares(stackedRegressor(s, kC), stackedTorque(s));
+  ASSERT_EQ(r.summary.status, Status::kConverged) << r.summary.message;
+  EXPECT_EQ(r.rank, 10);
+  for (int i = 0; i < kNumParams; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-8 * std::abs(truth[i])) << paramName(i);
+  EXPECT_GT(r.condition_number, 1.0);
+}
+
+TEST(LeastSquares, ReportsRankDeficiencyNamingColumns) {
+  // Trajectory 1 fixes the hip: the hip equation's thigh columns are constant or zero.
+  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2);
+  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, kC).leftCols(5);
+  const LsResult r = solveLeastSquares(H, s.tau_Nm.col(0));
+  EXPECT_EQ(r.summary.status, Status::kRankDeficient);
+  EXPECT_LT(r.rank, 5);
+  EXPECT_EQ(r.unidentifiable.size(), static_cast<std::size_t>(5 - r.rank));
+  EXPECT_NE(r.summary.message.find("cannot be separated"), std::string::npos);
+  EXPECT_TRUE(r.x.allFinite());
+}
+
+TEST(LeastSquares, DuplicateColumnIsUnidentifiable) {
+  Eigen::MatrixXd H = Eigen::MatrixXd::Random(50, 3);
+  H.col(2) = 2.0 * H.col(0);
+  const LsResult r = solveLeastSquares(H, Eigen::VectorXd::Random(50));
+  EXPECT_EQ(r.summary.status, Status::kRankDeficient);
+  EXPECT_EQ(r.rank, 2);
+}
+
+TEST(LeastSquares, RejectsBadInput) {
+  EXPECT_THROW(solveLeastSquares(Eigen::MatrixXd::Ones(3, 5), Eigen::VectorXd::Ones(3)), std::invalid_argument);
+  EXPECT_THROW(solveLeastSquares(Eigen::MatrixXd::Ones(10, 2), Eigen::VectorXd::Ones(9)), std::invalid_argument);
+  Eigen::MatrixXd H = Eigen::MatrixXd::Ones(10, 2);
+  H(0, 0) = std::nan("");
+  EXPECT_THROW(solveLeastSquares(H, Eigen::VectorXd::Ones(10)), std::invalid_argument);
+  LsOptions o;
+  o.rank_tolerance = 2.0;
+  try {
+    solveLeastSquares(Eigen::MatrixXd::Ones(10, 2), Eigen::VectorXd::Ones(10), o);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'rank_tolerance'"), std::string::npos);
+  }
+}
+
+TEST(Segmental, RecoversTruthFromExactRecords) {
+  const LegPhysical leg = defaultLeg();
+  const ParamVector truth = toParamVector(leg);
+  const JointSignals knee = test::exactRecord(1, leg, kC.gravity_mps2);
+  const JointSignals both = test::exactRecord(3, leg, kC.gravity_mps2);
+  MethodOptions o;
+  const SegmentalResult r = identifySegmental(Method::kLs, knee, both, kC, o);
+  ASSERT_TRUE(usable(r.knee.summary.status) && usable(r.hip.summary.status));
+  for (int i = 0; i < kNumParams; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-8 * std::abs(truth[i])) << paramName(i);
+}
+
+}  // namespace
+}  // namespace exoid::ident

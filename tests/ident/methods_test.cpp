@@ -1,0 +1,93 @@
+// One contract for every estimator: on exact (noise-free) data each recovers the truth to the
+// accuracy its stopping rule implies.
+#include "exoid/ident/methods.hpp"
+
+#include "exoid/ident/segmental.hpp"
+#include "test_support.hpp"
+
+#include <Eigen/SVD>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace exoid::ident {
+namespace {
+
+const LegConstants kC{0.45, 9.81};
+
+class EveryMethod : public ::testing::TestWithParam<Method> {};
+
+TEST_P(EveryMethod, RecoversKneeParametersFromExactData) {
+  const LegPhysical leg = defaultLeg();
+  const ParamVector truth = toParamVector(leg);
+  const JointSignals s = test::exactRecord(1, leg, kC.gravity_mps2, 2.0);
+  const SegmentalProblem pr = kneeStage(s, kC);
+  const Eigen::VectorXd x_true = truth.segment<5>(kShankFirst);
+  MethodOptions o;
+  o.rls_pso.rls.initial_covariance = 1e10;
+  const Estimate e = estimate(GetParam(), pr.H, pr.y, o);
+  ASSERT_TRUE(usable(e.summary.status)) << e.summary.message;
+  const double err = (e.x - x_true).norm();
+  switch (GetParam()) {
+    case Method::kLs:
+    case Method::kLad:
+      EXPECT_LT(err, 1e-8 * x_true.norm());  // exact solvers: roundoff times conditioning
+      break;
+    case Method::kRls:
+      EXPECT_LT(err, 1e-5 * x_true.norm());  // prior 1/p0 = 1e-10 against sigma_min^2 ~ 1e-2
+      break;
+    case Method::kPso:
+    case Method::kRlsPso: {
+      // Stopping at L1 cost c bounds the error: ||H dx||_2 <= ||H dx||_1 = c, so
+      // ||dx|| <= c / sigma_min(H).
+      const double smin = Eigen::JacobiSVD<Eigen::MatrixXd>(pr.H).singularValues().minCoeff();
+      EXPECT_EQ(e.summary.status, Status::kConverged) << e.summary.message;
+      EXPECT_LT(e.l1_cost, o.rls_pso.pso.cost_tolerance);
+      EXPECT_LE(err, e.l1_cost / smin);
+      ASSERT_TRUE(e.optimality_gap_rel.has_value());
+      break;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Contract, EveryMethod,
+                         ::testing::Values(Method::kLs, Method::kRls, Method::kPso, Method::kRlsPso, Method::kLad),
+                         [](const ::testing::TestParamInfo<Method>& param_info) {
+                           std::string n = toString(param_info.param);
+                           for (char& ch : n) ch = ch == '-' ? '_' : ch;
+                           return n;
+                         });
+
+TEST(Methods, PsoReachesTheL1OptimumOnAWellConditionedNoisyProblem) {
+  // The L1 cost is convex, so PSO's best cost must approach the exact LAD minimum; on a
+  // well-conditioned problem (Gaussian columns) with the default settings, 2000 iterations take
+  // the relative gap below 1e-6 (measured ~1e-9; PSO has no rate guarantee, hence the margin).
+  std::mt19937_64 gen(21);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::exponential_distribution<double> expo(1.0);
+  const Eigen::MatrixXd H = Eigen::MatrixXd::NullaryExpr(500, 3, [&] { return n01(gen); });
+  const Eigen::VectorXd y = H * Eigen::Vector3d(1.0, -2.0, 0.5) +
+                            Eigen::VectorXd::NullaryExpr(500, [&] { return (n01(gen) > 0 ? 1 : -1) * expo(gen); });
+  MethodOptions o;
+  o.rls_pso.pso.max_iterations = 2000;
+  o.wide_box_half_width = 10.0;
+  for (Method m : {Method::kPso, Method::kRlsPso}) {
+    const Estimate e = estimate(m, H, y, o);
+    ASSERT_TRUE(e.optimality_gap_rel) << toString(m);
+    EXPECT_GE(*e.optimality_gap_rel, -1e-12) << toString(m);  // nothing beats the exact optimum
+    if (m == Method::kPso) EXPECT_LT(*e.optimality_gap_rel, 1e-6);
+  }
+}
+
+TEST(Methods, ParseNames) {
+  for (Method m : allMethods()) EXPECT_EQ(parseMethod(toString(m)), m);
+  try {
+    parseMethod("bfgs");
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'bfgs'"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace exoid::ident
