@@ -8,7 +8,7 @@ PACKAGES=(
   libeigen3-dev libgtest-dev libbenchmark-dev
   libmujoco-dev libqhull-dev libgl-dev libopengl-dev
   liburdfdom-dev
-  libosmesa6-dev libgl1-mesa-dri ffmpeg
+  libosmesa6-dev libgl1-mesa-dri ffmpeg zlib1g-dev
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libpagmo-dev
   python3-matplotlib python3-numpy

@@ -19,9 +19,6 @@ int runCli(int argc, char** argv) {
 #ifdef EXOID_WITH_MUJOCO
   addSimulateCommand(app);
   addTruthCommand(app);
-  addReproduceCommand(app);
-  addSweepCommand(app);
-  addMergeCommand(app);
 #endif
 #ifdef EXOID_WITH_RENDER
   addRenderCommand(app);

@@ -23,6 +23,10 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
       ->group("Signal processing");
   app.add_flag("!--no-filter-torque", o.filter_torque, "Do not filter the measured torques")
       ->group("Signal processing");
+  app.add_option("--edge-trim", o.edge_trim_s,
+                 "Seconds dropped at each end after filtering (negative = auto: 3/cutoff, or 2 samples unfiltered)")
+      ->capture_default_str()
+      ->group("Signal processing");
   app.add_flag("!--differentiate", o.use_recorded_derivatives,
                "Differentiate the angles even when the dataset has qd_*/qdd_* columns")
       ->group("Signal processing");
@@ -120,7 +124,8 @@ nlohmann::json toJson(const ident::SignalOptions& o) {
           {"filter", o.filter ? "butterworth_filtfilt" : "none"},
           {"filter_order", o.filter_order},
           {"cutoff_hz", o.cutoff_hz},
-          {"filter_torque", o.filter_torque}};
+          {"filter_torque", o.filter_torque},
+          {"edge_trim_s", o.edge_trim_s}};
 }
 
 nlohmann::json toJson(const ident::MethodOptions& o) {

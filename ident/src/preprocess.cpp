@@ -1,5 +1,6 @@
 #include "exoid/ident/preprocess.hpp"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -9,9 +10,15 @@ void SignalOptions::validate() const {
   if (filter_order < 1 || filter_order > 8) {
     throw std::invalid_argument("'filter_order' must be in 1..8, got " + std::to_string(filter_order));
   }
+  if (!std::isfinite(edge_trim_s)) throw std::invalid_argument("'edge_trim_s' must be finite");
   if (!(cutoff_hz > 0.0)) {
     throw std::invalid_argument("'cutoff_hz' must be > 0, got " + std::to_string(cutoff_hz));
   }
+}
+
+long SignalOptions::edgeTrimSamples(double sample_rate_hz) const {
+  if (edge_trim_s >= 0.0) return std::lround(edge_trim_s * sample_rate_hz);
+  return filter ? std::lround(3.0 / cutoff_hz * sample_rate_hz) : 2;
 }
 
 JointSignals recordedSignals(const Dataset& d) {
@@ -47,6 +54,18 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
     s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
   }
   s.tau_Nm = o.filter && o.filter_torque ? smooth(d.tau_Nm) : Eigen::MatrixXd(d.tau_Nm);
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  const Eigen::Index keep = s.size() - 2 * trim;
+  if (keep < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples leave " +
+                                std::to_string(keep) + " after trimming " + std::to_string(trim) +
+                                " at each end (edge_trim_s); need >= 20");
+  }
+  s.t_s = s.t_s.segment(trim, keep).eval();
+  s.q_rad = s.q_rad.middleRows(trim, keep).eval();
+  s.qd_radps = s.qd_radps.middleRows(trim, keep).eval();
+  s.qdd_radps2 = s.qdd_radps2.middleRows(trim, keep).eval();
+  s.tau_Nm = s.tau_Nm.middleRows(trim, keep).eval();
   return s;
 }
 

@@ -19,9 +19,6 @@ void addIdentifiabilityCommand(CLI::App& app);
 #ifdef EXOID_WITH_MUJOCO
 void addSimulateCommand(CLI::App& app);
 void addTruthCommand(CLI::App& app);
-void addReproduceCommand(CLI::App& app);
-void addSweepCommand(CLI::App& app);
-void addMergeCommand(CLI::App& app);
 #endif
 #ifdef EXOID_WITH_RENDER
 void addRenderCommand(CLI::App& app);

@@ -21,12 +21,21 @@ struct SignalOptions {
   double cutoff_hz = 10.0;
   /// Filter the measured torques with the same filter (paper: "all measured ... signals").
   bool filter_torque = true;
+  /// Seconds dropped at each end after filtering and differentiating, where the filter's edge
+  /// transient (odd padding only approximates the unseen signal) and one-sided differences
+  /// dominate: twice-differentiated edges are off by tens of percent. Negative = automatic:
+  /// 3 / cutoff_hz when filtering (0.3 s at 10 Hz, about five time constants of the
+  /// forward-backward 2nd-order filter), else 2 samples. The paper does not say.
+  double edge_trim_s = -1.0;
+  /// The trim in samples for a record sampled at sample_rate_hz.
+  long edgeTrimSamples(double sample_rate_hz) const;
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
 /// Angles are filtered, differentiated, the velocity filtered, differentiated again and the
 /// acceleration filtered ("all measured and computed signals"). Recorded derivatives, when used,
-/// are filtered too if filtering is on.
+/// are filtered too if filtering is on. Then edge_trim_s is dropped at both ends; throws
+/// std::invalid_argument if fewer than 20 samples would remain.
 JointSignals prepareSignals(const Dataset& d, const SignalOptions& options);
 
 /// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).

@@ -1,0 +1,38 @@
+#pragma once
+// Where sim meets ident: simulated tables as datasets, exact signals, and the best-fit truth.
+#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/regressor.hpp"
+#include "exoid/sim/simulate.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+namespace exoid::experiments {
+
+/// The simulated table as the dataset ident reads from CSV (same columns, same metadata).
+ident::Dataset toDataset(const sim::SimResult& r);
+
+/// Exact signals of a simulated dataset: q/qd/qdd_*_true and the given torque columns
+/// ("tau_hip_true"/"tau_knee_true" or "tau_hip_ideal"/"tau_knee_ideal").
+ident::JointSignals exactSignals(const ident::Dataset& d, const std::string& tau_suffix);
+
+ident::ParamVector toParamVector(const sim::ParamArray& x);
+ident::LegConstants constantsOf(const sim::Truth& t);
+
+/// The best-fit truth of a record: LS of the exact, noise-free, vibration-free (ideal) torques
+/// at the exact states. Blocks the record cannot identify (e.g. the thigh when the hip is
+/// locked) are taken from `fallback` and listed in `from_fallback`.
+struct BestFit {
+  ident::ParamVector x;
+  std::vector<std::string> from_fallback;
+  double residual_rms_Nm = 0.0;  ///< of the fit, both equations
+};
+BestFit bestFitTruth(const ident::Dataset& d, const ident::LegConstants& c, const ident::ParamVector& fallback);
+
+/// The full sidecar: sim's (settings, rigid truth, band, stats) plus the best-fit truth.
+nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& d);
+
+/// Flags of `exoid simulate` (shared with render and the experiments that simulate).
+void addSimOptions(CLI::App& app, sim::SimConfig& c);
+
+}  // namespace exoid::experiments

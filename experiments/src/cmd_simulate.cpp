@@ -1,0 +1,103 @@
+// `exoid simulate` and `exoid truth`.
+#include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/experiments/table.hpp"
+#include "exoid/sim/sidecar.hpp"
+#include "exoid/sim/truth.hpp"
+
+#include <iostream>
+#include <memory>
+
+namespace exoid::experiments {
+
+namespace {
+
+std::string sidecarPath(const std::string& csv) {
+  const auto dot = csv.rfind('.');
+  const auto slash = csv.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
+}
+
+struct SimulateArgs {
+  sim::SimConfig config;
+  std::string out;
+};
+
+void runSimulate(const SimulateArgs& a) {
+  const sim::SimResult r = sim::simulate(a.config);
+  const ident::Dataset d = toDataset(r);
+  const nlohmann::json side = simulationSidecar(r, d);
+  sim::writeCsv(r, a.out);
+  const std::string json_path = sidecarPath(a.out);
+  writeJsonFile(json_path, side);
+  const auto& s = r.stats;
+  std::cout << "wrote " << a.out << " (" << r.table.rows() << " samples) and " << json_path << "\n"
+            << "tracking error RMS hip " << fmt(s.tracking_hip.rms_deg, 3) << " deg, knee "
+            << fmt(s.tracking_knee.rms_deg, 3) << " deg; loop error max " << fmt(s.loop_error_max_m, 3)
+            << " m; pedestal |x| max " << fmt(s.base_x_max_abs_m, 3) << " m; " << fmt(s.wall_time_s, 3) << " s\n";
+}
+
+struct TruthArgs {
+  std::string model, urdf, json_out;
+  sim::ModelVariant variant;
+};
+
+void runTruth(const TruthArgs& a) {
+  if (a.model.empty() == a.urdf.empty()) {
+    throw CLI::ValidationError("truth", "give exactly one of --model FILE.xml or --urdf FILE.urdf");
+  }
+  sim::Truth t;
+  if (!a.urdf.empty()) {
+    t = sim::truthFromUrdf(a.urdf);
+  } else {
+    t = sim::rigidTruth(sim::loadLeg(a.model, a.variant, true));
+  }
+  TextTable table({"param", "unit", "value"});
+  for (int i = 0; i < sim::kNumParams; ++i) {
+    table.addRow({sim::paramNames()[static_cast<std::size_t>(i)], sim::paramUnits()[static_cast<std::size_t>(i)],
+                  fmt(t.x[static_cast<std::size_t>(i)], 8)});
+  }
+  std::cout << "X of the rigid links of " << (a.urdf.empty() ? a.model : a.urdf) << " (Lt = " << t.thigh_length_m
+            << " m, g = " << t.gravity_mps2 << " m/s^2):\n";
+  table.print(std::cout);
+  if (!a.json_out.empty()) {
+    writeJsonFile(a.json_out, {{"tool", toolJson()},
+                               {"source", t.source},
+                               {"parameters", paramsJson(toParamVector(t.x))},
+                               {"thigh_length_m", t.thigh_length_m},
+                               {"gravity_mps2", t.gravity_mps2}});
+  }
+}
+
+}  // namespace
+
+void addSimulateCommand(CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "Simulate the APAL leg in MuJoCo at 1 kHz (PID tracking, sensor noise, pedestal vibration) and\n"
+      "write the dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed,\n"
+      "versions and the truths (rigid links, lumped four-bar band, best fit of the record).");
+  addSimOptions(*cmd, args->config);
+  cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->capture_default_str();
+  cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");
+  cmd->add_option("--out", args->out, "Dataset CSV to write")->required();
+  cmd->callback([args] { runSimulate(*args); });
+}
+
+void addTruthCommand(CLI::App& app) {
+  auto args = std::make_shared<TruthArgs>();
+  CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF.");
+  cmd->add_option("--model", args->model, "MJCF model (e.g. models/apal_leg.xml)")->check(CLI::ExistingFile);
+  cmd->add_option("--urdf", args->urdf, "URDF of the rigid links (e.g. models/apal_leg.urdf)")->check(CLI::ExistingFile);
+  cmd->add_option("--fc-hip", args->variant.fc_hip_Nm, "Override hip Coulomb friction, N m");
+  cmd->add_option("--fv-hip", args->variant.fv_hip_Nms, "Override hip viscous friction, N m s/rad");
+  cmd->add_option("--fc-knee", args->variant.fc_knee_Nm, "Override knee Coulomb friction, N m");
+  cmd->add_option("--fv-knee", args->variant.fv_knee_Nms, "Override knee viscous friction, N m s/rad");
+  cmd->add_option("--json", args->json_out, "Also write {\"parameters\": {...}} here");
+  cmd->callback([args] { runTruth(*args); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,451 @@
+#include "exoid/ident/lad.hpp"
+
+#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/stopwatch.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <Eigen/QR>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+// The linear program and its dual (u = a - s, a + s = 1, a, s >= 0):
+//   primal  min_{x,w,z} 1^T w + 1^T z  s.t.  A x + w - z = b,   w, z >= 0
+//   dual    max_u       b^T u          s.t.  A^T u = 0,  -1 <= u <= 1
+// Complementarity pairs: a_i z_i = 0 and s_i w_i = 0, so u_i = sign(b_i - a_i^T x) away from zero
+// residuals. Any dual-feasible u bounds the optimum from below: for every x,
+//   ||b - A x||_1 >= u^T (b - A x) = b^T u - x^T A^T u = b^T u.
+// The interior point (Mehrotra predictor-corrector) keeps a, s, w, z > 0 and eliminates every
+// N-vector of its Newton system, leaving the p x p system (A^T Q A) dy = rhs, Q = diag(q),
+// q_i = 1 / (w_i / s_i + z_i / a_i).
+namespace exoid::ident {
+namespace {
+
+/// Pivots |R_kk| < kRankTolerance * |R_00| of the column-scaled A are treated as zero; the same
+/// default as least squares (LsOptions::rank_tolerance): a scaled condition number above 1e8
+/// would also square to ~1e16 in the interior point's normal equations.
+constexpr double kRankTolerance = 1e-8;
+/// Fraction of the distance to the boundary taken by a step (Portnoy & Koenker use 0.99995).
+constexpr double kStepFraction = 0.99995;
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+std::string str(double v) {
+  std::ostringstream os;
+  os << std::setprecision(10) << v;
+  return os.str();
+}
+
+[[noreturn]] void throwInput(const std::string& what) {
+  throw std::invalid_argument("least absolute deviations: " + what);
+}
+
+void checkInputs(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  if (A.rows() == 0 || A.cols() == 0) {
+    throwInput("A must have at least one row and one column, got " + std::to_string(A.rows()) +
+               " x " + std::to_string(A.cols()));
+  }
+  if (b.size() != A.rows()) {
+    throwInput("expected b of size " + std::to_string(A.rows()) + " (the rows of A), got " +
+               std::to_string(b.size()));
+  }
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      if (!std::isfinite(A(i, j))) {
+        throwInput("A(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite, got " +
+                   str(A(i, j)));
+      }
+    }
+  }
+  for (Eigen::Index i = 0; i < b.size(); ++i) {
+    if (!std::isfinite(b[i])) {
+      throwInput("b(" + std::to_string(i) + ") is not finite, got " + str(b[i]));
+    }
+  }
+}
+
+/// "rank r < p: column k is a linear combination of columns {i, j}" for each column beyond the
+/// numerical rank of the pivoted QR (coefficients from R11^{-1} R12 in the scaled columns, where
+/// a coefficient above 1e-8 is a real participant; a zero column has none).
+std::string rankDeficiencyMessage(const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr,
+                                  Eigen::Index p) {
+  const Eigen::Index rank = qr.rank();
+  const auto& perm = qr.colsPermutation().indices();
+  const Eigen::MatrixXd R = qr.matrixR().topRows(rank);
+  std::string msg = "rank " + std::to_string(rank) + " < " + std::to_string(p) + ":";
+  for (Eigen::Index k = rank; k < p; ++k) {
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(rank);
+    if (rank > 0) {
+      c = R.leftCols(rank).triangularView<Eigen::Upper>().solve(R.col(k));
+    }
+    std::vector<Eigen::Index> with;
+    for (Eigen::Index i = 0; i < rank; ++i) {
+      if (std::abs(c[i]) > 1e-8) with.push_back(perm[i]);
+    }
+    std::sort(with.begin(), with.end());
+    msg += (k == rank ? " column " : "; column ") + std::to_string(perm[k]);
+    if (with.empty()) {
+      msg += " is (numerically) zero";
+    } else {
+      msg += " is a linear combination of column" + std::string(with.size() > 1 ? "s" : "") + " {";
+      for (std::size_t i = 0; i < with.size(); ++i) {
+        msg += (i ? ", " : "") + std::to_string(with[i]);
+      }
+      msg += "}";
+    }
+  }
+  return msg;
+}
+
+/// The rounding error bound of evaluating b - A x in double, summed over rows:
+/// (p + 1) eps sum_i (|b_i| + |a_i|^T |x|). No cost, hence no gap, is resolved more finely.
+double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  const double abs_ax = A.cwiseAbs().colwise().sum().dot(x.cwiseAbs().transpose());
+  return static_cast<double>(A.cols() + 1) * kEps * (b.lpNorm<1>() + abs_ax);
+}
+
+/// ||b - A x||_1 accumulated in long double.
+double l1Cost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
+  const Eigen::VectorXd r = b - A * x;
+  long double sum = 0.0L;
+  for (Eigen::Index i = 0; i < r.size(); ++i) sum += std::abs(static_cast<long double>(r[i]));
+  return static_cast<double>(sum);
+}
+
+/// Makes u dual feasible and returns its lower bound on the optimum. u is projected onto the null
+/// space of A^T (least squares on the QR of the scaled A, whose null space is the same) and then
+/// divided by max(1, max|u_i|), so |u_i| <= 1 holds exactly and A^T u = 0 up to roundoff. The bound
+/// is b^T u - |x|^T |A^T u|: weak duality b^T u - x^T A^T u with the leftover dual residual charged
+/// at its worst sign, evaluated at the returned x (the optimum's neighbour); sums in long double.
+double dualBound(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& As,
+                 const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, const Eigen::VectorXd& x,
+                 Eigen::VectorXd& u) {
+  const Eigen::VectorXd t = qr.solve(u);
+  u.noalias() -= As * t;
+  const double m = u.cwiseAbs().maxCoeff();
+  if (m > 1.0) u /= m;
+  long double bu = 0.0L;
+  for (Eigen::Index i = 0; i < b.size(); ++i) bu += static_cast<long double>(b[i]) * u[i];
+  long double charge = 0.0L;
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    long double g = 0.0L;
+    for (Eigen::Index i = 0; i < A.rows(); ++i) g += static_cast<long double>(A(i, j)) * u[i];
+    charge += std::abs(g) * std::abs(static_cast<long double>(x[j]));
+  }
+  return static_cast<double>(bu - charge);
+}
+
+/// A vertex next to the interior-point solution and its basic dual.
+struct Vertex {
+  bool found = false;
+  Eigen::VectorXd x;  ///< A_B x = b_B, original units
+  Eigen::VectorXd u;  ///< dual: sign of the nonbasic residuals, basic part from A^T u = 0
+  double max_basic_u = 0.0;  ///< <= 1 certifies the vertex optimal
+};
+
+/// Purification: the p rows with the smallest |residual| that are linearly independent (greedy,
+/// Gram-Schmidt on the rows of the column-scaled As) form a basis B and x solves A_B x = b_B
+/// (LU with partial pivoting, which column scaling does not change, in original units so that
+/// e.g. a median comes out as the data value itself). The dual takes u_i = sign(r_i) off the
+/// basis, except where r_i is at its roundoff level (a degenerate vertex) where the interior
+/// point's u_i is kept, and solves As_B^T u_B = -As_N^T u_N.
+Vertex purify(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::MatrixXd& As,
+              const Eigen::VectorXd& r, const Eigen::VectorXd& u_ip) {
+  const Eigen::Index n = As.rows();
+  const Eigen::Index p = As.cols();
+  Vertex v;
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  const auto by_abs = [&r](Eigen::Index i, Eigen::Index j) { return std::abs(r[i]) < std::abs(r[j]); };
+  // Sort a short head first; the whole order is only needed when the head holds no basis.
+  std::size_t sorted = std::min(order.size(), static_cast<std::size_t>(4 * p + 8));
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(sorted), order.end(),
+                    by_abs);
+  Eigen::MatrixXd Q(p, p);  // orthonormal rows spanning the chosen rows
+  std::vector<Eigen::Index> basis;
+  for (std::size_t k = 0; k < order.size() && static_cast<Eigen::Index>(basis.size()) < p; ++k) {
+    if (k == sorted) {
+      std::sort(order.begin() + static_cast<std::ptrdiff_t>(sorted), order.end(), by_abs);
+      sorted = order.size();
+    }
+    const Eigen::Index i = order[k];
+    Eigen::VectorXd row = As.row(i).transpose();
+    const double norm0 = row.norm();
+    if (norm0 == 0.0) continue;
+    const auto m = static_cast<Eigen::Index>(basis.size());
+    for (int pass = 0; pass < 2; ++pass) {
+      for (Eigen::Index k2 = 0; k2 < m; ++k2) row -= Q.row(k2).dot(row) * Q.row(k2).transpose();
+    }
+    const double norm = row.norm();
+    if (norm <= 1e-8 * norm0) continue;
+    Q.row(m) = row.transpose() / norm;
+    basis.push_back(i);
+  }
+  if (static_cast<Eigen::Index>(basis.size()) < p) return v;
+
+  Eigen::MatrixXd AB(p, p), AsB(p, p);
+  Eigen::VectorXd bB(p);
+  for (Eigen::Index k = 0; k < p; ++k) {
+    const Eigen::Index i = basis[static_cast<std::size_t>(k)];
+    AB.row(k) = A.row(i);
+    AsB.row(k) = As.row(i);
+    bB[k] = b[i];
+  }
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(AB);
+  v.x = lu.solve(bB);
+  v.x += lu.solve(bB - AB * v.x);  // one step of iterative refinement
+
+  const Eigen::VectorXd rv = b - A * v.x;
+  const Eigen::RowVectorXd abs_x = v.x.cwiseAbs().transpose();
+  v.u.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double roundoff = 8.0 * static_cast<double>(p + 1) * kEps *
+                            (std::abs(b[i]) + A.row(i).cwiseAbs().dot(abs_x));
+    if (std::abs(rv[i]) > roundoff) {
+      v.u[i] = rv[i] > 0.0 ? 1.0 : -1.0;
+    } else {
+      v.u[i] = std::clamp(u_ip[i], -1.0, 1.0);
+    }
+  }
+  for (const Eigen::Index i : basis) v.u[i] = 0.0;
+  const Eigen::VectorXd rhs = -(As.transpose() * v.u);
+  const Eigen::VectorXd uB = Eigen::PartialPivLU<Eigen::MatrixXd>(AsB).transpose().solve(rhs);
+  for (Eigen::Index k = 0; k < p; ++k) v.u[basis[static_cast<std::size_t>(k)]] = uB[k];
+  v.max_basic_u = uB.cwiseAbs().maxCoeff();
+  v.found = v.x.allFinite() && v.u.allFinite();
+  return v;
+}
+
+/// Largest step in (0, 1] (times kStepFraction) keeping x1 + alpha dx1 > 0 and
+/// x2 + alpha sign2 dx2 > 0, from the largest rate -dx / x (branch free, so it vectorises).
+double stepLength(const Eigen::VectorXd& x1, const Eigen::VectorXd& dx1, const Eigen::VectorXd& x2,
+                  const Eigen::VectorXd& dx2, double sign2) {
+  const double rate = std::max({0.0, (-dx1.array() / x1.array()).maxCoeff(),
+                                ((-sign2) * dx2.array() / x2.array()).maxCoeff()});
+  return rate > kStepFraction ? kStepFraction / rate : 1.0;
+}
+
+}  // namespace
+
+void LadOptions::validate() const {
+  if (!(gap_tolerance > 0.0 && gap_tolerance < 1.0)) {
+    throw std::invalid_argument("'gap_tolerance' must be in (0, 1), got " + str(gap_tolerance));
+  }
+  if (max_iterations < 1) {
+    throw std::invalid_argument("'max_iterations' must be >= 1, got " +
+                                std::to_string(max_iterations));
+  }
+}
+
+LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                                       const LadOptions& options) {
+  options.validate();
+  checkInputs(A, b);
+  const Stopwatch clock;
+  const Eigen::Index n = A.rows();
+  const Eigen::Index p = A.cols();
+  const double tol = options.gap_tolerance;
+  LadResult result;
+
+  // Scaled problem: columns to unit norm, b to unit mean |b|; x = b_scale * D y.
+  const Eigen::VectorXd D = columnScales(A);
+  const Eigen::MatrixXd As = A * D.asDiagonal();
+  const double mean_abs_b = b.cwiseAbs().mean();
+  const double b_scale = mean_abs_b > 0.0 ? mean_abs_b : 1.0;
+  const Eigen::VectorXd bs = b / b_scale;
+  const auto unscale = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
+    return b_scale * D.cwiseProduct(y);
+  };
+
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+  qr.setThreshold(kRankTolerance);
+  if (qr.rank() < p) {
+    // u = 0 is dual feasible (bound 0) and x = 0 costs ||b||_1: an honest, unusable pair.
+    result.x = Eigen::VectorXd::Zero(p);
+    result.cost = l1Cost(A, b, result.x);
+    result.dual_bound = 0.0;
+    result.gap = result.cost;
+    result.summary.status = Status::kRankDeficient;
+    result.summary.message = rankDeficiencyMessage(qr, p);
+    result.summary.initial_cost = result.cost;
+    result.summary.final_cost = result.cost;
+    result.summary.wall_time_s = clock.seconds();
+    return result;
+  }
+
+  // Start: y at least squares, a = s = 1/2 (u = 0), w - z = r with both >= delta > 0 (a tenth
+  // of the mean |residual|: fewer iterations than 0.01 or 1 over a sweep of problems). Both
+  // equality constraints hold exactly, so the iteration only has to drive complementarity down.
+  Eigen::VectorXd y = qr.solve(bs);
+  Eigen::VectorXd r = bs - As * y;
+  result.summary.initial_cost = l1Cost(A, b, unscale(y));
+  const double delta = std::max(0.1 * r.cwiseAbs().mean(), 1e-3);
+  Eigen::VectorXd a = Eigen::VectorXd::Constant(n, 0.5);
+  Eigen::VectorXd s = Eigen::VectorXd::Constant(n, 0.5);
+  Eigen::VectorXd w = r.cwiseMax(0.0).array() + delta;
+  Eigen::VectorXd z = (-r).cwiseMax(0.0).array() + delta;
+
+  // Workspace, allocated once: nothing in the loop below allocates.
+  Eigen::VectorXd q(n), rd(n), rhat(n), ra(n), rs(n), tmp(n);
+  Eigen::VectorXd da(n), dz(n), dw(n);
+  Eigen::MatrixXd QA(n, p);
+  Eigen::MatrixXd M(p, p);
+  Eigen::VectorXd rp(p), rhs(p), dy(p), best_y = y;
+  Eigen::LLT<Eigen::MatrixXd> llt(p);
+  Eigen::LDLT<Eigen::MatrixXd> ldlt(p);
+  bool use_ldlt = false;
+  double best_cost = std::numeric_limits<double>::infinity();
+  const double nd = static_cast<double>(n);
+  std::string stop_reason;
+  long iterations = 0;
+  // What double precision can resolve in the scaled cost at y (see roundingLevel).
+  const Eigen::RowVectorXd As_col_l1 = As.cwiseAbs().colwise().sum();
+  const double bs_l1 = bs.lpNorm<1>();
+  const double rounding_factor = static_cast<double>(p + 1) * kEps;
+
+  // The Newton direction (da, dy, dz, dw; ds = -da) for the feasibility residuals rp, rd and the
+  // complementarity right-hand sides ra (pairs a z) and rs (pairs s w), by eliminating dz, dw:
+  //   dz = (ra - z da) / a,  dw = (rs + w da) / s,  da = q (rhat - As dy),
+  //   rhat = rd + ra / a - rs / s,  (As^T Q As) dy = As^T Q rhat - rp.
+  const auto direction = [&]() {
+    rhat = rd + ra.cwiseQuotient(a) - rs.cwiseQuotient(s);
+    rhs.noalias() = QA.transpose() * rhat;
+    rhs -= rp;
+    if (use_ldlt) {
+      dy = ldlt.solve(rhs);
+    } else {
+      dy = llt.solve(rhs);
+    }
+    tmp.noalias() = As * dy;
+    da = q.cwiseProduct(rhat - tmp);
+    dz = (ra - z.cwiseProduct(da)).cwiseQuotient(a);
+    dw = (rs + w.cwiseProduct(da)).cwiseQuotient(s);
+  };
+
+  for (;;) {
+    // Residuals and the stopping test on the current iterate.
+    r = bs;
+    r.noalias() -= As * y;
+    rd = r - w + z;
+    tmp = a - s;
+    rp.noalias() = As.transpose() * tmp;
+    rp *= -0.5;
+    const double cost = r.cwiseAbs().sum();
+    const double gap = cost - bs.dot(tmp);
+    const double mu = (a.dot(z) + s.dot(w)) / (2.0 * nd);
+    if (!std::isfinite(gap) || !std::isfinite(mu)) {
+      stop_reason = "non-finite iterate at iteration " + std::to_string(iterations);
+      break;
+    }
+    if (cost < best_cost) {
+      best_cost = cost;
+      best_y = y;
+    }
+    const double rounding = rounding_factor * (bs_l1 + As_col_l1.dot(y.cwiseAbs()));
+    if (gap <= std::max(0.5 * tol * std::max(1.0 / b_scale, cost), rounding)) {
+      stop_reason = "gap below tolerance";
+      break;
+    }
+    if (iterations >= options.max_iterations) {
+      stop_reason = "iteration limit";
+      break;
+    }
+    ++iterations;
+
+    // Normal equations M = As^T Q As; LLT, else LDLT, else LLT with a tiny ridge.
+    q = (w.cwiseQuotient(s) + z.cwiseQuotient(a)).cwiseInverse();
+    QA = q.asDiagonal() * As;
+    for (Eigen::Index j = 0; j < p; ++j) {
+      for (Eigen::Index k = j; k < p; ++k) M(k, j) = M(j, k) = QA.col(j).dot(As.col(k));
+    }
+    llt.compute(M);
+    use_ldlt = llt.info() != Eigen::Success;
+    if (use_ldlt) {
+      ldlt.compute(M);
+      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) {
+        M.diagonal().array() += 1e3 * kEps * M.diagonal().maxCoeff();
+        llt.compute(M);
+        use_ldlt = false;
+        if (llt.info() != Eigen::Success) {
+          stop_reason = "singular normal equations at iteration " + std::to_string(iterations);
+          break;
+        }
+      }
+    }
+
+    // Predictor (affine scaling): drive every product to zero.
+    ra = -a.cwiseProduct(z);
+    rs = -s.cwiseProduct(w);
+    direction();
+    double alpha_p = stepLength(a, da, s, da, -1.0);
+    double alpha_d = stepLength(z, dz, w, dw, 1.0);
+    const double mu_aff = ((a + alpha_p * da).dot(z + alpha_d * dz) +
+                           (s - alpha_p * da).dot(w + alpha_d * dw)) /
+                          (2.0 * nd);
+    const double sigma_mu = std::pow(mu_aff / mu, 3) * mu;
+
+    // Mehrotra corrector: target sigma mu, with the predictor's second-order term.
+    ra = (sigma_mu - a.cwiseProduct(z).array()).matrix() - da.cwiseProduct(dz);
+    rs = (sigma_mu - s.cwiseProduct(w).array()).matrix() + da.cwiseProduct(dw);
+    direction();
+    alpha_p = stepLength(a, da, s, da, -1.0);
+    alpha_d = stepLength(z, dz, w, dw, 1.0);
+
+    a += alpha_p * da;
+    s -= alpha_p * da;
+    y += alpha_d * dy;
+    z += alpha_d * dz;
+    w += alpha_d * dw;
+  }
+
+  // Certificate: the interior point's own (x, u), then its purified vertex; keep the lower cost
+  // and the higher bound (each bound is valid on its own).
+  Eigen::VectorXd u_ip = a - s;
+  if (!u_ip.allFinite()) u_ip.setZero();  // after a numerical breakdown: u = 0 is feasible
+  r = bs - As * best_y;
+  result.x = unscale(best_y);
+  result.cost = l1Cost(A, b, result.x);
+  const Vertex vertex = purify(A, b, As, r, u_ip);
+  bool at_vertex = false;
+  if (vertex.found) {
+    const double cost_v = l1Cost(A, b, vertex.x);
+    if (cost_v <= result.cost) {
+      result.x = vertex.x;
+      result.cost = cost_v;
+      at_vertex = true;
+    }
+  }
+  double bound = dualBound(A, b, As, qr, result.x, u_ip);
+  if (vertex.found) {
+    Eigen::VectorXd uv = vertex.u;
+    bound = std::max(bound, dualBound(A, b, As, qr, result.x, uv));
+  }
+  // Weak duality makes cost >= bound; a difference below zero is rounding and is reported as 0.
+  result.dual_bound = std::min(bound, result.cost);
+  result.gap = result.cost - result.dual_bound;
+
+  const double allowed = std::max(tol * std::max(1.0, std::abs(result.cost)),
+                                  roundingLevel(A, b, result.x));
+  result.summary.iterations = iterations;
+  result.summary.final_cost = result.cost;
+  result.summary.status = result.gap <= allowed ? Status::kConverged : Status::kMaxIterations;
+  result.summary.message = (result.summary.status == Status::kConverged ? "converged" : "stopped") +
+                           std::string(" after ") + std::to_string(iterations) +
+                           " interior-point iterations (" + stop_reason + "); gap " +
+                           str(result.gap) + (result.gap <= allowed ? " <= " : " > ") +
+                           str(allowed) + (at_vertex ? "; purified to a vertex" : "");
+  if (vertex.found && at_vertex && vertex.max_basic_u <= 1.0) {
+    result.summary.message += " with an exact basic dual";
+  }
+  result.summary.wall_time_s = clock.seconds();
+  return result;
+}
+
+}  // namespace exoid::ident

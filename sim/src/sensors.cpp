@@ -1,0 +1,56 @@
+#include "exoid/sim/sensors.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace exoid::sim {
+
+void SensorOptions::validate() const {
+  auto check = [](const char* name, double v, bool ok, const char* expected) {
+    if (!ok) {
+      std::ostringstream ss;
+      ss.precision(17);
+      ss << "'" << name << "' must be " << expected << ", got " << v;
+      throw std::invalid_argument(ss.str());
+    }
+  };
+  check("noise_q_deg", noise_q_deg, std::isfinite(noise_q_deg) && noise_q_deg >= 0 && noise_q_deg < 90, "in [0, 90)");
+  check("quantisation_deg", quantisation_deg,
+        std::isfinite(quantisation_deg) && quantisation_deg >= 0 && quantisation_deg < 90, "in [0, 90)");
+  check("noise_tau_Nm", noise_tau_Nm, std::isfinite(noise_tau_Nm) && noise_tau_Nm >= 0, "finite and >= 0");
+  check("tau_bias_Nm[hip]", tau_bias_Nm[0], std::isfinite(tau_bias_Nm[0]), "finite");
+  check("tau_bias_Nm[knee]", tau_bias_Nm[1], std::isfinite(tau_bias_Nm[1]), "finite");
+}
+
+Sensors::Sensors(const SensorOptions& o, std::uint64_t seed)
+    : o_(o),
+      noise_q_rad_(o.noise_q_deg * M_PI / 180.0),
+      quant_rad_(o.quantisation_deg * M_PI / 180.0),
+      enc_(streamSeed(seed, kStreamEncoder)),
+      tau_(streamSeed(seed, kStreamTorque)) {
+  o.validate();
+}
+
+Eigen::Vector2d Sensors::angles(const Eigen::Vector2d& q) {
+  Eigen::Vector2d out;
+  for (int j = 0; j < 2; ++j) {
+    double v = q[j];
+    if (noise_q_rad_ > 0) v += noise_q_rad_ * enc_.normal();
+    if (quant_rad_ > 0) v = std::nearbyint(v / quant_rad_) * quant_rad_;
+    out[j] = v;
+  }
+  return out;
+}
+
+Eigen::Vector2d Sensors::torques(const Eigen::Vector2d& tau) {
+  Eigen::Vector2d out;
+  for (int j = 0; j < 2; ++j) {
+    double v = tau[j] + o_.tau_bias_Nm[static_cast<std::size_t>(j)];
+    if (o_.noise_tau_Nm > 0) v += o_.noise_tau_Nm * tau_.normal();
+    out[j] = v;
+  }
+  return out;
+}
+
+}  // namespace exoid::sim

@@ -1,0 +1,339 @@
+#include "exoid/sim/simulate.hpp"
+
+#include "exoid/sim/four_bar.hpp"
+#include "exoid/sim/inverse_dynamics.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace exoid::sim {
+namespace {
+
+// Advances one step after mj_forward with the model's integrator (what mj_step does after its
+// own mj_forward). RK4 is the model's choice: with Euler, position differences of the recorded
+// states lag the recorded velocity by dt qacc / 2 (a simulator artifact, not physics); RK4's
+// trajectory is the continuous one to O(dt^4), like a real rig's.
+void integrate(const mjModel* m, mjData* d) {
+  switch (m->opt.integrator) {
+    case mjINT_RK4: mj_RungeKutta(m, d, 4); break;
+    default: mj_Euler(m, d); break;
+  }
+}
+
+// Internal record columns (all of them; the table selects).
+enum Col : int {
+  kT = 0, kQHip, kQKnee, kTauHip, kTauKnee,
+  kQHipTrue, kQKneeTrue, kQdHipTrue, kQdKneeTrue, kQddHipTrue, kQddKneeTrue,
+  kTauHipTrue, kTauKneeTrue, kTauHipIdeal, kTauKneeIdeal,
+  kQHipRef, kQKneeRef, kBaseX, kBaseZ, kBasePitch, kLoopError, kNumCols
+};
+const char* const kColNames[kNumCols] = {
+    "t", "q_hip", "q_knee", "tau_hip", "tau_knee",
+    "q_hip_true", "q_knee_true", "qd_hip_true", "qd_knee_true", "qdd_hip_true", "qdd_knee_true",
+    "tau_hip_true", "tau_knee_true", "tau_hip_ideal", "tau_knee_ideal",
+    "q_hip_ref", "q_knee_ref", "base_x", "base_z", "base_pitch", "loop_error"};
+const int kShortCols[] = {kT, kQHip, kQKnee, kTauHip, kTauKnee, kQHipRef, kQKneeRef};
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+template <class T>
+[[noreturn]] void badField(const char* field, const T& value, const char* expected) {
+  std::ostringstream ss;
+  ss.precision(17);
+  ss << "'" << field << "' must be " << expected << ", got " << value;
+  throw std::invalid_argument(ss.str());
+}
+
+Eigen::Index sampleCount(const SimConfig& c) {
+  return static_cast<Eigen::Index>(std::llround(c.duration_s / c.dt_s));
+}
+
+}  // namespace
+
+void SimConfig::validate() const {
+  if (model_path.empty()) badField("model_path", "\"\"", "a path to an MJCF file");
+  if (trajectory < 0 || trajectory > 4) badField("trajectory", trajectory, "1..4 (paper Table 1) or 0 (Fourier)");
+  if (trajectory == 0) fourier.validate();
+  if (!std::isfinite(ramp_s) || ramp_s < 0) badField("ramp_s", ramp_s, ">= 0");
+  if (!std::isfinite(dt_s) || dt_s <= 0 || dt_s > 0.01) badField("dt_s", dt_s, "in (0, 0.01] s");
+  if (!std::isfinite(duration_s) || duration_s <= 0 || duration_s > 3600) badField("duration_s", duration_s, "in (0, 3600] s");
+  if (sampleCount(*this) < 2) badField("duration_s", duration_s, "at least 2 samples (duration >= 2 dt)");
+  sensors.validate();
+  variant.validate();
+  floor.validate();
+  if (floor.active() && variant.vibration_level == 0) {
+    throw std::invalid_argument("'floor' disturbance needs 'vibration_level' > 0 (a welded pedestal cannot move)");
+  }
+  gains.validate();
+  if (!std::isfinite(max_loop_error_m) || max_loop_error_m <= 0) badField("max_loop_error_m", max_loop_error_m, "> 0");
+}
+
+FourierSpec SimConfig::trajectorySpec() const { return trajectory == 0 ? fourier : paperTrajectory(trajectory); }
+
+std::vector<std::string> datasetColumns(bool exact_columns) {
+  std::vector<std::string> out;
+  if (exact_columns) {
+    for (int c = 0; c < kNumCols; ++c) out.emplace_back(kColNames[c]);
+  } else {
+    for (int c : kShortCols) out.emplace_back(kColNames[c]);
+  }
+  return out;
+}
+
+struct Simulator::Impl {
+  SimConfig cfg;
+  LegModel leg;
+  DataPtr data;
+  std::optional<FourBar> fb;
+  std::optional<IdealInverseDynamics> ideal;
+  std::optional<Trajectory> traj;
+  std::optional<Sensors> sensors;
+  std::optional<PidController> pid;
+  std::optional<FloorForce> floor;
+  Eigen::Index n = 0;
+  Eigen::MatrixXd rec;
+  double first_loop_error_m = 0.0;  // after the very first step, pre-roll included
+  bool ran = false, finished = false;
+  double setup_time_s = 0.0, loop_time_s = 0.0;
+
+  explicit Impl(const SimConfig& c) : cfg(c) {
+    const auto t0 = std::chrono::steady_clock::now();
+    cfg.validate();
+    leg = loadLeg(cfg.model_path, cfg.variant);
+    mjModel* m = leg.model.get();
+    m->opt.timestep = cfg.dt_s;
+    data = makeData(m);
+    fb.emplace(m, leg.idx);
+    ideal.emplace(loadLeg(cfg.model_path, cfg.variant, /*force_welded=*/true));
+    traj.emplace(cfg.trajectorySpec(), cfg.ramp_s);
+    sensors.emplace(cfg.sensors, cfg.seed);
+    pid.emplace(cfg.gains, cfg.dt_s);
+    floor.emplace(cfg.floor, cfg.seed);
+    n = sampleCount(cfg);
+    rec.setZero(n, kNumCols);
+    initialState();
+    setup_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  void initialState() {
+    mjModel* m = leg.model.get();
+    mjData* d = data.get();
+    const LegIndices& x = leg.idx;
+    const JointReference r0 = traj->at(0.0);
+    mju_zero(d->qpos, m->nq);
+    mju_zero(d->qvel, m->nv);
+    setLegState(m, d, x, *fb, {r0.q[0], r0.q[1]}, {r0.qd[0], r0.qd[1]});
+    const bool locked = traj->hipLocked();
+    m->eq_active[x.eq_hip_lock] = locked ? 1 : 0;
+    if (locked) {
+      // joint equality with joint1 only: q_hip - qpos0 = polycoef[0] (qpos0 = 0).
+      m->eq_data[mjNEQDATA * x.eq_hip_lock] = r0.q[0];
+      for (int k = 1; k < 5; ++k) m->eq_data[mjNEQDATA * x.eq_hip_lock + k] = 0.0;
+    }
+    // Pre-load the mount springs so the pedestal starts in static equilibrium under gravity.
+    if (!leg.welded) {
+      mj_forward(m, d);
+      for (int k = 0; k < 3; ++k) {
+        const double stiff = m->jnt_stiffness[x.mount_jnt[k]];
+        m->qpos_spring[x.mount_qadr[k]] = d->qfrc_bias[x.mount_vadr[k]] / stiff;
+      }
+    }
+    mj_forward(m, d);
+    checkStepHealth(m, d, 0.0, "initial state");
+    // The controller starts holding the initial pose: integral = static holding torque.
+    Eigen::Vector2d hold = ideal->torque(r0.q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
+    if (cfg.feedforward) hold.setZero();
+    if (locked) hold[0] = 0.0;
+    pid->reset(r0.q, {!locked, true}, hold);
+  }
+
+  void run() {
+    if (ran) throw std::logic_error("Simulator::run called twice");
+    ran = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    const mjModel* m = leg.model.get();
+    mjData* d = data.get();
+    const LegIndices& x = leg.idx;
+    const bool locked = traj->hipLocked();
+    const bool has_floor = cfg.floor.active();
+    const double dt = cfg.dt_s;
+    // With record_after_ramp the start ramp runs unrecorded (as a rig is started before its log):
+    // rows go to a scratch row until the ramp is over, and the table's t starts at 0 after it.
+    const Eigen::Index preroll = cfg.record_after_ramp ? static_cast<Eigen::Index>(std::llround(cfg.ramp_s / dt)) : 0;
+    Eigen::MatrixXd scratch = Eigen::MatrixXd::Zero(1, rec.cols());
+    for (Eigen::Index step = 0; step < preroll + n; ++step) {
+      const Eigen::Index k = step - preroll;  // record row, negative during the pre-roll
+      const double t = static_cast<double>(step) * dt;  // trajectory (and disturbance) time
+      const JointReference ref = traj->at(t);
+      if (leg.kinematic_loop) {
+        setLegState(m, d, x, *fb, {d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]},
+                    {d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]});
+      }
+      const Eigen::Vector2d q(d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]);
+      const Eigen::Vector2d qd(d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]);
+      auto row = k >= 0 ? rec.row(k) : scratch.row(0);
+      row[kT] = static_cast<double>(k) * dt;
+      row[kQHipTrue] = q[0];
+      row[kQKneeTrue] = q[1];
+      row[kQdHipTrue] = qd[0];
+      row[kQdKneeTrue] = qd[1];
+      row[kQHipRef] = ref.q[0];
+      row[kQKneeRef] = ref.q[1];
+      if (!leg.welded) {
+        row[kBaseX] = d->qpos[x.mount_qadr[0]];
+        row[kBaseZ] = d->qpos[x.mount_qadr[1]];
+        row[kBasePitch] = d->qpos[x.mount_qadr[2]];
+      }
+      const Eigen::Vector2d qm = sensors->angles(q);
+      row[kQHip] = qm[0];
+      row[kQKnee] = qm[1];
+      Eigen::Vector2d u = pid->update(ref, qm);
+      if (cfg.feedforward) {
+        const Eigen::Vector2d ff = ideal->torque(ref.q, ref.qd, ref.qdd);
+        u[0] += locked ? 0.0 : ff[0];
+        u[1] += ff[1];
+      }
+      d->ctrl[x.act[0]] = u[0];
+      d->ctrl[x.act[1]] = u[1];
+      d->qfrc_applied[x.vadr[0]] = -leg.coulomb.torque(0, qd[0]);
+      d->qfrc_applied[x.vadr[1]] = -leg.coulomb.torque(1, qd[1]);
+      if (has_floor) {
+        double fx, fz;
+        floor->at(t, fx, fz);
+        d->xfrc_applied[6 * x.body_pedestal + 0] = fx;
+        d->xfrc_applied[6 * x.body_pedestal + 2] = fz;
+      }
+      // Forward dynamics at the state of time t: qacc and actuator_force of this row. Then the
+      // step itself. With RK4 (the model's integrator) mj_RungeKutta reuses this mj_forward as its
+      // first stage, exactly as mj_step would; afterwards qacc holds the last stage's value, so
+      // it is read here, before integrating.
+      mj_forward(m, d);
+      checkStepHealth(m, d, t, "mj_forward");
+      const Eigen::Vector2d tau(d->actuator_force[x.act[0]], d->actuator_force[x.act[1]]);
+      row[kQddHipTrue] = d->qacc[x.vadr[0]];
+      row[kQddKneeTrue] = d->qacc[x.vadr[1]];
+      // Loop error of this row's state (xpos from the mj_forward above).
+      const double le = loopError(m, d, x);
+      row[kLoopError] = le;
+      if (step == 0) first_loop_error_m = le;
+      if (!(le <= cfg.max_loop_error_m)) {
+        char buf[256];
+        std::snprintf(buf, sizeof buf,
+                      "the four-bar loop opened to %.3g m at t = %.6g s (limit max_loop_error_m = %.3g m): "
+                      "the simulation is not trustworthy (check gains, timestep, solref)",
+                      le, t, cfg.max_loop_error_m);
+        throw SimulationError(buf);
+      }
+      integrate(m, d);
+      checkStepHealth(m, d, t, "integration");
+      row[kTauHipTrue] = tau[0];
+      row[kTauKneeTrue] = tau[1];
+      const Eigen::Vector2d tm = sensors->torques(tau);
+      row[kTauHip] = tm[0];
+      row[kTauKnee] = tm[1];
+    }
+    loop_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  SimResult finish() {
+    if (!ran) run();
+    if (finished) throw std::logic_error("Simulator::finish called twice");
+    finished = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    SimResult r;
+    r.config = cfg;
+    // Ideal (vibration-free, rigid-loop) torques at the exact joint states.
+    for (Eigen::Index k = 0; k < n; ++k) {
+      auto row = rec.row(k);
+      const Eigen::Vector2d tau = ideal->torque({row[kQHipTrue], row[kQKneeTrue]},
+                                                {row[kQdHipTrue], row[kQdKneeTrue]},
+                                                {row[kQddHipTrue], row[kQddKneeTrue]});
+      row[kTauHipIdeal] = tau[0];
+      row[kTauKneeIdeal] = tau[1];
+    }
+    // Statistics.
+    SimStats& s = r.stats;
+    const double rad2deg = 180.0 / M_PI;
+    auto track = [&](int qcol, int refcol) {
+      JointErrorStats e;
+      const Eigen::ArrayXd err = (rec.col(qcol) - rec.col(refcol)).array() * rad2deg;
+      e.rms_deg = std::sqrt(err.square().mean());
+      e.max_deg = err.abs().maxCoeff();
+      return e;
+    };
+    s.tracking_hip = track(kQHipTrue, kQHipRef);
+    s.tracking_knee = track(kQKneeTrue, kQKneeRef);
+    s.loop_error_max_m = rec.col(kLoopError).maxCoeff();
+    s.loop_error_rms_m = std::sqrt(rec.col(kLoopError).array().square().mean());
+    s.loop_error_start_m = first_loop_error_m;
+    s.base_x_max_abs_m = rec.col(kBaseX).cwiseAbs().maxCoeff();
+    s.base_z_max_abs_m = rec.col(kBaseZ).cwiseAbs().maxCoeff();
+    s.base_pitch_max_abs_rad = rec.col(kBasePitch).cwiseAbs().maxCoeff();
+    s.tau_rms_hip_Nm = std::sqrt(rec.col(kTauHipTrue).array().square().mean());
+    s.tau_rms_knee_Nm = std::sqrt(rec.col(kTauKneeTrue).array().square().mean());
+    s.loop_time_s = loop_time_s;
+    // Truths.
+    r.truth = rigidTruth(leg);
+    r.lumped_band = lumpedBand(leg, rec.col(kQKneeTrue).minCoeff(), rec.col(kQKneeTrue).maxCoeff(), 181);
+    r.model_fnv1a64 = toHex(leg.xml_fnv1a64);
+    r.model_bytes = leg.xml_bytes;
+    r.mujoco_version = mj_versionString();
+    // Table.
+    Table& tb = r.table;
+    tb.names = datasetColumns(cfg.exact_columns);
+    if (cfg.exact_columns) {
+      tb.values = std::move(rec);
+    } else {
+      tb.values.resize(n, static_cast<Eigen::Index>(std::size(kShortCols)));
+      for (std::size_t i = 0; i < std::size(kShortCols); ++i) {
+        tb.values.col(static_cast<Eigen::Index>(i)) = rec.col(kShortCols[i]);
+      }
+    }
+    auto meta = [&](const std::string& k, const std::string& v) { tb.metadata.emplace_back(k, v); };
+    meta("source", std::string("exoid sim (MuJoCo ") + mj_versionString() + ")");
+    meta("model", cfg.model_path);
+    meta("model_fnv1a64", r.model_fnv1a64);
+    meta("trajectory", cfg.trajectory == 0 ? std::string("fourier") : std::to_string(cfg.trajectory));
+    meta("hip_locked", traj->hipLocked() ? "true" : "false");
+    meta("seed", std::to_string(cfg.seed));
+    meta("dt_s", num(cfg.dt_s));
+    meta("duration_s", num(cfg.duration_s));
+    meta("ramp_s", num(cfg.ramp_s));
+    meta("record_after_ramp", cfg.record_after_ramp ? "true" : "false");
+    meta("thigh_length_m", num(r.truth.thigh_length_m));
+    meta("gravity_mps2", num(r.truth.gravity_mps2));
+    meta("noise_q_deg", num(cfg.sensors.noise_q_deg));
+    meta("quantisation_deg", num(cfg.sensors.quantisation_deg));
+    meta("noise_tau_Nm", num(cfg.sensors.noise_tau_Nm));
+    meta("vibration_level", num(cfg.variant.vibration_level));
+    meta("cylinder_mass_scale", num(cfg.variant.cylinder_mass_scale));
+    meta("feedforward", cfg.feedforward ? "true" : "false");
+    meta("units", "s, rad, rad/s, rad/s^2, N m, m");
+    s.wall_time_s = setup_time_s + loop_time_s +
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
+};
+
+Simulator::Simulator(const SimConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+Simulator::~Simulator() = default;
+void Simulator::run() { impl_->run(); }
+SimResult Simulator::finish() { return impl_->finish(); }
+
+SimResult simulate(const SimConfig& config) {
+  Simulator s(config);
+  s.run();
+  return s.finish();
+}
+
+void writeCsv(const SimResult& result, const std::string& path) { writeTableCsv(result.table, path); }
+
+}  // namespace exoid::sim

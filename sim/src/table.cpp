@@ -1,0 +1,81 @@
+#include "exoid/sim/table.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <system_error>
+
+#include <unistd.h>
+
+namespace exoid::sim {
+
+Eigen::Index Table::column(const std::string& name) const {
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return static_cast<Eigen::Index>(i);
+  }
+  std::string all;
+  for (const auto& n : names) all += (all.empty() ? "" : ",") + n;
+  throw std::invalid_argument("table has no column '" + name + "' (columns: " + all + ")");
+}
+
+bool Table::has(const std::string& name) const {
+  for (const auto& n : names) {
+    if (n == name) return true;
+  }
+  return false;
+}
+
+std::string tableCsv(const Table& t) {
+  if (static_cast<Eigen::Index>(t.names.size()) != t.values.cols()) {
+    throw std::invalid_argument("table: " + std::to_string(t.names.size()) + " names for " +
+                                std::to_string(t.values.cols()) + " columns");
+  }
+  std::string out;
+  out.reserve(static_cast<std::size_t>(t.values.size()) * 24 + 1024);
+  for (const auto& [k, v] : t.metadata) out += "# " + k + ": " + v + "\n";
+  for (std::size_t i = 0; i < t.names.size(); ++i) {
+    if (i) out += ',';
+    out += t.names[i];
+  }
+  out += '\n';
+  char buf[40];
+  for (Eigen::Index r = 0; r < t.values.rows(); ++r) {
+    for (Eigen::Index c = 0; c < t.values.cols(); ++c) {
+      if (c) out += ',';
+      const int n = std::snprintf(buf, sizeof buf, "%.17g", t.values(r, c));
+      out.append(buf, static_cast<std::size_t>(n));
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void writeFileAtomic(const std::string& path, const std::string& bytes) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  fs::path tmp = target;
+  tmp += ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "' (for '" + path + "')");
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw std::runtime_error("write to '" + tmp.string() + "' failed (for '" + path + "')");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ec2;
+    fs::remove(tmp, ec2);
+    throw std::runtime_error("cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message());
+  }
+}
+
+void writeTableCsv(const Table& t, const std::string& path) { writeFileAtomic(path, tableCsv(t)); }
+
+}  // namespace exoid::sim

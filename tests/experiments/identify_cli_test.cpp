@@ -1,0 +1,134 @@
+// `exoid identify` end to end on CSV logs written from an independent 2-link dynamics.
+#include "exoid/experiments/cli.hpp"
+#include "exoid/ident/dataset.hpp"
+
+#include "../ident/test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace exoid::experiments {
+namespace {
+
+int runExoid(std::vector<std::string> args) {
+  args.insert(args.begin(), "exoid");
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  return runCli(static_cast<int>(argv.size()), argv.data());
+}
+
+std::string writeRecord(int trajectory, bool with_derivatives, const std::string& name) {
+  const ident::JointSignals s = test::exactRecord(trajectory, ident::defaultLeg(), 9.81);
+  ident::Dataset d;
+  d.comments = {" thigh_length_m: 0.45", " gravity_mps2: 9.81"};
+  d.t_s = s.t_s;
+  d.q_rad = s.q_rad;
+  d.tau_Nm = s.tau_Nm;
+  if (with_derivatives) {
+    d.qd_radps = s.qd_radps;
+    d.qdd_radps2 = s.qdd_radps2;
+  }
+  const std::string path = ::testing::TempDir() + "/" + name;
+  ident::writeDatasetCsv(d, path);
+  return path;
+}
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(IdentifyCli, RecoversTrajectory3ParametersFromExactDerivativeColumns) {
+  const std::string csv = writeRecord(3, true, "traj3_exact.csv");
+  const std::string out = ::testing::TempDir() + "/traj3_ls.json";
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--no-filter", "--json", out}), 0);
+  const nlohmann::json j = readJson(out);
+  const ident::ParamVector truth = ident::toParamVector(ident::defaultLeg());
+  for (int i = 0; i < ident::kNumParams; ++i) {
+    const std::string n(ident::paramName(i));
+    // Exact columns, no filter, %.17g CSV: only roundoff amplified by cond ~1e3 remains.
+    EXPECT_NEAR(j["parameters"][n].get<double>(), truth[i], 1e-8 * std::abs(truth[i])) << n;
+  }
+  EXPECT_EQ(j["method"], "ls");
+  EXPECT_EQ(j["methods"]["ls"]["stages"][0]["rank"], 10);
+  EXPECT_TRUE(j["methods"]["ls"]["stages"][0].contains("condition_number"));
+  EXPECT_TRUE(j["tool"].contains("version"));
+  EXPECT_EQ(j["seed"], 1);
+  EXPECT_DOUBLE_EQ(j["constants"]["thigh_length_m"].get<double>(), 0.45);
+}
+
+TEST(IdentifyCli, SegmentalStrategyWithValidationAndTruth) {
+  const std::string knee = writeRecord(1, true, "traj1_exact.csv");
+  const std::string both = writeRecord(3, true, "traj3_exact_b.csv");
+  const std::string val = writeRecord(2, true, "traj2_exact.csv");
+  const std::string truth = ::testing::TempDir() + "/truth.json";
+  {
+    nlohmann::json t;
+    const ident::ParamVector x = ident::toParamVector(ident::defaultLeg());
+    for (int i = 0; i < ident::kNumParams; ++i) t["parameters"][std::string(ident::paramName(i))] = x[i];
+    std::ofstream(truth) << t.dump();
+  }
+  const std::string out = ::testing::TempDir() + "/seg.json";
+  ASSERT_EQ(runExoid({"identify", "--knee-data", knee, "--both-data", both, "--method", "ls,rls-pso", "--no-filter",
+                      "--validate", val, "--truth", truth, "--pso-iterations", "200", "--json", out}),
+            0);
+  const nlohmann::json j = readJson(out);
+  EXPECT_EQ(j["strategy"], "segmental");
+  const auto& ls = j["methods"]["ls"];
+  EXPECT_LT(ls["parameter_error"]["truth"]["norm_rel"].get<double>(), 1e-8);
+  // Exact data and exact parameters: validation torque error is roundoff.
+  EXPECT_LT(ls["validation"][val]["knee"]["max_abs_Nm"].get<double>(), 1e-8);
+  EXPECT_EQ(j["methods"]["rls-pso"]["stages"].size(), 2u);
+  EXPECT_TRUE(j["methods"]["rls-pso"]["stages"][0].contains("box"));
+}
+
+TEST(IdentifyCli, RankDeficientRecordExitsWithCode3AndNamesParameters) {
+  // Trajectory 1 holds the hip still: the thigh parameters cannot be identified from it.
+  const std::string csv = writeRecord(1, true, "traj1_exact_b.csv");
+  const std::string out = ::testing::TempDir() + "/traj1.json";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--no-filter", "--json", out}), 3);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("not identifiable"), std::string::npos) << err;
+  EXPECT_NE(err.find("fc1"), std::string::npos) << err;
+  EXPECT_EQ(readJson(out)["status"], "not_usable");
+}
+
+TEST(IdentifyCli, BadCsvNamesFileLineAndColumn) {
+  const std::string csv = ::testing::TempDir() + "/bad.csv";
+  std::ofstream(csv) << "t,q_hip,q_knee,tau_hip,tau_knee\n0,0,0,0,0\n0.001,0,x,0,0\n";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", csv}), 1);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find(csv + ":3:3"), std::string::npos) << err;
+  EXPECT_NE(err.find("q_knee"), std::string::npos) << err;
+}
+
+TEST(IdentifyCli, UsageErrorsAreNonZero) {
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  EXPECT_NE(runExoid({"identify"}), 0);
+  EXPECT_NE(runExoid({"identify", "--data", "/nonexistent.csv"}), 0);
+  EXPECT_NE(runExoid({"identify", "--data", "x", "--method", "magic"}), 0);
+  EXPECT_NE(runExoid({"frobnicate"}), 0);
+  testing::internal::GetCapturedStdout();
+  testing::internal::GetCapturedStderr();
+}
+
+TEST(IdentifiabilityCli, ReportsRankDeficientHipOnTrajectory1) {
+  const std::string csv = writeRecord(1, true, "traj1_exact_c.csv");
+  const std::string out = ::testing::TempDir() + "/ident1.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--no-filter", "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json j = readJson(out);
+  ASSERT_EQ(j["blocks"].size(), 3u);
+  EXPECT_LT(j["blocks"][1]["rank"].get<int>(), 5);  // hip equation, params 1-5
+  EXPECT_FALSE(j["blocks"][1]["unidentifiable"].empty());
+  EXPECT_EQ(j["blocks"][2]["rank"], 5);  // knee equation
+}
+
+}  // namespace
+}  // namespace exoid::experiments

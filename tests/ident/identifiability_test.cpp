@@ -1,0 +1,90 @@
+#include "exoid/ident/identifiability.hpp"
+
+#include "exoid/ident/segmental.hpp"
+#include "test_support.hpp"
+
+#include <Eigen/QR>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace exoid::ident {
+namespace {
+
+const LegConstants kC{0.45, 9.81};
+
+Eigen::MatrixXd cols(const Eigen::MatrixXd& H, int first, int n) { return H.middleCols(first, n); }
+
+// The findings paper.md reports for the paper's trajectories (10 s at 1 kHz).
+TEST(Identifiability, PaperTrajectoriesRankFindings) {
+  const LegPhysical leg = defaultLeg();
+  for (int id = 1; id <= 4; ++id) {
+    const JointSignals s = test::exactRecord(id, leg, kC.gravity_mps2);
+    const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, kC), Hk = jointRegressor(s, Joint::kKnee, kC);
+    const auto hip = analyzeIdentifiability(cols(Hh, 0, 5), s.tau_Nm.col(0), 0.5);
+    const auto knee = analyzeIdentifiability(cols(Hk, 5, 5), s.tau_Nm.col(1), 0.5);
+    SCOPED_TRACE("trajectory " + std::to_string(id));
+    if (id <= 2) {
+      // Hip fixed: the hip equation alone cannot identify the thigh parameters.
+      EXPECT_LT(hip.rank, 5);
+      EXPECT_FALSE(hip.unidentifiable.empty());
+      EXPECT_EQ(knee.rank, 5);
+    } else {
+      EXPECT_EQ(hip.rank, 5);
+    }
+    if (id == 4) {
+      // q1 + q2 is constant (15 deg): g s12 and g c12 are constant, the knee equation loses rank.
+      EXPECT_LT(knee.rank, 5);
+    }
+    if (id == 1) {
+      // paper.md: knee equation rank 5, condition ~250 after column scaling.
+      EXPECT_GT(knee.condition_number, 100.0);
+      EXPECT_LT(knee.condition_number, 1000.0);
+    }
+  }
+}
+
+TEST(Identifiability, SingleFrequencyMakesInertiaNearlyCollinearWithGravity) {
+  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2);
+  const Eigen::MatrixXd Hk = jointRegressor(s, Joint::kKnee, kC);
+  Eigen::MatrixXd H(Hk.rows(), 3);
+  H << Hk.col(kMxs), Hk.col(kMys), Hk.col(kJs);  // qdd2 vs [g s12, g c12] (+ Lt terms, zero here)
+  const auto r = analyzeIdentifiability(H, s.tau_Nm.col(1), 0.5);
+  EXPECT_GT(r.collinearity_r2[2], 0.999);  // paper.md: R^2 = 0.9999
+}
+
+TEST(Identifiability, CramerRaoMatchesMonteCarloLsScatter) {
+  // The LS std over many noise draws must match sigma sqrt(diag((H^T H)^-1)). With 400 draws the
+  // sample std has relative standard error 1/sqrt(2 * 399) = 3.5 %: allow 5 sigma, 18 %.
+  const LegPhysical leg = defaultLeg();
+  const JointSignals s = test::exactRecord(1, leg, kC.gravity_mps2, 2.0);
+  const SegmentalProblem pr = kneeStage(s, kC);
+  const double sigma = 0.5;
+  const auto r = analyzeIdentifiability(pr.H, pr.y, sigma);
+  std::mt19937_64 gen(99);
+  std::normal_distribution<double> noise(0.0, sigma);
+  const int draws = 400;
+  Eigen::MatrixXd est(5, draws);
+  const auto qr = pr.H.colPivHouseholderQr();
+  for (int k = 0; k < draws; ++k) {
+    const Eigen::VectorXd y = pr.y + Eigen::VectorXd::NullaryExpr(pr.y.size(), [&] { return noise(gen); });
+    est.col(k) = qr.solve(y);
+  }
+  const Eigen::VectorXd mean = est.rowwise().mean();
+  for (int j = 0; j < 5; ++j) {
+    const double sd = std::sqrt((est.row(j).array() - mean[j]).square().sum() / (draws - 1));
+    EXPECT_NEAR(sd / r.crb_std[j], 1.0, 0.18) << paramName(kShankFirst + j);
+  }
+}
+
+TEST(Identifiability, RankDeficientBlockReportsInfiniteBounds) {
+  Eigen::MatrixXd H = Eigen::MatrixXd::Random(100, 3);
+  H.col(1) = H.col(0);
+  const auto r = analyzeIdentifiability(H, Eigen::VectorXd::Random(100), 0.1);
+  EXPECT_EQ(r.rank, 2);
+  EXPECT_TRUE(std::isinf(r.condition_number));
+  EXPECT_EQ(r.unidentifiable.size(), 1u);
+}
+
+}  // namespace
+}  // namespace exoid::ident
