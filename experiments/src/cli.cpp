@@ -19,6 +19,7 @@ int runCli(int argc, char** argv) {
 #ifdef EXOID_WITH_MUJOCO
   addSimulateCommand(app);
   addTruthCommand(app);
+  addReproduceCommand(app);
 #endif
 #ifdef EXOID_WITH_RENDER
   addRenderCommand(app);

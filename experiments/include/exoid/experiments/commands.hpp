@@ -19,6 +19,7 @@ void addIdentifiabilityCommand(CLI::App& app);
 #ifdef EXOID_WITH_MUJOCO
 void addSimulateCommand(CLI::App& app);
 void addTruthCommand(CLI::App& app);
+void addReproduceCommand(CLI::App& app);
 #endif
 #ifdef EXOID_WITH_RENDER
 void addRenderCommand(CLI::App& app);

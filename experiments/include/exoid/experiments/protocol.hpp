@@ -1,0 +1,84 @@
+#pragma once
+// The paper's protocol on the simulated leg (paper.md, "Evaluation"): simulate trajectories 1-4,
+// process the signals as the paper does, identify with the segmental strategy (knee from 1, hip
+// from 3), validate (knee on 2, hip on 4), and score against the truths. `exoid reproduce` runs
+// it once and reports; `exoid sweep` runs it over a grid of conditions and seeds.
+#include "exoid/experiments/identification.hpp"
+#include "exoid/ident/preprocess.hpp"
+#include "exoid/sim/simulate.hpp"
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// Identification variants compared by the protocol.
+enum class Variant {
+  kLs,         ///< LS, paper signal processing (segmental)
+  kRls,        ///< final RLS estimate (segmental)
+  kPso,        ///< PSO over the wide box (segmental; the paper's "PSO")
+  kRlsPso,     ///< RLS box + PSO (segmental; the paper's method)
+  kLad,        ///< exact minimum of the paper's L1 cost (segmental)
+  kLsExact,    ///< LS with the exact q, qd, qdd columns and the raw measured torque (segmental)
+  kLsStacked,  ///< LS on record 1's knee equation and both of record 3's, all 10 at once
+};
+const char* toString(Variant v);  ///< "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked"
+Variant parseVariant(const std::string& name);
+const std::vector<Variant>& allVariants();
+
+struct ProtocolConfig {
+  sim::SimConfig sim;              ///< noise, vibration, cylinder, gains... (trajectory and seed are set per record)
+  std::uint64_t seed = 1;          ///< sim seeds and PSO seeds derive from it
+  ident::SignalOptions signals;    ///< paper defaults: forward differences, 10 Hz zero-phase filter
+  ident::MethodOptions methods;    ///< paper defaults: G = 10000, cost < 1e-2
+  std::vector<Variant> variants = allVariants();
+  void validate() const;
+};
+
+/// One simulated record, as the identification sees it.
+struct Record {
+  int trajectory = 0;
+  sim::SimResult sim;
+  ident::Dataset data;
+  ident::JointSignals processed;  ///< measured signals after the paper's processing
+  ident::JointSignals exact_q;    ///< exact q, qd, qdd with the raw measured torque (same trim)
+  ident::JointSignals ideal;      ///< exact states with the ideal (vibration-free) torques
+};
+
+struct Truths {
+  ident::ParamVector rigid;     ///< bare rigid links
+  ident::ParamVector best_fit;  ///< segmental LS of the ideal torques at the exact states (1 -> knee, 3 -> hip)
+  ident::ParamVector band_min, band_max;  ///< lumped four-bar X(q2): knee block from 1, thigh from 3
+  double lt_m = 0.0, g_mps2 = 0.0;
+};
+
+struct VariantScore {
+  Variant variant = Variant::kLs;
+  MethodOutcome outcome;
+  ident::TorqueErrorStats knee_validation;  ///< on trajectory 2 (knee equation)
+  ident::TorqueErrorStats hip_validation;   ///< on trajectory 4 (hip equation)
+  ident::ParamError vs_rigid, vs_best_fit;
+};
+
+struct ProtocolResult {
+  ProtocolConfig config;
+  std::array<Record, 4> records;
+  Truths truths;
+  std::vector<VariantScore> scores;
+  double wall_time_s = 0.0;
+};
+
+/// Seed of record `trajectory` and of the PSO runs, from the protocol seed (independent streams).
+std::uint64_t recordSeed(std::uint64_t seed, int trajectory);
+std::uint64_t psoSeed(std::uint64_t seed);
+
+/// Simulates and processes the four records.
+std::array<Record, 4> simulateRecords(const ProtocolConfig& c);
+Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc);
+/// Runs every variant on the records. Deterministic for a given config.
+ProtocolResult runProtocol(const ProtocolConfig& c);
+
+}  // namespace exoid::experiments

@@ -1,0 +1,164 @@
+#include "exoid/experiments/protocol.hpp"
+
+#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/ident/random.hpp"
+#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/stopwatch.hpp"
+
+#include <stdexcept>
+
+namespace exoid::experiments {
+
+const char* toString(Variant v) {
+  switch (v) {
+    case Variant::kLs: return "ls";
+    case Variant::kRls: return "rls";
+    case Variant::kPso: return "pso";
+    case Variant::kRlsPso: return "rls-pso";
+    case Variant::kLad: return "lad";
+    case Variant::kLsExact: return "ls-exact";
+    case Variant::kLsStacked: return "ls-stacked";
+  }
+  return "unknown";
+}
+
+const std::vector<Variant>& allVariants() {
+  static const std::vector<Variant> all = {Variant::kLs,  Variant::kRls,     Variant::kPso,      Variant::kRlsPso,
+                                           Variant::kLad, Variant::kLsExact, Variant::kLsStacked};
+  return all;
+}
+
+Variant parseVariant(const std::string& name) {
+  for (Variant v : allVariants()) {
+    if (name == toString(v)) return v;
+  }
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact or ls-stacked)");
+}
+
+void ProtocolConfig::validate() const {
+  sim.validate();
+  signals.validate();
+  methods.validate();
+  if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
+}
+
+std::uint64_t recordSeed(std::uint64_t seed, int trajectory) {
+  return ident::Rng::derive(seed, static_cast<std::uint64_t>(trajectory));
+}
+std::uint64_t psoSeed(std::uint64_t seed) { return ident::Rng::derive(seed, 100); }
+
+namespace {
+
+// Exact states and the `tau_suffix` torques, trimmed like the processed signals (same rows).
+ident::JointSignals alignedExact(const ident::Dataset& d, const std::string& tau_suffix, const ident::SignalOptions& o) {
+  ident::JointSignals s = exactSignals(d, tau_suffix);
+  const Eigen::Index trim = o.edgeTrimSamples(1.0 / d.sampleInterval_s());
+  const Eigen::Index keep = s.size() - 2 * trim;
+  s.t_s = s.t_s.segment(trim, keep).eval();
+  s.q_rad = s.q_rad.middleRows(trim, keep).eval();
+  s.qd_radps = s.qd_radps.middleRows(trim, keep).eval();
+  s.qdd_radps2 = s.qdd_radps2.middleRows(trim, keep).eval();
+  s.tau_Nm = s.tau_Nm.middleRows(trim, keep).eval();
+  return s;
+}
+
+}  // namespace
+
+std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
+  std::array<Record, 4> out;
+  for (int k = 0; k < 4; ++k) {
+    Record& r = out[static_cast<std::size_t>(k)];
+    r.trajectory = k + 1;
+    sim::SimConfig sc = c.sim;
+    sc.trajectory = k + 1;
+    sc.seed = recordSeed(c.seed, k + 1);
+    sc.exact_columns = true;
+    r.sim = sim::simulate(sc);
+    r.data = toDataset(r.sim);
+    r.processed = ident::prepareSignals(r.data, c.signals);
+    // Exact derivative columns with the raw measured torque: unfiltered, because the exact
+    // acceleration keeps the high-frequency motion the filtered torque would lose.
+    r.exact_q = alignedExact(r.data, "true", c.signals);
+    const Eigen::Index trim = c.signals.edgeTrimSamples(1.0 / r.data.sampleInterval_s());
+    r.exact_q.tau_Nm = r.data.tau_Nm.middleRows(trim, r.exact_q.size());
+    r.ideal = alignedExact(r.data, "ideal", c.signals);
+  }
+  return out;
+}
+
+Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc) {
+  Truths t;
+  t.rigid = toParamVector(r[0].sim.truth.x);
+  t.lt_m = lc.thigh_length_m;
+  t.g_mps2 = lc.gravity_mps2;
+  ident::MethodOptions o;
+  o.report_optimality_gap = false;
+  const ident::SegmentalResult bf = ident::identifySegmental(ident::Method::kLs, r[0].ideal, r[2].ideal, lc, o);
+  t.best_fit = bf.x;
+  const ident::ParamVector lo1 = toParamVector(r[0].sim.lumped_band.min), hi1 = toParamVector(r[0].sim.lumped_band.max);
+  const ident::ParamVector lo3 = toParamVector(r[2].sim.lumped_band.min), hi3 = toParamVector(r[2].sim.lumped_band.max);
+  t.band_min << lo3.head<5>(), lo1.tail<5>();
+  t.band_max << hi3.head<5>(), hi1.tail<5>();
+  return t;
+}
+
+namespace {
+
+MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
+                         const ident::MethodOptions& o) {
+  switch (v) {
+    case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
+    case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
+    case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);
+    case Variant::kRlsPso: return identifySegmented(ident::Method::kRlsPso, r[0].processed, r[2].processed, lc, o);
+    case Variant::kLad: return identifySegmented(ident::Method::kLad, r[0].processed, r[2].processed, lc, o);
+    case Variant::kLsExact: return identifySegmented(ident::Method::kLs, r[0].exact_q, r[2].exact_q, lc, o);
+    case Variant::kLsStacked: {
+      // Record 1's hip is held by the rig's lock, not its motor: no hip torque is measured there,
+      // so only its knee equation enters; record 3 gives both equations.
+      const Eigen::MatrixXd H1 = ident::jointRegressor(r[0].processed, ident::Joint::kKnee, lc);
+      const Eigen::MatrixXd H3 = ident::stackedRegressor(r[2].processed, lc);
+      Eigen::MatrixXd H(H1.rows() + H3.rows(), ident::kNumParams);
+      H << H1, H3;
+      Eigen::VectorXd y(H.rows());
+      y << r[0].processed.tau_Nm.col(1), ident::stackedTorque(r[2].processed);
+      MethodOutcome m;
+      m.method = ident::Method::kLs;
+      Stage st{"stacked", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, ident::estimate(ident::Method::kLs, H, y, o)};
+      m.x = st.estimate.x;
+      m.stages.push_back(std::move(st));
+      return m;
+    }
+  }
+  throw std::logic_error("unhandled variant");
+}
+
+}  // namespace
+
+ProtocolResult runProtocol(const ProtocolConfig& c) {
+  c.validate();
+  ident::Stopwatch clock;
+  ProtocolResult res;
+  res.config = c;
+  res.records = simulateRecords(c);
+  const ident::LegConstants lc = constantsOf(res.records[0].sim.truth);
+  res.truths = truthsOf(res.records, lc);
+  ident::MethodOptions o = c.methods;
+  o.rls_pso.pso.seed = psoSeed(c.seed);
+  for (Variant v : c.variants) {
+    VariantScore s;
+    s.variant = v;
+    s.outcome = runVariant(v, res.records, lc, o);
+    const Eigen::MatrixX2d knee_pred = ident::predictTorque(res.records[1].processed, s.outcome.x, lc);
+    const Eigen::MatrixX2d hip_pred = ident::predictTorque(res.records[3].processed, s.outcome.x, lc);
+    s.knee_validation = ident::torqueError(res.records[1].processed.tau_Nm.col(1), knee_pred.col(1));
+    s.hip_validation = ident::torqueError(res.records[3].processed.tau_Nm.col(0), hip_pred.col(0));
+    s.vs_rigid = ident::paramError(s.outcome.x, res.truths.rigid);
+    s.vs_best_fit = ident::paramError(s.outcome.x, res.truths.best_fit);
+    res.scores.push_back(std::move(s));
+  }
+  res.wall_time_s = clock.seconds();
+  return res;
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,323 @@
+#include "exoid/experiments/options.hpp"
+#include "exoid/experiments/plots.hpp"
+#include "exoid/experiments/reproduce.hpp"
+#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/experiments/table.hpp"
+#include "exoid/ident/atomic_file.hpp"
+#include "exoid/sim/sidecar.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace exoid::experiments {
+
+ProtocolConfig defaultReproduceConfig() {
+  ProtocolConfig c;
+  c.sim.duration_s = 10.0;
+  c.sim.sensors.quantisation_deg = 360.0 / 131072.0;  // 17-bit absolute encoder
+  c.sim.sensors.noise_q_deg = 0.005;
+  c.sim.sensors.noise_tau_Nm = 0.5;
+  c.sim.variant.vibration_level = 1.0;
+  c.sim.variant.cylinder_mass_scale = 1.0;
+  return c;
+}
+
+namespace {
+
+using ident::kNumParams;
+
+// The paper's numbers (paper.md): RLS boxes, LS and PSO estimates of the knee, validation errors.
+struct PaperRow {
+  const char* name;
+  double v[5];
+};
+const PaperRow kPaperKnee[] = {{"RLS box min (Table 3)", {0.79, -0.98, 0.39, 0.01, 0.02}},
+                               {"RLS box max (Table 3)", {1.79, 0.18, 0.91, 1.13, 3.15}},
+                               {"LS (Table 4)", {1.3859, -0.8267, 0.7019, 0.0943, 0.2907}},
+                               {"PSO (Table 4)", {1.2199, -0.4016, 0.5906, 0.3323, 0.1830}}};
+const PaperRow kPaperHip[] = {{"RLS box min (Table 5)", {5.38, 2.34, 2.01, 0.10, 0.01}},
+                              {"RLS box max (Table 5)", {11.64, 5.20, 4.25, 7.88, 1.70}}};
+struct PaperValidation {
+  const char* method;
+  double knee_mean, knee_std, hip_mean, hip_std;
+};
+const PaperValidation kPaperValidation[] = {{"ls", 1.0427, 0.9047, 4.9922, 3.7366},
+                                            {"pso", 0.5126, 0.4386, 4.3516, 3.3602},
+                                            {"rls-pso", 0.1887, 0.2475, 1.2128, 3.100}};
+
+const VariantScore* find(const ProtocolResult& r, Variant v) {
+  for (const VariantScore& s : r.scores) {
+    if (s.variant == v) return &s;
+  }
+  return nullptr;
+}
+
+std::string pct(double x) { return fixed(100.0 * x, 2) + " %"; }
+
+void blockTable(std::ostream& md, const ProtocolResult& r, int first, const PaperRow* paper, int paper_rows,
+                const char* stage) {
+  std::vector<std::string> header{"row"};
+  for (int i = first; i < first + 5; ++i) header.emplace_back(ident::paramName(i));
+  TextTable t(header);
+  auto add = [&](const std::string& name, const Eigen::Ref<const Eigen::VectorXd>& x) {
+    std::vector<std::string> row{name};
+    for (int i = 0; i < 5; ++i) row.push_back(fmt(x[i], 4));
+    t.addRow(row);
+  };
+  for (int k = 0; k < paper_rows; ++k) add(std::string("paper: ") + paper[k].name, Eigen::Map<const Eigen::VectorXd>(paper[k].v, 5));
+  add("truth: rigid links", r.truths.rigid.segment(first, 5));
+  add("truth: best fit of this record", r.truths.best_fit.segment(first, 5));
+  add("truth: four-bar band min", r.truths.band_min.segment(first, 5));
+  add("truth: four-bar band max", r.truths.band_max.segment(first, 5));
+  for (const VariantScore& s : r.scores) {
+    for (const Stage& st : s.outcome.stages) {
+      if (st.name != stage) continue;
+      if (st.estimate.box && (s.variant == Variant::kRlsPso)) {
+        add("RLS box min (ours)", st.estimate.box->lower);
+        add("RLS box max (ours)", st.estimate.box->upper);
+      }
+    }
+  }
+  for (const VariantScore& s : r.scores) add(std::string("estimate: ") + toString(s.variant), s.outcome.x.segment(first, 5));
+  for (const VariantScore& s : r.scores) {
+    std::vector<std::string> row{std::string("rel. error vs best fit: ") + toString(s.variant)};
+    for (int i = first; i < first + 5; ++i) row.push_back(pct(s.vs_best_fit.rel[i]));
+    t.addRow(row);
+  }
+  t.printMarkdown(md);
+}
+
+void writeSeries(const ProtocolResult& r, const std::string& dir) {
+  const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
+  for (int which = 0; which < 2; ++which) {
+    const Record& rec = r.records[which == 0 ? 1 : 3];
+    const int joint = which == 0 ? 1 : 0;
+    ident::writeFileAtomically(dir + (which == 0 ? "/series_validation_knee.csv" : "/series_validation_hip.csv"),
+                               [&](std::ostream& out) {
+      out << "t,measured";
+      std::vector<Eigen::MatrixX2d> preds;
+      for (const VariantScore& s : r.scores) {
+        out << ',' << toString(s.variant);
+        preds.push_back(ident::predictTorque(rec.processed, s.outcome.x, lc));
+      }
+      out << '\n';
+      for (Eigen::Index i = 0; i < rec.processed.size(); ++i) {
+        out << fmt(rec.processed.t_s[i], 8) << ',' << fmt(rec.processed.tau_Nm(i, joint), 8);
+        for (const auto& p : preds) out << ',' << fmt(p(i, joint), 8);
+        out << '\n';
+      }
+    });
+  }
+  ident::writeFileAtomically(dir + "/series_convergence.csv", [&](std::ostream& out) {
+    std::vector<std::pair<std::string, const std::vector<double>*>> cols;
+    for (const VariantScore& s : r.scores) {
+      for (const Stage& st : s.outcome.stages) {
+        if (!st.estimate.cost_history.empty()) cols.emplace_back(std::string(toString(s.variant)) + "_" + st.name, &st.estimate.cost_history);
+      }
+    }
+    out << "iteration";
+    std::size_t n = 0;
+    for (const auto& [name, h] : cols) {
+      out << ',' << name;
+      n = std::max(n, h->size());
+    }
+    out << '\n';
+    for (std::size_t i = 0; i < n; ++i) {
+      out << i;
+      for (const auto& [name, h] : cols) out << ',' << (i < h->size() ? fmt((*h)[i], 10) : fmt(h->back(), 10));
+      out << '\n';
+    }
+  });
+}
+
+nlohmann::json resultsJson(const ProtocolResult& r) {
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["command"] = "reproduce";
+  j["seed"] = r.config.seed;
+  j["mujoco_version"] = r.records[0].sim.mujoco_version;
+  j["simulation"] = sim::configJson(r.config.sim);
+  j["signal_options"] = toJson(r.config.signals);
+  j["method_options"] = toJson(r.config.methods);
+  j["truth"] = {{"rigid", {{"parameters", paramsJson(r.truths.rigid)}}},
+                {"best_fit", {{"parameters", paramsJson(r.truths.best_fit)}}},
+                {"four_bar_band", {{"min", paramsJson(r.truths.band_min)}, {"max", paramsJson(r.truths.band_max)}}}};
+  for (const Record& rec : r.records) {
+    const auto& s = rec.sim.stats;
+    j["records"].push_back({{"trajectory", rec.trajectory},
+                            {"seed", rec.sim.config.seed},
+                            {"tracking_rms_deg", {{"hip", s.tracking_hip.rms_deg}, {"knee", s.tracking_knee.rms_deg}}},
+                            {"loop_error_max_m", s.loop_error_max_m},
+                            {"pedestal_x_max_abs_m", s.base_x_max_abs_m}});
+  }
+  for (const VariantScore& s : r.scores) {
+    nlohmann::json m = toJson(s.outcome, true);
+    m["validation"] = {{"knee_on_trajectory_2", toJson(s.knee_validation)}, {"hip_on_trajectory_4", toJson(s.hip_validation)}};
+    m["parameter_error"] = {{"rigid", toJson(s.vs_rigid)}, {"best_fit", toJson(s.vs_best_fit)}};
+    j["methods"][toString(s.variant)] = m;
+  }
+  j["verdict"] = verdict(r);
+  j["wall_time_s"] = r.wall_time_s;
+  return j;
+}
+
+}  // namespace
+
+std::string verdict(const ProtocolResult& r) {
+  const VariantScore* ls = find(r, Variant::kLs);
+  const VariantScore* rp = find(r, Variant::kRlsPso);
+  const VariantScore* pso = find(r, Variant::kPso);
+  std::ostringstream v;
+  const VariantScore* best = &r.scores.front();
+  const VariantScore* best_val = &r.scores.front();
+  for (const VariantScore& s : r.scores) {
+    if (s.vs_best_fit.norm_rel < best->vs_best_fit.norm_rel) best = &s;
+    if (s.knee_validation.mean_abs + s.hip_validation.mean_abs < best_val->knee_validation.mean_abs + best_val->hip_validation.mean_abs) best_val = &s;
+  }
+  v << "Closest to the best-fit truth: " << toString(best->variant) << " (" << pct(best->vs_best_fit.norm_rel)
+    << " parameter error norm). Lowest validation torque error: " << toString(best_val->variant) << ".";
+  if (ls && rp) {
+    const bool params = rp->vs_best_fit.norm_rel < ls->vs_best_fit.norm_rel;
+    const bool torque = rp->knee_validation.mean_abs + rp->hip_validation.mean_abs <
+                        ls->knee_validation.mean_abs + ls->hip_validation.mean_abs;
+    v << " RLS-PSO is " << (params ? "closer to" : "further from") << " the truth than LS (" << pct(rp->vs_best_fit.norm_rel)
+      << " vs " << pct(ls->vs_best_fit.norm_rel) << ") and has " << (torque ? "lower" : "higher")
+      << " validation torque error.";
+  }
+  if (pso && rp) {
+    const auto gap = [](const VariantScore& s) {
+      double g = 0.0;
+      for (const Stage& st : s.outcome.stages) g = std::max(g, st.estimate.optimality_gap_rel.value_or(0.0));
+      return g;
+    };
+    v << " Worst optimality gap of the L1 cost: PSO " << pct(gap(*pso)) << ", RLS-PSO " << pct(gap(*rp))
+      << " (0 % = the exact minimum of the paper's cost).";
+  }
+  v << " This is one seed: `exoid sweep` gives confidence intervals over seeds and conditions.";
+  return v.str();
+}
+
+void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out) {
+  std::filesystem::create_directories(out.dir);
+  writeJsonFile(out.dir + "/results.json", resultsJson(r));
+  ident::writeFileAtomically(out.dir + "/estimates.csv", [&](std::ostream& o) {
+    o << "method,parameter,unit,estimate,truth_rigid,truth_best_fit,rel_error_rigid,rel_error_best_fit\n";
+    for (const VariantScore& s : r.scores) {
+      for (int i = 0; i < kNumParams; ++i) {
+        o << toString(s.variant) << ',' << ident::paramName(i) << ',' << ident::paramInfo()[static_cast<std::size_t>(i)].unit << ','
+          << fmt(s.outcome.x[i], 10) << ',' << fmt(r.truths.rigid[i], 10) << ',' << fmt(r.truths.best_fit[i], 10) << ','
+          << fmt(s.vs_rigid.rel[i], 6) << ',' << fmt(s.vs_best_fit.rel[i], 6) << '\n';
+      }
+    }
+  });
+  ident::writeFileAtomically(out.dir + "/validation.csv", [&](std::ostream& o) {
+    o << "method,joint,validation_trajectory,mean_abs_Nm,std_abs_Nm,rms_Nm,max_abs_Nm\n";
+    for (const VariantScore& s : r.scores) {
+      for (int k = 0; k < 2; ++k) {
+        const auto& e = k == 0 ? s.knee_validation : s.hip_validation;
+        o << toString(s.variant) << ',' << (k == 0 ? "knee,2," : "hip,4,") << fmt(e.mean_abs, 8) << ',' << fmt(e.std_abs, 8) << ','
+          << fmt(e.rms, 8) << ',' << fmt(e.max_abs, 8) << '\n';
+      }
+    }
+  });
+  writeSeries(r, out.dir);
+  const std::vector<std::string> figures = {"fig_validation_knee.png", "fig_validation_hip.png", "fig_convergence.png",
+                                            "fig_validation_errors.png", "fig_parameter_errors.png"};
+  if (out.plots) runPlotScript("reproduce_plots.py", {out.dir});
+
+  std::ostringstream md;
+  const auto& c = r.config;
+  md << "# exoid reproduce: the RLS-PSO paper against ground truth\n\n";
+  md << "exoid " << toolJson()["version"].get<std::string>() << " (" << toolJson()["revision"].get<std::string>() << "), "
+     << r.records[0].sim.mujoco_version << ", seed " << c.seed << ", " << fmt(r.wall_time_s, 3) << " s.\n\n";
+  md << "## Verdict\n\n" << verdict(r) << "\n\n";
+  md << "## Setup\n\n";
+  md << "- Simulated APAL leg (`" << c.sim.model_path << "`): four-bar knee cylinder mass scale " << c.sim.variant.cylinder_mass_scale
+     << ", pedestal vibration level " << c.sim.variant.vibration_level << ", PID tracking at 1 kHz"
+     << (c.sim.feedforward ? " with feedforward" : "") << ".\n";
+  md << "- Sensors: encoder quantisation " << fmt(c.sim.sensors.quantisation_deg, 4) << " deg, noise " << c.sim.sensors.noise_q_deg
+     << " deg; torque noise " << c.sim.sensors.noise_tau_Nm << " N m. Records of " << c.sim.duration_s
+     << " s, recorded after a " << c.sim.ramp_s << " s start ramp.\n";
+  md << "- Signals: " << (c.signals.differentiation == ident::Differentiation::kForward ? "forward" : "central")
+     << " differences; " << (c.signals.filter ? "zero-phase Butterworth order " + std::to_string(c.signals.filter_order) + " at " + fmt(c.signals.cutoff_hz) + " Hz" : std::string("no filter"))
+     << "; " << c.signals.edgeTrimSamples(1000.0) << " samples trimmed at each end.\n";
+  md << "- PSO: " << c.methods.rls_pso.pso.swarm_size << " particles, G = " << c.methods.rls_pso.pso.max_iterations
+     << ", stop at cost < " << c.methods.rls_pso.pso.cost_tolerance << ", w " << c.methods.rls_pso.pso.w_max << " -> "
+     << c.methods.rls_pso.pso.w_min << ", c1 = " << c.methods.rls_pso.pso.c1 << ", c2 = " << c.methods.rls_pso.pso.c2
+     << ", boundary " << ident::toString(c.methods.rls_pso.pso.boundary) << ", wide box +-" << c.methods.wide_box_half_width
+     << "; RLS lambda = " << c.methods.rls_pso.rls.forgetting << ", P0 = " << fmt(c.methods.rls_pso.rls.initial_covariance)
+     << ", burn-in " << pct(c.methods.rls_pso.range.burn_in_fraction) << ".\n";
+  md << "- Records: ";
+  for (const Record& rec : r.records) {
+    md << "trajectory " << rec.trajectory << " (tracking RMS hip " << fmt(rec.sim.stats.tracking_hip.rms_deg, 3) << " deg, knee "
+       << fmt(rec.sim.stats.tracking_knee.rms_deg, 3) << " deg)" << (rec.trajectory < 4 ? "; " : ".\n");
+  }
+  md << "- Truths: *rigid links* = X of the bare thigh and shank+foot of the model; *best fit* = LS of the exact, noise-free,\n"
+        "  vibration-free torques at the exact states of records 1 (knee) and 3 (hip): the best the 2-link model can do;\n"
+        "  *four-bar band* = X(q2) with cylinder and rod lumped into the links, min/max over the records' knee range.\n"
+        "  Errors below are against the best fit unless said otherwise.\n\n";
+  md << "## Knee parameters (paper Tables 3-4; identified on trajectory 1)\n\n";
+  blockTable(md, r, ident::kShankFirst, kPaperKnee, 4, "knee");
+  md << "\n## Hip parameters (paper Tables 5-6; identified on trajectory 3)\n\n";
+  blockTable(md, r, ident::kThighFirst, kPaperHip, 2, "hip");
+  md << "\n## Is the truth inside the RLS box?\n\n";
+  for (const VariantScore& s : r.scores) {
+    if (s.variant != Variant::kRlsPso) continue;
+    for (const Stage& st : s.outcome.stages) {
+      if (!st.estimate.box) continue;
+      md << "- " << st.name << ":";
+      for (std::size_t k = 0; k < st.indices.size(); ++k) {
+        const int i = st.indices[k];
+        const auto kk = static_cast<Eigen::Index>(k);
+        const bool in_bf = r.truths.best_fit[i] >= st.estimate.box->lower[kk] && r.truths.best_fit[i] <= st.estimate.box->upper[kk];
+        const bool in_rg = r.truths.rigid[i] >= st.estimate.box->lower[kk] && r.truths.rigid[i] <= st.estimate.box->upper[kk];
+        md << ' ' << ident::paramName(i) << " best fit " << (in_bf ? "inside" : "**outside") << (in_bf ? "" : "**") << ", rigid "
+           << (in_rg ? "inside" : "**outside") << (in_rg ? "" : "**") << ";";
+      }
+      md << '\n';
+    }
+  }
+  md << "\n## Validation torque error (paper Figs. 10, 13): mean +- std of |error|, N m\n\n";
+  TextTable v({"method", "knee (train 1, validate 2)", "paper knee", "hip (train 3, validate 4)", "paper hip", "knee RMS", "hip RMS"});
+  for (const VariantScore& s : r.scores) {
+    std::string pk = "-", ph = "-";
+    for (const auto& p : kPaperValidation) {
+      if (std::string(p.method) == toString(s.variant)) {
+        pk = fixed(p.knee_mean, 4) + " +- " + fixed(p.knee_std, 4);
+        ph = fixed(p.hip_mean, 4) + " +- " + fixed(p.hip_std, 4);
+      }
+    }
+    v.addRow({toString(s.variant), fixed(s.knee_validation.mean_abs, 4) + " +- " + fixed(s.knee_validation.std_abs, 4), pk,
+              fixed(s.hip_validation.mean_abs, 4) + " +- " + fixed(s.hip_validation.std_abs, 4), ph, fixed(s.knee_validation.rms, 4),
+              fixed(s.hip_validation.rms, 4)});
+  }
+  v.printMarkdown(md);
+  md << "\n## Parameter error against ground truth (||x - x*|| / ||x*||)\n\n";
+  TextTable pe({"method", "vs best fit", "vs rigid links", "worst parameter (vs best fit)", "L1 optimality gap (knee / hip)", "time (s)"});
+  for (const VariantScore& s : r.scores) {
+    Eigen::Index worst = 0;
+    s.vs_best_fit.rel.cwiseAbs().maxCoeff(&worst);
+    std::string gaps;
+    for (const Stage& st : s.outcome.stages) {
+      if (st.estimate.optimality_gap_rel) gaps += (gaps.empty() ? "" : " / ") + pct(*st.estimate.optimality_gap_rel);
+    }
+    pe.addRow({toString(s.variant), pct(s.vs_best_fit.norm_rel), pct(s.vs_rigid.norm_rel),
+               std::string(ident::paramName(static_cast<int>(worst))) + " " + pct(s.vs_best_fit.rel[worst]), gaps.empty() ? "-" : gaps,
+               fmt(s.outcome.wallTime_s(), 3)});
+  }
+  pe.printMarkdown(md);
+  if (out.plots) {
+    md << "\n## Figures\n\n";
+    md << "Measured vs identified torque on the validation trajectories (paper Figs. 9, 12):\n\n"
+          "![knee validation](fig_validation_knee.png)\n\n![hip validation](fig_validation_hip.png)\n\n";
+    md << "Best-cost convergence of PSO and RLS-PSO (paper Figs. 8, 11):\n\n![convergence](fig_convergence.png)\n\n";
+    md << "Validation error per method (paper Figs. 10, 13):\n\n![validation errors](fig_validation_errors.png)\n\n";
+    md << "Relative parameter error per method against the best-fit truth:\n\n![parameter errors](fig_parameter_errors.png)\n";
+  }
+  md << "\n## Files\n\n`results.json` (everything, with the PSO histories), `estimates.csv`, `validation.csv`, "
+        "`series_*.csv` (the plotted series).\n";
+  ident::writeFileAtomically(out.dir + "/report.md", [&](std::ostream& o) { o << md.str(); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,54 @@
+#pragma once
+// The time series a clip replays: joint angles (and pedestal coordinates) to pose the leg, and
+// the torques the overlay shows. Plain arrays, so simulated runs and recorded datasets (read by
+// the caller) enter the same way; render never depends on the identification library.
+#include "exoid/sim/simulate.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace exoid::render {
+
+struct Track {
+  std::string title;                          ///< first overlay line, e.g. "trajectory 3 (simulated)"
+  std::vector<double> t_s;                    ///< uniformly sampled, increasing
+  std::vector<double> q_hip_rad, q_knee_rad;  ///< pose (exact states for a simulation)
+  /// Pedestal mount coordinates (qpos of mount_x, mount_z, mount_pitch): all three empty
+  /// (pedestal at rest) or all of size t_s.size().
+  std::vector<double> base_x_m, base_z_m, base_pitch_rad;
+  /// Measured joint torques for the overlay: both empty or both full size.
+  std::vector<double> tau_hip_Nm, tau_knee_Nm;
+  /// An identified model's predicted torques: both empty or both full size (needs measured).
+  /// NaN = no prediction at that sample (e.g. the edges preprocessing trims).
+  std::vector<double> tau_hip_pred_Nm, tau_knee_pred_Nm;
+  /// Legend name of the prediction, e.g. "LS".
+  std::string prediction_name = "identified";
+
+  std::size_t size() const { return t_s.size(); }
+  bool hasBase() const { return !base_x_m.empty(); }
+  bool hasTorque() const { return !tau_hip_Nm.empty(); }
+  bool hasPrediction() const { return !tau_hip_pred_Nm.empty(); }
+
+  /// Throws std::invalid_argument naming the column: sizes, at least 2 samples, finite values,
+  /// strictly increasing and uniform time (every interval within 1 % of the mean).
+  void validate() const;
+  /// Mean sample interval (s).
+  double sampleInterval_s() const;
+  /// Record length: size() * sampleInterval_s() (a 1 kHz record of 2000 rows lasts 2 s).
+  double duration_s() const;
+  /// Row nearest to time t (the recorded state shown at t). Throws std::invalid_argument if t is
+  /// outside [t_s.front(), t_s.front() + duration_s()).
+  std::size_t rowAt(double t_s_query) const;
+};
+
+/// The exact states of a simulation (q_*_true, base_*; pedestal columns dropped when the
+/// pedestal never moved) and the measured torques (tau_hip, tau_knee).
+Track trackFromSimulation(const sim::SimResult& result, const std::string& title);
+
+/// Frames of a clip at `fps` over the whole track: floor(duration_s * fps) (+1e-9 slack),
+/// frame k shown at t_s.front() + k / fps. Throws std::invalid_argument for fps <= 0 or a
+/// track shorter than one frame.
+int frameCount(const Track& track, double fps);
+
+}  // namespace exoid::render

@@ -1,0 +1,55 @@
+#pragma once
+// H.264 MP4 through an ffmpeg child process fed raw RGB frames on a pipe.
+#include "exoid/render/image.hpp"
+
+#include <string>
+#include <sys/types.h>
+
+namespace exoid::render {
+
+/// Full path of an executable: `name` itself if it contains '/', else the first match in the
+/// PATH environment variable. Empty if not found or not executable.
+std::string findExecutable(const std::string& name);
+
+/// findExecutable(name), or throws std::runtime_error("ffmpeg not found ...: install ffmpeg ...").
+std::string requireFfmpeg(const std::string& name = "ffmpeg");
+
+/// Spawns `ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgb24 -s WxH -r FPS -i -
+///   -pix_fmt yuv420p -c:v libx264 -preset veryfast -f mp4 <out>.tmp<pid>` (veryfast: half the
+/// encoding CPU of the default preset, about the same file size for these scenes) and renames the temporary file to
+/// `out_path` in finish(). Frames are top-down RGB (Image), so no vflip is needed.
+/// Destroying an unfinished writer stops ffmpeg and removes the temporary file.
+class VideoWriter {
+ public:
+  /// Throws std::runtime_error if ffmpeg is not found ("install ffmpeg"), the output cannot be
+  /// written, or the process cannot be started; std::invalid_argument for odd or non-positive
+  /// sizes (yuv420p needs even width and height) or fps outside (0, 240].
+  VideoWriter(const std::string& out_path, int width, int height, double fps,
+              const std::string& ffmpeg = "ffmpeg");
+  ~VideoWriter();
+  VideoWriter(const VideoWriter&) = delete;
+  VideoWriter& operator=(const VideoWriter&) = delete;
+
+  /// Sends one frame (must be width x height). Throws std::runtime_error with ffmpeg's message
+  /// if ffmpeg stopped.
+  void write(const Image& frame);
+  /// Closes the pipe, waits for ffmpeg, checks its exit status and renames the output.
+  /// Throws std::runtime_error with ffmpeg's messages on failure (the temporary file is removed).
+  void finish();
+
+  int framesWritten() const { return frames_; }
+  const std::string& ffmpegPath() const { return ffmpeg_; }
+
+ private:
+  void abort() noexcept;
+  std::string ffmpegMessages() const;
+
+  std::string out_path_, tmp_path_, ffmpeg_;
+  int width_, height_;
+  int frames_ = 0;
+  int pipe_fd_ = -1;
+  int log_fd_ = -1;   // ffmpeg's stderr (an unlinked temporary file)
+  pid_t pid_ = -1;
+};
+
+}  // namespace exoid::render

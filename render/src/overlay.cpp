@@ -1,0 +1,152 @@
+#include "exoid/render/overlay.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace exoid::render {
+
+namespace {
+
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+constexpr std::array<float, 3> kMeasuredRgb{0.92f, 0.92f, 0.92f};
+constexpr std::array<float, 3> kPredictedRgb{0.25f, 0.75f, 1.0f};
+constexpr std::array<float, 3> kErrorRgb{1.0f, 0.35f, 0.3f};
+
+std::string format(const char* fmt, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, a);
+  return buf;
+}
+
+std::array<double, 2> rangeOf(std::initializer_list<const std::vector<double>*> series) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const std::vector<double>* s : series) {
+    for (double v : *s) {
+      if (std::isnan(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (!(hi >= lo)) return {-1.0, 1.0};
+  const double margin = std::max(0.08 * (hi - lo), 0.05);  // N m
+  return {lo - margin, hi + margin};
+}
+
+}  // namespace
+
+void OverlayOptions::validate() const {
+  if (!std::isfinite(plot_window_s) || plot_window_s <= 0.0) {
+    throw std::invalid_argument("'plot_window_s' must be positive, got " + std::to_string(plot_window_s));
+  }
+  if (max_plot_points < 2 || max_plot_points > 1000) {
+    throw std::invalid_argument("'max_plot_points' must be in [2, 1000] (mjMAXLINEPNT), got " +
+                                std::to_string(max_plot_points));
+  }
+}
+
+OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options) : track_(track), options_(options) {
+  options_.validate();
+  if (!track_.hasTorque()) return;
+  std::vector<double> err_hip, err_knee;
+  if (track_.hasPrediction()) {
+    for (std::size_t i = 0; i < track_.size(); ++i) {
+      err_hip.push_back(track_.tau_hip_Nm[i] - track_.tau_hip_pred_Nm[i]);
+      err_knee.push_back(track_.tau_knee_Nm[i] - track_.tau_knee_pred_Nm[i]);
+    }
+    y_range_[0] = rangeOf({&track_.tau_hip_Nm, &track_.tau_hip_pred_Nm, &err_hip});
+    y_range_[1] = rangeOf({&track_.tau_knee_Nm, &track_.tau_knee_pred_Nm, &err_knee});
+  } else {
+    y_range_[0] = rangeOf({&track_.tau_hip_Nm});
+    y_range_[1] = rangeOf({&track_.tau_knee_Nm});
+  }
+}
+
+Overlay OverlayBuilder::at(std::size_t row) const {
+  Overlay o;
+  const Track& tr = track_;
+  if (row >= tr.size()) throw std::invalid_argument("overlay row " + std::to_string(row) + " >= " + std::to_string(tr.size()));
+  const bool pred = tr.hasPrediction();
+  if (options_.text) {
+    std::string& l = o.text_left;
+    std::string& r = o.text_right;
+    l = tr.title.empty() ? std::string(" ") : tr.title;
+    r = " ";
+    l += "\ntime\nhip angle\nknee angle";
+    r += "\n" + format("%.3f s", tr.t_s[row]) + "\n" + format("%+.1f deg", tr.q_hip_rad[row] * kRadToDeg) + "\n" +
+         format("%+.1f deg", tr.q_knee_rad[row] * kRadToDeg);
+    if (tr.hasTorque()) {
+      const double th = tr.tau_hip_Nm[row], tk = tr.tau_knee_Nm[row];
+      if (pred) {
+        const double ph = tr.tau_hip_pred_Nm[row], pk = tr.tau_knee_pred_Nm[row];
+        l += "\nhip torque meas/" + tr.prediction_name + "/err\nknee torque meas/" + tr.prediction_name + "/err";
+        const auto line = [](double meas, double p) {
+          return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
+                               : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
+        };
+        r += "\n" + line(th, ph) + "\n" + line(tk, pk);
+      } else {
+        l += "\nhip torque (measured)\nknee torque (measured)";
+        r += "\n" + format("%+.2f N m", th) + "\n" + format("%+.2f N m", tk);
+      }
+    }
+    if (options_.plot && tr.hasTorque()) {
+      l += "\nplots";
+      r += pred ? "\nwhite meas, blue " + tr.prediction_name + ", red err" : std::string("\nwhite measured");
+    }
+    if (tr.hasBase()) {
+      l += "\npedestal x / z";
+      r += "\n" + format("%+.2f", 1e3 * tr.base_x_m[row]) + format(" / %+.2f mm", 1e3 * tr.base_z_m[row]);
+    }
+  }
+  if (options_.plot && tr.hasTorque()) {
+    const double dt = tr.sampleInterval_s();
+    const double t0 = tr.t_s.front();
+    const double t = tr.t_s[row];
+    const double w = options_.plot_window_s;
+    const std::array<double, 2> xr = t - t0 < w ? std::array<double, 2>{t0, t0 + w} : std::array<double, 2>{t - w, t};
+    const std::size_t window_rows = static_cast<std::size_t>(std::ceil(w / dt));
+    const std::size_t first = row > window_rows ? row - window_rows : 0;
+    // Points on a fixed grid of rows (multiples of stride) plus the current row: the decimated
+    // curve does not shimmer as the window scrolls.
+    const std::size_t stride = std::max<std::size_t>(
+        1, (window_rows + static_cast<std::size_t>(options_.max_plot_points) - 2) /
+               static_cast<std::size_t>(options_.max_plot_points - 1));
+    std::vector<std::size_t> rows;
+    for (std::size_t i = (first + stride - 1) / stride * stride; i < row; i += stride) rows.push_back(i);
+    rows.push_back(row);
+    const char* joint_name[2] = {"hip torque (N m)", "knee torque (N m)"};
+    const std::vector<double>* meas[2] = {&tr.tau_hip_Nm, &tr.tau_knee_Nm};
+    const std::vector<double>* prd[2] = {&tr.tau_hip_pred_Nm, &tr.tau_knee_pred_Nm};
+    for (int j = 0; j < 2; ++j) {
+      PlotPanel p;
+      p.title = joint_name[j];
+      p.x_range = xr;
+      p.y_range = y_range_[static_cast<std::size_t>(j)];
+      PlotLine m{"measured", kMeasuredRgb, {}, {}};
+      PlotLine pl{tr.prediction_name, kPredictedRgb, {}, {}};
+      PlotLine e{"error", kErrorRgb, {}, {}};
+      for (std::size_t i : rows) {
+        const auto x = static_cast<float>(tr.t_s[i]);
+        m.x.push_back(x);
+        m.y.push_back(static_cast<float>((*meas[j])[i]));
+        if (pred && !std::isnan((*prd[j])[i])) {
+          pl.x.push_back(x);
+          pl.y.push_back(static_cast<float>((*prd[j])[i]));
+          e.x.push_back(x);
+          e.y.push_back(static_cast<float>((*meas[j])[i] - (*prd[j])[i]));
+        }
+      }
+      p.lines.push_back(std::move(m));
+      if (pred) {
+        p.lines.push_back(std::move(pl));
+        p.lines.push_back(std::move(e));
+      }
+      o.panels.push_back(std::move(p));
+    }
+  }
+  return o;
+}
+
+}  // namespace exoid::render

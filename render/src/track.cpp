@@ -1,0 +1,122 @@
+#include "exoid/render/track.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace exoid::render {
+
+namespace {
+
+void checkColumn(const std::vector<double>& v, std::size_t n, const char* name, bool optional, bool nan_ok = false) {
+  if (optional && v.empty()) return;
+  if (v.size() != n) {
+    throw std::invalid_argument(std::string("track column '") + name + "': expected " + std::to_string(n) +
+                                " values (as t_s), got " + std::to_string(v.size()));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i]) && !(nan_ok && std::isnan(v[i]))) {
+      throw std::invalid_argument(std::string("track column '") + name + "': value " + std::to_string(i) +
+                                  " is not finite");
+    }
+  }
+}
+
+std::vector<double> column(const sim::Table& t, const std::string& name) {
+  const Eigen::VectorXd c = t.col(name);
+  return std::vector<double>(c.data(), c.data() + c.size());
+}
+
+}  // namespace
+
+void Track::validate() const {
+  const std::size_t n = t_s.size();
+  if (n < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + std::to_string(n));
+  checkColumn(t_s, n, "t_s", false);
+  checkColumn(q_hip_rad, n, "q_hip_rad", false);
+  checkColumn(q_knee_rad, n, "q_knee_rad", false);
+  checkColumn(base_x_m, n, "base_x_m", true);
+  checkColumn(base_z_m, n, "base_z_m", true);
+  checkColumn(base_pitch_rad, n, "base_pitch_rad", true);
+  if (base_x_m.empty() != base_z_m.empty() || base_x_m.empty() != base_pitch_rad.empty()) {
+    throw std::invalid_argument("track: base_x_m, base_z_m and base_pitch_rad must be all empty or all given");
+  }
+  checkColumn(tau_hip_Nm, n, "tau_hip_Nm", true);
+  checkColumn(tau_knee_Nm, n, "tau_knee_Nm", true);
+  if (tau_hip_Nm.empty() != tau_knee_Nm.empty()) throw std::invalid_argument("track: give both measured torques or neither");
+  checkColumn(tau_hip_pred_Nm, n, "tau_hip_pred_Nm", true, true);
+  checkColumn(tau_knee_pred_Nm, n, "tau_knee_pred_Nm", true, true);
+  if (tau_hip_pred_Nm.empty() != tau_knee_pred_Nm.empty()) throw std::invalid_argument("track: give both predicted torques or neither");
+  if (hasPrediction() && !hasTorque()) throw std::invalid_argument("track: predicted torques need the measured torques");
+  const double dt = sampleInterval_s();
+  if (!(dt > 0.0)) throw std::invalid_argument("track: time must increase (t_s.front() = " + std::to_string(t_s.front()) +
+                                                ", t_s.back() = " + std::to_string(t_s.back()) + ")");
+  for (std::size_t i = 1; i < n; ++i) {
+    const double step = t_s[i] - t_s[i - 1];
+    if (std::abs(step - dt) > 0.01 * dt) {
+      throw std::invalid_argument("track: time is not uniformly sampled: t_s[" + std::to_string(i) + "] - t_s[" +
+                                  std::to_string(i - 1) + "] = " + std::to_string(step) + " s, mean interval " +
+                                  std::to_string(dt) + " s");
+    }
+  }
+}
+
+double Track::sampleInterval_s() const {
+  if (t_s.size() < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + std::to_string(t_s.size()));
+  return (t_s.back() - t_s.front()) / static_cast<double>(t_s.size() - 1);
+}
+
+double Track::duration_s() const { return static_cast<double>(t_s.size()) * sampleInterval_s(); }
+
+std::size_t Track::rowAt(double t) const {
+  const double t0 = t_s.front();
+  const double dur = duration_s();
+  if (!std::isfinite(t) || t < t0 || t >= t0 + dur) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "frame time %g s is outside the record [%g, %g) s", t, t0, t0 + dur);
+    throw std::invalid_argument(msg);
+  }
+  const double k = std::round((t - t0) / sampleInterval_s());
+  return std::min(static_cast<std::size_t>(k), t_s.size() - 1);
+}
+
+Track trackFromSimulation(const sim::SimResult& result, const std::string& title) {
+  const sim::Table& tab = result.table;
+  Track tr;
+  tr.title = title;
+  tr.t_s = column(tab, "t");
+  const bool exact = tab.has("q_hip_true");
+  tr.q_hip_rad = column(tab, exact ? "q_hip_true" : "q_hip");
+  tr.q_knee_rad = column(tab, exact ? "q_knee_true" : "q_knee");
+  if (tab.has("base_x")) {
+    tr.base_x_m = column(tab, "base_x");
+    tr.base_z_m = column(tab, "base_z");
+    tr.base_pitch_rad = column(tab, "base_pitch");
+    const auto still = [](const std::vector<double>& v) {
+      return std::all_of(v.begin(), v.end(), [](double x) { return x == 0.0; });
+    };
+    if (still(tr.base_x_m) && still(tr.base_z_m) && still(tr.base_pitch_rad)) {
+      tr.base_x_m.clear();
+      tr.base_z_m.clear();
+      tr.base_pitch_rad.clear();
+    }
+  }
+  tr.tau_hip_Nm = column(tab, "tau_hip");
+  tr.tau_knee_Nm = column(tab, "tau_knee");
+  tr.validate();
+  return tr;
+}
+
+int frameCount(const Track& track, double fps) {
+  if (!std::isfinite(fps) || fps <= 0.0) throw std::invalid_argument("'fps' must be positive, got " + std::to_string(fps));
+  const double frames = std::floor(track.duration_s() * fps + 1e-9);
+  if (frames < 1.0) {
+    throw std::invalid_argument("the record (" + std::to_string(track.duration_s()) + " s) is shorter than one frame at " +
+                                std::to_string(fps) + " fps");
+  }
+  if (frames > 1e7) throw std::invalid_argument("too many frames: " + std::to_string(frames));
+  return static_cast<int>(frames);
+}
+
+}  // namespace exoid::render
