@@ -8,7 +8,7 @@ if(EXOID_NATIVE)
   add_compile_options(-march=native)
   # GCC 12 warns about its own AVX-512 intrinsics header when Eigen vectorises (GCC bug 105593).
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
-    target_compile_options(exoid_warnings INTERFACE -Wno-maybe-uninitialized)
+    target_compile_options(exoid_warnings INTERFACE -Wno-maybe-uninitialized -Wno-uninitialized)
   endif()
 endif()
 

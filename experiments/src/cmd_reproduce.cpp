@@ -14,7 +14,7 @@ namespace {
 
 struct Args {
   ProtocolConfig config = defaultReproduceConfig();
-  ReproduceOutputs out{true, "results/reproduce"};
+  ReproduceOutputs out{true, true, "results/reproduce"};
   std::vector<std::string> variants;
 };
 
@@ -51,6 +51,7 @@ void addReproduceCommand(CLI::App& app) {
       "LS on stacked records), validate (knee on 2, hip on 4), and write report.md with figures.");
   cmd->add_option("--out", args->out.dir, "Results folder")->capture_default_str();
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
+  cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked")->delimiter(',');
   addSimOptions(*cmd, args->config.sim);
   cmd->remove_option(cmd->get_option("--trajectory"));  // the protocol runs all four

@@ -6,6 +6,12 @@
 #include "exoid/ident/atomic_file.hpp"
 #include "exoid/sim/sidecar.hpp"
 
+#ifdef EXOID_WITH_RENDER
+#include "exoid/render/clip.hpp"
+#include "exoid/render/track.hpp"
+#endif
+
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -162,6 +168,48 @@ nlohmann::json resultsJson(const ProtocolResult& r) {
   return j;
 }
 
+#ifdef EXOID_WITH_RENDER
+// A still and a short clip of trajectory 3 (both joints swing) with the RLS-PSO (else first)
+// method's predicted torque in the overlay. Returns the markdown to embed.
+std::string renderMedia(const ProtocolResult& r, const std::string& dir) {
+  const Record& rec = r.records[2];
+  const VariantScore* shown = find(r, Variant::kRlsPso) ? find(r, Variant::kRlsPso) : &r.scores.front();
+  render::Track full = render::trackFromSimulation(rec.sim, "trajectory 3 (simulated)");
+  // Predictions on the processed (trimmed) rows, placed by time; NaN on the trimmed edges.
+  const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
+  const Eigen::MatrixX2d pred = ident::predictTorque(rec.processed, shown->outcome.x, lc);
+  full.tau_hip_pred_Nm.assign(full.size(), std::nan(""));
+  full.tau_knee_pred_Nm.assign(full.size(), std::nan(""));
+  const double dt = full.sampleInterval_s();
+  for (Eigen::Index i = 0; i < rec.processed.size(); ++i) {
+    const auto row = static_cast<std::size_t>(std::llround((rec.processed.t_s[i] - full.t_s.front()) / dt));
+    if (row < full.size()) {
+      full.tau_hip_pred_Nm[row] = pred(i, 0);
+      full.tau_knee_pred_Nm[row] = pred(i, 1);
+    }
+  }
+  full.prediction_name = toString(shown->variant);
+  // The clip: the first 3 s after the trimmed edge (where predictions exist).
+  render::Track clip = full;
+  const std::size_t first = static_cast<std::size_t>(std::llround((rec.processed.t_s[0] - full.t_s.front()) / dt));
+  const std::size_t count = std::min<std::size_t>(full.size() - first, static_cast<std::size_t>(std::llround(3.0 / dt)));
+  auto cut = [&](std::vector<double>& v) {
+    if (!v.empty()) v = std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first), v.begin() + static_cast<std::ptrdiff_t>(first + count));
+  };
+  for (auto* v : {&clip.t_s, &clip.q_hip_rad, &clip.q_knee_rad, &clip.base_x_m, &clip.base_z_m, &clip.base_pitch_rad,
+                  &clip.tau_hip_Nm, &clip.tau_knee_Nm, &clip.tau_hip_pred_Nm, &clip.tau_knee_pred_Nm}) {
+    cut(*v);
+  }
+  render::ClipOptions o;
+  o.model_path = r.config.sim.model_path;
+  render::renderStill(clip, clip.t_s.front() + 0.75, o, dir + "/leg_trajectory3.png");
+  render::renderVideo(clip, o, dir + "/leg_trajectory3.mp4");
+  return "The simulated leg on trajectory 3 (pedestal, trunk, thigh, shank, cylinder, rod), with the measured torque and "
+         "the " + std::string(toString(shown->variant)) + " model's prediction; the clip [leg_trajectory3.mp4](leg_trajectory3.mp4) "
+         "shows 3 s:\n\n![leg](leg_trajectory3.png)\n";
+}
+#endif
+
 }  // namespace
 
 std::string verdict(const ProtocolResult& r) {
@@ -225,6 +273,10 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
   const std::vector<std::string> figures = {"fig_validation_knee.png", "fig_validation_hip.png", "fig_convergence.png",
                                             "fig_validation_errors.png", "fig_parameter_errors.png"};
   if (out.plots) runPlotScript("reproduce_plots.py", {out.dir});
+  std::string media;
+#ifdef EXOID_WITH_RENDER
+  if (out.media) media = renderMedia(r, out.dir);
+#endif
 
   std::ostringstream md;
   const auto& c = r.config;
@@ -315,6 +367,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
     md << "Validation error per method (paper Figs. 10, 13):\n\n![validation errors](fig_validation_errors.png)\n\n";
     md << "Relative parameter error per method against the best-fit truth:\n\n![parameter errors](fig_parameter_errors.png)\n";
   }
+  if (!media.empty()) md << "\n## The leg\n\n" << media;
   md << "\n## Files\n\n`results.json` (everything, with the PSO histories), `estimates.csv`, `validation.csv`, "
         "`series_*.csv` (the plotted series).\n";
   ident::writeFileAtomically(out.dir + "/report.md", [&](std::ostream& o) { o << md.str(); });

@@ -13,6 +13,7 @@ ProtocolConfig defaultReproduceConfig();
 
 struct ReproduceOutputs {
   bool plots = true;
+  bool media = true;  ///< a still and a 3 s clip of trajectory 3 (when built with render)
   std::string dir;  ///< created if missing
 };
 
