@@ -12,6 +12,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libpagmo-dev
   python3-matplotlib python3-numpy
+  slurm-wlm
 )
 
 missing=()

@@ -20,6 +20,8 @@ int runCli(int argc, char** argv) {
   addSimulateCommand(app);
   addTruthCommand(app);
   addReproduceCommand(app);
+  addSweepCommand(app);
+  addMergeCommand(app);
 #endif
 #ifdef EXOID_WITH_RENDER
   addRenderCommand(app);

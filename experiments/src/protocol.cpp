@@ -51,15 +51,7 @@ namespace {
 
 // Exact states and the `tau_suffix` torques, trimmed like the processed signals (same rows).
 ident::JointSignals alignedExact(const ident::Dataset& d, const std::string& tau_suffix, const ident::SignalOptions& o) {
-  ident::JointSignals s = exactSignals(d, tau_suffix);
-  const Eigen::Index trim = o.edgeTrimSamples(1.0 / d.sampleInterval_s());
-  const Eigen::Index keep = s.size() - 2 * trim;
-  s.t_s = s.t_s.segment(trim, keep).eval();
-  s.q_rad = s.q_rad.middleRows(trim, keep).eval();
-  s.qd_radps = s.qd_radps.middleRows(trim, keep).eval();
-  s.qdd_radps2 = s.qdd_radps2.middleRows(trim, keep).eval();
-  s.tau_Nm = s.tau_Nm.middleRows(trim, keep).eval();
-  return s;
+  return ident::trimEdges(exactSignals(d, tau_suffix), o.edgeTrimSamples(1.0 / d.sampleInterval_s()));
 }
 
 }  // namespace

@@ -54,18 +54,22 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
     s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
   }
   s.tau_Nm = o.filter && o.filter_torque ? smooth(d.tau_Nm) : Eigen::MatrixXd(d.tau_Nm);
-  const Eigen::Index trim = o.edgeTrimSamples(fs);
-  const Eigen::Index keep = s.size() - 2 * trim;
-  if (keep < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples leave " +
+  return trimEdges(s, o.edgeTrimSamples(fs));
+}
+
+JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
+  const Eigen::Index keep = in.size() - 2 * trim;
+  if (trim < 0 || keep < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string(in.size()) + " samples leave " +
                                 std::to_string(keep) + " after trimming " + std::to_string(trim) +
                                 " at each end (edge_trim_s); need >= 20");
   }
-  s.t_s = s.t_s.segment(trim, keep).eval();
-  s.q_rad = s.q_rad.middleRows(trim, keep).eval();
-  s.qd_radps = s.qd_radps.middleRows(trim, keep).eval();
-  s.qdd_radps2 = s.qdd_radps2.middleRows(trim, keep).eval();
-  s.tau_Nm = s.tau_Nm.middleRows(trim, keep).eval();
+  JointSignals s;
+  s.t_s = in.t_s.segment(trim, keep);
+  s.q_rad = in.q_rad.middleRows(trim, keep);
+  s.qd_radps = in.qd_radps.middleRows(trim, keep);
+  s.qdd_radps2 = in.qdd_radps2.middleRows(trim, keep);
+  s.tau_Nm = in.tau_Nm.middleRows(trim, keep);
   return s;
 }
 

@@ -1,5 +1,5 @@
 // `exoid identify` end to end on CSV logs written from an independent 2-link dynamics.
-#include "exoid/experiments/cli.hpp"
+#include "cli_test_support.hpp"
 #include "exoid/ident/dataset.hpp"
 
 #include "../ident/test_support.hpp"
@@ -12,12 +12,7 @@
 namespace exoid::experiments {
 namespace {
 
-int runExoid(std::vector<std::string> args) {
-  args.insert(args.begin(), "exoid");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return runCli(static_cast<int>(argv.size()), argv.data());
-}
+using test::runExoid;
 
 std::string writeRecord(int trajectory, bool with_derivatives, const std::string& name) {
   const ident::JointSignals s = test::exactRecord(trajectory, ident::defaultLeg(), 9.81);

@@ -1,6 +1,6 @@
 // `exoid reproduce` on a shortened protocol: every table and figure file is produced, the numbers
 // are reproducible, and the truths are what the simulator says.
-#include "exoid/experiments/cli.hpp"
+#include "cli_test_support.hpp"
 #include "exoid/experiments/protocol.hpp"
 #include "exoid/experiments/reproduce.hpp"
 
@@ -17,12 +17,7 @@
 namespace exoid::experiments {
 namespace {
 
-int runExoid(std::vector<std::string> args) {
-  args.insert(args.begin(), "exoid");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return runCli(static_cast<int>(argv.size()), argv.data());
-}
+using test::runExoid;
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -20,6 +20,8 @@ void addIdentifiabilityCommand(CLI::App& app);
 void addSimulateCommand(CLI::App& app);
 void addTruthCommand(CLI::App& app);
 void addReproduceCommand(CLI::App& app);
+void addSweepCommand(CLI::App& app);
+void addMergeCommand(CLI::App& app);
 #endif
 #ifdef EXOID_WITH_RENDER
 void addRenderCommand(CLI::App& app);

@@ -38,6 +38,9 @@ struct SignalOptions {
 /// std::invalid_argument if fewer than 20 samples would remain.
 JointSignals prepareSignals(const Dataset& d, const SignalOptions& options);
 
+/// Rows [trim, size - trim) of every signal. Throws std::invalid_argument if fewer than 20 remain.
+JointSignals trimEdges(const JointSignals& s, Eigen::Index trim);
+
 /// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).
 JointSignals recordedSignals(const Dataset& d);
 

@@ -1,0 +1,38 @@
+#pragma once
+// Small-sample statistics for the sweep summary: mean, sample std, Student-t confidence
+// intervals, and the Wilcoxon signed-rank test for paired comparisons.
+#include <vector>
+
+namespace exoid::experiments::stats {
+
+double mean(const std::vector<double>& x);               ///< NaN for an empty sample
+double sampleStd(const std::vector<double>& x);          ///< n - 1 denominator; NaN when n < 2
+
+/// Regularized incomplete beta function I_x(a, b), a, b > 0, x in [0, 1].
+double incompleteBeta(double a, double b, double x);
+/// CDF of Student's t with df > 0 degrees of freedom.
+double studentTCdf(double t, double df);
+/// Quantile of Student's t: studentTCdf(studentTQuantile(p, df), df) = p, p in (0, 1).
+double studentTQuantile(double p, double df);
+
+struct ConfidenceInterval {
+  int n = 0;
+  double mean = 0.0, std = 0.0;  ///< std: sample std (n - 1)
+  double low = 0.0, high = 0.0;  ///< mean -+ t_{(1+level)/2, n-1} std / sqrt(n); NaN when n < 2
+};
+/// Student-t interval of the mean at `level` (e.g. 0.95). NaNs (missing runs) must be removed first.
+ConfidenceInterval meanCi(const std::vector<double>& x, double level = 0.95);
+
+struct WilcoxonResult {
+  int n_used = 0;        ///< pairs with a non-zero difference
+  double w_plus = 0.0;   ///< sum of ranks of positive differences (x - y > 0)
+  double p_value = 1.0;  ///< two-sided
+  bool exact = false;    ///< exact null distribution (n_used <= 25, no ties) vs normal approximation
+};
+/// Wilcoxon signed-rank test of x - y (paired, same length). Zero differences are dropped
+/// (Wilcoxon's method); tied |differences| get average ranks. Exact two-sided p for n_used <= 25
+/// without ties, else the normal approximation with tie and continuity corrections.
+/// Throws std::invalid_argument on different lengths.
+WilcoxonResult wilcoxonSignedRank(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace exoid::experiments::stats

@@ -1,0 +1,267 @@
+#include "exoid/experiments/sweep_runner.hpp"
+
+#include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/plots.hpp"
+#include "exoid/experiments/progress.hpp"
+#include "exoid/experiments/sweep_summary.hpp"
+#include "exoid/experiments/table.hpp"
+#include "exoid/ident/stopwatch.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+namespace exoid::experiments {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+nlohmann::json readJson(const fs::path& p) {
+  std::ifstream in(p);
+  if (!in) throw std::runtime_error("cannot read " + p.string());
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("cannot parse " + p.string() + ": " + e.what());
+  }
+}
+
+// Finished jobs in DIR/runs, keyed by (cell, replicate). Only complete files exist there (each
+// was renamed into place whole); temporaries of a killed run are ignored and removed.
+std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir) {
+  std::map<std::pair<int, int>, fs::path> out;
+  const fs::path runs = dir / "runs";
+  if (!fs::exists(runs)) return out;
+  for (const auto& e : fs::directory_iterator(runs)) {
+    const std::string name = e.path().filename().string();
+    if (const auto id = parseJobFileName(name)) {
+      out[{id->cell, id->replicate}] = e.path();
+    } else if (name.find(".tmp.") != std::string::npos) {
+      std::error_code ec;
+      fs::remove(e.path(), ec);
+    }
+  }
+  return out;
+}
+
+std::vector<nlohmann::json> readJobs(const std::map<std::pair<int, int>, fs::path>& files) {
+  std::vector<nlohmann::json> jobs;
+  for (const auto& [id, path] : files) jobs.push_back(readJson(path));
+  return jobs;
+}
+
+void writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const fs::path& dir, bool plots,
+                  std::ostream& log) {
+  writeSweepTables(layout, jobs, dir.string());
+  if (plots) {
+    try {
+      runPlotScript("sweep_plots.py", {(dir / "summary.json").string(), dir.string()});
+    } catch (const std::exception& e) {
+      log << "warning: " << e.what() << '\n';
+    }
+  }
+}
+
+// config.json must match (resume or merge into an existing folder); written when absent.
+void claimFolder(const fs::path& dir, const nlohmann::json& resolved) {
+  fs::create_directories(dir / "runs");
+  const fs::path cfg = dir / "config.json";
+  if (fs::exists(cfg)) {
+    const nlohmann::json old = readJson(cfg);
+    if (old.dump() != resolved.dump()) {
+      std::string diff;
+      for (const auto& [k, v] : resolved.items()) {
+        if (!old.contains(k) || old[k].dump() != v.dump()) diff += (diff.empty() ? "" : ", ") + k;
+      }
+      throw std::invalid_argument("refusing to resume into " + dir.string() + ": its config.json differs from this sweep's "
+                                  "resolved configuration (in: " + (diff.empty() ? std::string("keys") : diff) +
+                                  "). Use another --out, or the same config and flags as before.");
+    }
+  } else {
+    writeJsonFile(cfg.string(), resolved);
+  }
+}
+
+}  // namespace
+
+ShardSpec parseShard(const std::string& s) {
+  const auto slash = s.find('/');
+  ShardSpec sh;
+  try {
+    if (slash == std::string::npos) throw std::invalid_argument("no slash");
+    std::size_t used = 0;
+    sh.index = std::stoi(s.substr(0, slash), &used);
+    if (used != slash) throw std::invalid_argument("trailing characters");
+    sh.count = std::stoi(s.substr(slash + 1), &used);
+    if (used != s.size() - slash - 1) throw std::invalid_argument("trailing characters");
+  } catch (const std::exception&) {
+    throw std::invalid_argument("--shard expects K/N (e.g. 0/4), got '" + s + "'");
+  }
+  if (sh.count < 1 || sh.index < 0 || sh.index >= sh.count) {
+    throw std::invalid_argument("--shard K/N needs 0 <= K < N, got '" + s + "'");
+  }
+  return sh;
+}
+
+std::optional<ShardSpec> shardFromEnvironment() {
+  const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+  const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+  if (!id || !count) return std::nullopt;
+  const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
+  const int k = std::atoi(id) - (min ? std::atoi(min) : 0);
+  return parseShard(std::to_string(k) + "/" + count);
+}
+
+std::vector<JobId> shardJobs(const SweepConfig& c, ShardSpec shard) {
+  std::vector<JobId> out;
+  const int cells = c.numCells();
+  for (int cell = shard.index; cell < cells; cell += shard.count) {
+    for (int r = 0; r < c.seeds; ++r) out.push_back({cell, r});
+  }
+  return out;
+}
+
+SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std::ostream& log) {
+  config.validate();
+  ident::Stopwatch clock;
+  const fs::path dir(o.out);
+  const SweepLayout layout = layoutOf(config);
+  claimFolder(dir, layout.resolved);
+  const nlohmann::json shard_json = {{"index", o.shard.index}, {"count", o.shard.count}};
+  const fs::path shard_file = dir / "shard.json";
+  if (fs::exists(shard_file) && readJson(shard_file).dump() != shard_json.dump()) {
+    throw std::invalid_argument("refusing to resume into " + dir.string() + ": it holds shard " +
+                                readJson(shard_file)["index"].dump() + "/" + readJson(shard_file)["count"].dump() +
+                                ", this run is shard " + o.shard.text());
+  }
+  writeJsonFile(shard_file.string(), shard_json);
+
+  const std::vector<JobId> jobs = shardJobs(config, o.shard);
+  const auto done = finishedJobs(dir);
+  std::vector<JobId> pending;
+  for (const JobId& j : jobs) {
+    if (!done.count({j.cell, j.replicate})) pending.push_back(j);
+  }
+  SweepRunReport rep;
+  rep.jobs = static_cast<long>(jobs.size());
+  rep.skipped = rep.jobs - static_cast<long>(pending.size());
+  if (pending.empty() && fs::exists(dir / "summary.json")) {
+    rep.nothing_to_do = true;
+    log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
+        << " are finished; nothing to do.\n";
+    return rep;
+  }
+  const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
+  log << "exoid sweep: " << config.numCells() << " cells x " << config.seeds << " seeds x " << config.methods.size()
+      << " methods; shard " << o.shard.text() << ": " << rep.jobs << " runs";
+  if (rep.skipped) log << " (" << rep.skipped << " already finished, resuming)";
+  log << ", " << threads << " threads -> " << dir.string() << '\n' << std::flush;
+
+  Progress progress(rep.jobs, rep.skipped, "runs", stderr, o.progress_tty);
+  std::atomic<std::size_t> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (;;) {
+      const std::size_t i = next.fetch_add(1);
+      if (i >= pending.size()) return;
+      {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (error) return;
+      }
+      try {
+        const nlohmann::json j = runSweepJob(config, pending[i]);
+        writeJsonFile((dir / "runs" / jobFileName(pending[i])).string(), j);
+        progress.tick();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  const int n_workers = std::min<int>(threads, static_cast<int>(std::max<std::size_t>(pending.size(), 1)));
+  for (int t = 0; t < n_workers; ++t) pool.emplace_back(worker);
+  for (std::thread& t : pool) t.join();
+  progress.finish();
+  if (error) std::rethrow_exception(error);
+  rep.ran = static_cast<long>(pending.size());
+
+  const auto files = finishedJobs(dir);
+  std::map<std::pair<int, int>, fs::path> mine;
+  for (const JobId& j : jobs) mine[{j.cell, j.replicate}] = files.at({j.cell, j.replicate});
+  const std::vector<nlohmann::json> records = readJobs(mine);
+  writeOutputs(layout, records, dir, o.plots, log);
+  rep.wall_time_s = clock.seconds();
+  double job_time = 0.0;
+  for (const nlohmann::json& j : records) job_time += j.at("wall_time_s").get<double>();
+  writeJsonFile((dir / "timing.json").string(),
+                {{"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
+                 {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s},
+                 {"runs_per_minute", rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0},
+                 {"identifications_per_minute",
+                  rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran * static_cast<long>(config.methods.size())) / rep.wall_time_s : 0.0},
+                 {"sum_of_run_wall_times_s", job_time}});
+  log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s ("
+      << fmt(rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0, 4) << " runs/min); summary: "
+      << (dir / "summary.md").string() << '\n';
+  return rep;
+}
+
+void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out, bool plots, std::ostream& log) {
+  if (shard_dirs.empty()) throw std::invalid_argument("exoid merge: give at least one shard folder");
+  ident::Stopwatch clock;
+  nlohmann::json resolved;
+  std::map<std::pair<int, int>, fs::path> files;
+  nlohmann::json shard_timing = nlohmann::json::array();
+  for (const std::string& d : shard_dirs) {
+    const fs::path cfg = fs::path(d) / "config.json";
+    if (!fs::exists(cfg)) throw std::invalid_argument("exoid merge: " + d + " is not a sweep folder (no config.json)");
+    const nlohmann::json c = readJson(cfg);
+    if (resolved.is_null()) {
+      resolved = c;
+    } else if (c.dump() != resolved.dump()) {
+      throw std::invalid_argument("exoid merge: " + d + "/config.json differs from " + shard_dirs.front() +
+                                  "/config.json: shards of one sweep must share the configuration");
+    }
+    for (const auto& [id, p] : finishedJobs(d)) files.emplace(id, p);  // duplicates: first folder wins
+    if (fs::exists(fs::path(d) / "timing.json")) shard_timing.push_back(readJson(fs::path(d) / "timing.json"));
+  }
+  const SweepLayout layout = layoutFromJson(resolved);
+  long missing = 0;
+  std::string example;
+  for (int cell = 0; cell < static_cast<int>(layout.cells.size()); ++cell) {
+    for (int r = 0; r < layout.seeds; ++r) {
+      if (!files.count({cell, r})) {
+        if (!missing++) example = "cell " + std::to_string(cell) + " replicate " + std::to_string(r);
+      }
+    }
+  }
+  if (missing) {
+    throw std::runtime_error("exoid merge: " + std::to_string(missing) + " runs are missing (e.g. " + example +
+                             "); did every shard finish? Re-run the missing shards (they resume), then merge again.");
+  }
+  const fs::path dir(out);
+  claimFolder(dir, resolved);
+  std::vector<nlohmann::json> jobs = readJobs(files);
+  for (const nlohmann::json& j : jobs) {
+    const JobId id{j.at("cell").get<int>(), j.at("replicate").get<int>()};
+    const fs::path target = dir / "runs" / jobFileName(id);
+    if (!fs::exists(target)) writeJsonFile(target.string(), j);
+  }
+  writeJsonFile((dir / "shard.json").string(), {{"index", 0}, {"count", 1}});
+  writeOutputs(layout, jobs, dir, plots, log);
+  writeJsonFile((dir / "timing.json").string(), {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}});
+  log << "exoid merge: " << jobs.size() << " runs from " << shard_dirs.size() << " folders -> " << (dir / "summary.md").string() << '\n';
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,78 @@
+// Statistics helpers against published and hand-computed values.
+#include "exoid/experiments/stats.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace exoid::experiments::stats {
+namespace {
+
+// Published tables give 6-7 significant digits: compare to half a unit of the last digit.
+TEST(Stats, StudentTQuantileMatchesTables) {
+  EXPECT_NEAR(studentTQuantile(0.975, 9), 2.262157, 5e-7);
+  EXPECT_NEAR(studentTQuantile(0.975, 1), 12.706205, 5e-7);
+  EXPECT_NEAR(studentTQuantile(0.975, 30), 2.042272, 5e-7);
+  EXPECT_NEAR(studentTQuantile(0.95, 4), 2.131847, 5e-7);
+  EXPECT_NEAR(studentTQuantile(0.025, 9), -2.262157, 5e-7);
+  EXPECT_DOUBLE_EQ(studentTQuantile(0.5, 3), 0.0);
+}
+
+TEST(Stats, StudentTCdfClosedForms) {
+  // df = 1 is Cauchy: F(t) = 1/2 + atan(t)/pi; df = 2: F(t) = 1/2 + t / (2 sqrt(2 + t^2)).
+  for (double t : {-3.0, -0.5, 0.0, 0.7, 4.0}) {
+    EXPECT_NEAR(studentTCdf(t, 1), 0.5 + std::atan(t) / M_PI, 1e-13) << t;
+    EXPECT_NEAR(studentTCdf(t, 2), 0.5 + t / (2.0 * std::sqrt(2.0 + t * t)), 1e-13) << t;
+  }
+  EXPECT_NEAR(incompleteBeta(3.0, 3.0, 0.5), 0.5, 1e-14);
+  EXPECT_THROW(incompleteBeta(-1.0, 1.0, 0.5), std::invalid_argument);
+}
+
+TEST(Stats, ConfidenceIntervalOfAKnownSample) {
+  // {1..5}: mean 3, s = sqrt(2.5); half-width t(0.975, 4) s / sqrt(5) = 2.7764451 * 0.7071068 = 1.9632432.
+  const ConfidenceInterval ci = meanCi({1, 2, 3, 4, 5});
+  EXPECT_EQ(ci.n, 5);
+  EXPECT_DOUBLE_EQ(ci.mean, 3.0);
+  EXPECT_NEAR(ci.std, std::sqrt(2.5), 1e-15);
+  EXPECT_NEAR(ci.low, 3.0 - 1.9632432, 5e-7);
+  EXPECT_NEAR(ci.high, 3.0 + 1.9632432, 5e-7);
+  EXPECT_TRUE(std::isnan(meanCi({1.0}).low));
+}
+
+TEST(Stats, WilcoxonExactOnTheHollanderWolfeCase) {
+  // Hollander & Wolfe (1973) p. 29, R's wilcox.test example: V = 40, one-sided p = 10/512, so
+  // two-sided p = 20/512 = 0.0390625 exactly.
+  const std::vector<double> x{1.83, 0.50, 1.62, 2.48, 1.68, 1.88, 1.55, 3.06, 1.30};
+  const std::vector<double> y{0.878, 0.647, 0.598, 2.05, 1.06, 1.29, 1.06, 3.14, 1.29};
+  const WilcoxonResult r = wilcoxonSignedRank(x, y);
+  EXPECT_TRUE(r.exact);
+  EXPECT_EQ(r.n_used, 9);
+  EXPECT_DOUBLE_EQ(r.w_plus, 40.0);
+  EXPECT_DOUBLE_EQ(r.p_value, 20.0 / 512.0);
+  // Symmetric: swapping the samples gives W+ = 45 - 40 and the same p.
+  const WilcoxonResult s = wilcoxonSignedRank(y, x);
+  EXPECT_DOUBLE_EQ(s.w_plus, 5.0);
+  EXPECT_DOUBLE_EQ(s.p_value, r.p_value);
+}
+
+TEST(Stats, WilcoxonZerosDroppedAndNormalApproximation) {
+  // All 30 differences positive and distinct: W+ = 465, mean 232.5, var = 30*31*61/24 = 2363.75;
+  // z = (232.5 - 0.5) / sqrt(2363.75) = 4.77187; two-sided p = erfc(z / sqrt 2) = 1.8257e-6.
+  std::vector<double> x, y;
+  for (int i = 1; i <= 30; ++i) {
+    x.push_back(i);
+    y.push_back(0.0);
+  }
+  x.push_back(5.0);  // a zero difference: dropped
+  y.push_back(5.0);
+  const WilcoxonResult r = wilcoxonSignedRank(x, y);
+  EXPECT_FALSE(r.exact);
+  EXPECT_EQ(r.n_used, 30);
+  EXPECT_DOUBLE_EQ(r.w_plus, 465.0);
+  EXPECT_NEAR(r.p_value, std::erfc(232.0 / std::sqrt(2363.75) / std::sqrt(2.0)), 1e-15);
+  EXPECT_NEAR(r.p_value, 1.8257e-6, 1e-9);
+  EXPECT_THROW(wilcoxonSignedRank({1.0}, {1.0, 2.0}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace exoid::experiments::stats

@@ -1,0 +1,202 @@
+// The real `exoid` binary as a child process: SIGKILL mid-sweep and resume; and the cluster
+// path, a local single-node Slurm (platform.md) running the sweep as a job array.
+#include "sweep_test_support.hpp"
+
+#include <arpa/inet.h>
+#include <csignal>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <thread>
+
+namespace exoid::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+using test::expectSameSweep;
+using test::freshDir;
+using test::referenceSweep;
+using test::slurp;
+using test::tinySweepArgs;
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    std::vector<char*> argv;
+    std::vector<std::string> copy = args;
+    for (auto& a : copy) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(EXOID_BINARY, argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+std::vector<std::string> binaryArgs(std::vector<std::string> args) {
+  args.insert(args.begin(), EXOID_BINARY);
+  return args;
+}
+
+int waitExit(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+long jobFiles(const std::string& dir) {
+  if (!fs::exists(dir + "/runs")) return 0;
+  long n = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/runs")) n += e.path().filename().string().rfind("job-", 0) == 0 ? 1 : 0;
+  return n;
+}
+
+TEST(SweepProcess, KilledWithSigkillAndRestartedLosesNothing) {
+  const std::string d = freshDir("killed");
+  std::vector<std::string> args = tinySweepArgs(d);
+  args.insert(args.end(), {"--threads", "1"});
+  const pid_t pid = spawn(binaryArgs(args), d + ".log1");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (jobFiles(d) == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  EXPECT_EQ(waitExit(pid), -SIGKILL);
+  const long finished = jobFiles(d);
+  ASSERT_GE(finished, 1);
+  ASSERT_LT(finished, 4) << "the sweep finished before it was killed: the test proves nothing";
+  EXPECT_FALSE(fs::exists(d + "/summary.json"));
+  // Restarted with the same command: resumes, runs only the rest, and matches an uninterrupted run.
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log2")), 0);
+  EXPECT_NE(slurp(d + ".log2").find(std::to_string(finished) + " already finished, resuming"), std::string::npos)
+      << slurp(d + ".log2");
+  expectSameSweep(d, referenceSweep());
+  // Once more: nothing to do.
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log3")), 0);
+  EXPECT_NE(slurp(d + ".log3").find("nothing to do"), std::string::npos) << slurp(d + ".log3");
+}
+
+// ---- local single-node Slurm (platform.md, "A real single-node Slurm for tests") ----
+
+std::string findDaemon(const std::string& name) {
+  for (const char* dir : {"/usr/sbin/", "/usr/bin/", "/usr/local/sbin/"}) {
+    if (::access((dir + name).c_str(), X_OK) == 0) return dir + name;
+  }
+  return {};
+}
+
+int freePort() {
+  const int s = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(s);
+  return ntohs(a.sin_port);
+}
+
+std::string capture(const std::string& cmd) {
+  std::string out;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return out;
+  char buf[256];
+  while (std::fgets(buf, sizeof buf, p)) out += buf;
+  ::pclose(p);
+  return out;
+}
+
+bool processGone(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  if (!stat) return true;
+  std::string line;
+  std::getline(stat, line);
+  const auto close_paren = line.rfind(')');
+  return close_paren == std::string::npos || line.substr(close_paren + 2, 1) == "Z";  // zombie: dead, awaiting reaping
+}
+
+// Starts slurmctld + slurmd on a scratch slurm.conf; stops them (SIGTERM, then SIGKILL) when destroyed.
+class LocalSlurm {
+ public:
+  explicit LocalSlurm(const std::string& scratch) : dir_(scratch) {
+    fs::create_directories(dir_ + "/state");
+    fs::create_directories(dir_ + "/spool");
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    const std::string cpus = capture("nproc");
+    const std::string mem = capture("free -m | awk '/Mem:/ {print $2}'");
+    conf_ = dir_ + "/slurm.conf";
+    std::ofstream c(conf_);
+    c << "ClusterName=local\nSlurmctldHost=" << host << "(127.0.0.1)\nSlurmUser=root\nSlurmdUser=root\n"
+      << "SlurmctldPort=" << freePort() << "\nSlurmdPort=" << freePort() << "\n"
+      << "AuthType=auth/none\nCredType=cred/none\nStateSaveLocation=" << dir_ << "/state\nSlurmdSpoolDir=" << dir_ << "/spool\n"
+      << "SlurmctldPidFile=" << dir_ << "/slurmctld.pid\nSlurmdPidFile=" << dir_ << "/slurmd.pid\n"
+      << "SlurmctldLogFile=" << dir_ << "/slurmctld.log\nSlurmdLogFile=" << dir_ << "/slurmd.log\n"
+      << "ProctrackType=proctrack/linuxproc\nTaskPlugin=task/none\nSelectType=select/cons_tres\nSelectTypeParameters=CR_Core\n"
+      << "JobAcctGatherType=jobacct_gather/none\nAccountingStorageType=accounting_storage/none\nMpiDefault=none\n"
+      << "ReturnToService=2\nMailProg=/bin/true\nMinJobAge=4\nSchedulerParameters=batch_sched_delay=0\n"
+      << "NodeName=" << host << " NodeAddr=127.0.0.1 CPUs=" << std::stoi(cpus) << " RealMemory=" << std::stoi(mem) << " State=UNKNOWN\n"
+      << "PartitionName=debug Nodes=ALL Default=YES MaxTime=INFINITE State=UP\n";
+    c.close();
+    ::setenv("SLURM_CONF", conf_.c_str(), 1);
+    started_ = std::system((findDaemon("slurmctld") + " -f " + conf_).c_str()) == 0 &&
+               std::system((findDaemon("slurmd") + " -f " + conf_).c_str()) == 0;
+  }
+  ~LocalSlurm() {
+    for (const char* pidfile : {"/slurmd.pid", "/slurmctld.pid"}) {
+      std::ifstream in(dir_ + pidfile);
+      pid_t pid = 0;
+      if (!(in >> pid) || pid <= 0) continue;
+      ::kill(pid, SIGTERM);
+      for (int i = 0; i < 100 && !processGone(pid); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      if (!processGone(pid)) ::kill(pid, SIGKILL);
+    }
+    ::unsetenv("SLURM_CONF");
+  }
+  bool started() const { return started_; }
+  bool waitIdle() const {
+    for (int i = 0; i < 300; ++i) {
+      if (capture("sinfo -h -o %T 2>/dev/null").find("idle") != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  }
+  std::string logs() const { return slurp(dir_ + "/slurmctld.log") + slurp(dir_ + "/slurmd.log"); }
+
+ private:
+  std::string dir_, conf_;
+  bool started_ = false;
+};
+
+TEST(SweepProcess, SlurmJobArrayShardsMergeToTheSingleProcessResult) {
+  if (findDaemon("slurmctld").empty() || findDaemon("slurmd").empty()) {
+    FAIL() << "slurmctld/slurmd not installed: run scripts/deps.sh (it installs slurm-wlm)";
+  }
+  const std::string scratch = freshDir("slurm");
+  const LocalSlurm slurm(scratch);
+  ASSERT_TRUE(slurm.started()) << slurm.logs();
+  ASSERT_TRUE(slurm.waitIdle()) << "the node never became idle:\n" << slurm.logs();
+  std::string cmd = std::string("exec ") + EXOID_BINARY;
+  for (const std::string& a : tinySweepArgs(scratch + "/shard-$SLURM_ARRAY_TASK_ID")) cmd += " " + a;
+  {
+    std::ofstream job(scratch + "/job.sh");
+    job << "#!/bin/sh\n" << cmd << " --threads 1\n";
+  }
+  const std::string sbatch = "sbatch --array=0-1 --wait --output=" + scratch + "/task-%a.out " + scratch + "/job.sh 2>&1";
+  const std::string out = capture(sbatch + "; echo rc=$?");
+  ASSERT_NE(out.find("rc=0"), std::string::npos) << out << slurp(scratch + "/task-0.out") << slurp(scratch + "/task-1.out");
+  // Each task found its shard in the Slurm environment.
+  EXPECT_NE(slurp(scratch + "/task-1.out").find("shard 1/2"), std::string::npos) << slurp(scratch + "/task-1.out");
+  const std::string merged = scratch + "/merged";
+  ASSERT_EQ(test::runExoid({"merge", "--no-plots", "--out", merged, scratch + "/shard-0", scratch + "/shard-1"}), 0);
+  expectSameSweep(merged, referenceSweep());
+}
+
+}  // namespace
+}  // namespace exoid::experiments
