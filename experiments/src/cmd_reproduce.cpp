@@ -53,8 +53,7 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked")->delimiter(',');
-  addSimOptions(*cmd, args->config.sim);
-  cmd->remove_option(cmd->get_option("--trajectory"));  // the protocol runs all four
+  addSimOptions(*cmd, args->config.sim, /*choose_trajectory=*/false);  // the protocol runs 1-4
   addSignalOptions(*cmd, args->config.signals);
   addMethodOptions(*cmd, args->config.methods);
   // One protocol seed instead of the PSO seed: sensor noise and PSO streams derive from it.

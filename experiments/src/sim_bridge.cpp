@@ -6,6 +6,7 @@
 #include "exoid/ident/segmental.hpp"
 #include "exoid/sim/sidecar.hpp"
 
+#include <cmath>
 #include <sstream>
 
 namespace exoid::experiments {
@@ -99,9 +100,46 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
   return j;
 }
 
-void addSimOptions(CLI::App& app, sim::SimConfig& c) {
+namespace {
+// "offset,a1,b1,a2,b2,..." in degrees -> one joint of a Fourier series in radians.
+sim::FourierJoint fourierJoint(const std::vector<double>& deg, const char* flag) {
+  if (deg.empty() || deg.size() % 2 == 0) {
+    throw CLI::ValidationError(flag, "expected offset,a1,b1[,a2,b2...] in degrees (an odd count), got " +
+                                         std::to_string(deg.size()) + " values");
+  }
+  const double rad = M_PI / 180.0;
+  sim::FourierJoint j;
+  j.offset_rad = deg[0] * rad;
+  for (std::size_t k = 1; k + 1 < deg.size(); k += 2) {
+    j.a_rad.push_back(deg[k] * rad);
+    j.b_rad.push_back(deg[k + 1] * rad);
+  }
+  return j;
+}
+void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
   const char* g = "Simulation";
-  app.add_option("--trajectory", c.trajectory, "Paper Table 1 trajectory 1-4")->check(CLI::Range(1, 4))->capture_default_str()->group(g);
+  CLI::Option* traj = app.add_option("--trajectory", c.trajectory, "Paper Table 1 trajectory 1-4")
+                          ->check(CLI::Range(1, 4))->capture_default_str()->group(g);
+  // A general finite Fourier series instead: q(t) = offset + sum_k a_k cos(2 pi k f0 t) + b_k sin(...).
+  CLI::Option* fh = app.add_option_function<std::vector<double>>(
+                           "--fourier-hip", [&c](const std::vector<double>& v) { c.fourier.hip = fourierJoint(v, "--fourier-hip"); c.trajectory = 0; },
+                           "Fourier trajectory, hip: offset,a1,b1,a2,b2,... in deg (replaces --trajectory)")
+                       ->delimiter(',')->group(g);
+  CLI::Option* fk = app.add_option_function<std::vector<double>>(
+                           "--fourier-knee", [&c](const std::vector<double>& v) { c.fourier.knee = fourierJoint(v, "--fourier-knee"); c.trajectory = 0; },
+                           "Fourier trajectory, knee: offset,a1,b1,a2,b2,... in deg (replaces --trajectory)")
+                       ->delimiter(',')->group(g);
+  app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  app.add_flag("--lock-hip", c.fourier.lock_hip, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
+  traj->excludes(fh);
+  traj->excludes(fk);
+}
+
+}  // namespace
+
+void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
+  const char* g = "Simulation";
+  if (choose_trajectory) addTrajectoryOptions(app, c);
   app.add_option("--duration", c.duration_s, "Recorded duration, s")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
   app.add_option("--ramp", c.ramp_s, "Smooth start ramp, s (run before recording)")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--noise-q-deg", c.sensors.noise_q_deg, "Encoder noise std, deg")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);

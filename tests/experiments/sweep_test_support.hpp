@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -58,8 +59,9 @@ inline void expectSameSweep(const std::string& a, const std::string& b) {
   EXPECT_EQ(ja, jb);
 }
 
+/// A fresh folder private to this process: ctest runs each test in its own process, in parallel.
 inline std::string freshDir(const std::string& name) {
-  const std::string d = ::testing::TempDir() + "/exoid_sweep_" + name;
+  const std::string d = ::testing::TempDir() + "/exoid_sweep_" + std::to_string(::getpid()) + "_" + name;
   std::filesystem::remove_all(d);
   return d;
 }

@@ -32,7 +32,8 @@ BestFit bestFitTruth(const ident::Dataset& d, const ident::LegConstants& c, cons
 /// The full sidecar: sim's (settings, rigid truth, band, stats) plus the best-fit truth.
 nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& d);
 
-/// Flags of `exoid simulate` (shared with render and the experiments that simulate).
-void addSimOptions(CLI::App& app, sim::SimConfig& c);
+/// Flags of `exoid simulate` (shared with render and the experiments that simulate). With
+/// choose_trajectory, also --trajectory and the Fourier-series flags (the protocol runs 1-4).
+void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory = true);
 
 }  // namespace exoid::experiments
