@@ -36,6 +36,16 @@ std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names)
   return out;
 }
 
+// True when a stage of `m` could not identify parameter i (its value is a placeholder).
+bool unidentifiable(const MethodOutcome& m, int i) {
+  for (const Stage& st : m.stages) {
+    for (Eigen::Index c : st.estimate.unidentifiable) {
+      if (st.indices[static_cast<std::size_t>(c)] == i) return true;
+    }
+  }
+  return false;
+}
+
 void printResults(const std::vector<MethodOutcome>& outcomes,
                   const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                   const std::map<std::string, ident::ParamVector>& truths) {
@@ -47,6 +57,10 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
     std::vector<std::string> row{std::string(ident::paramName(i)), ident::paramInfo()[static_cast<std::size_t>(i)].unit};
     for (const auto& [name, x] : truths) row.push_back(fmt(x[i]));
     for (const MethodOutcome& m : outcomes) {
+      if (unidentifiable(m, i)) {
+        row.push_back("n/a (not identifiable)");
+        continue;
+      }
       std::string cell = fmt(m.x[i]);
       if (!truths.empty()) {
         const double tr = truths.begin()->second[i];

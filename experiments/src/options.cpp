@@ -140,7 +140,7 @@ nlohmann::json toJson(const ident::MethodOptions& o) {
            {{"forgetting", o.rls_pso.rls.forgetting}, {"initial_covariance", o.rls_pso.rls.initial_covariance},
             {"burn_in_fraction", o.rls_pso.range.burn_in_fraction},
             {"margin_fraction", o.rls_pso.range.margin_fraction}}},
-          {"ls", {{"rank_tolerance", o.ls.rank_tolerance}}},
+          {"ls", {{"rank_tolerance", o.ls.rank_tolerance}, {"warn_condition", o.ls.warn_condition}}},
           {"lad", {{"gap_tolerance", o.lad.gap_tolerance}, {"max_iterations", o.lad.max_iterations}}},
           {"report_optimality_gap", o.report_optimality_gap}};
 }

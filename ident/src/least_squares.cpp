@@ -5,12 +5,16 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace exoid::ident {
 
 void LsOptions::validate() const {
+  if (!(warn_condition > 1.0)) {
+    throw std::invalid_argument("'warn_condition' must be > 1, got " + std::to_string(warn_condition));
+  }
   if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0)) {
     throw std::invalid_argument("'rank_tolerance' must be in (0, 1), got " +
                                 std::to_string(rank_tolerance));
@@ -71,6 +75,14 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
   } else {
     r.summary.status = Status::kConverged;
     r.summary.message = "full rank";
+    if (r.condition_number > options.warn_condition) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "; WARNING: ill-conditioned (condition %.3g > %.3g): noise and model error dominate "
+                    "the estimate; see `exoid identifiability`",
+                    r.condition_number, options.warn_condition);
+      r.summary.message += buf;
+    }
   }
   r.summary.wall_time_s = clock.seconds();
   return r;

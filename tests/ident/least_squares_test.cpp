@@ -35,6 +35,19 @@ TEST(LeastSquares, ReportsRankDeficiencyNamingColumns) {
   EXPECT_TRUE(r.x.allFinite());
 }
 
+TEST(LeastSquares, IllConditionedFullRankProblemIsFlagged) {
+  // Two columns differing by 1e-7 relative: full rank (above the 1e-8 rank tolerance) but the
+  // scaled condition number is ~1e7 > warn_condition.
+  Eigen::MatrixXd H = Eigen::MatrixXd::Random(200, 3);
+  H.col(2) = H.col(0) + 1e-7 * Eigen::VectorXd::Random(200);
+  const LsResult r = solveLeastSquares(H, Eigen::VectorXd::Random(200));
+  EXPECT_EQ(r.rank, 3);
+  EXPECT_GT(r.condition_number, 1e5);
+  EXPECT_NE(r.summary.message.find("ill-conditioned"), std::string::npos) << r.summary.message;
+  const LsResult ok = solveLeastSquares(Eigen::MatrixXd::Random(200, 3), Eigen::VectorXd::Random(200));
+  EXPECT_EQ(ok.summary.message.find("ill-conditioned"), std::string::npos);
+}
+
 TEST(LeastSquares, DuplicateColumnIsUnidentifiable) {
   Eigen::MatrixXd H = Eigen::MatrixXd::Random(50, 3);
   H.col(2) = 2.0 * H.col(0);

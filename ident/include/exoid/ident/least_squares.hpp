@@ -13,6 +13,11 @@ struct LsOptions {
   /// every column to unit norm. Range (0, 1). Default 1e-8: far above roundoff (~1e-15 * cond)
   /// and below any usable conditioning (cond > 1e8 means parameters are not separable).
   double rank_tolerance = 1e-8;
+  /// Full rank but condition number (scaled columns) above this: the message warns that the
+  /// estimate is dominated by noise and model error (kept kConverged: on exact data it is still
+  /// right). Range > 1. Default 1e5 (the paper's knee record has ~250; 1e5 amplifies a 0.1 %
+  /// torque error to ~100 %).
+  double warn_condition = 1e5;
   /// Throws std::invalid_argument naming the field.
   void validate() const;
 };
