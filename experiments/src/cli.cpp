@@ -2,7 +2,6 @@
 
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/version.hpp"
-#include "exoid/ident/dataset.hpp"
 
 #include <iostream>
 
@@ -26,19 +25,15 @@ int runCli(int argc, char** argv) {
 #ifdef EXOID_WITH_RENDER
   addRenderCommand(app);
 #endif
-  const std::string name = app.get_name().empty() ? "exoid" : "exoid";
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);  // usage errors: message and help hint, exit code 2 (CLI11's)
+    return app.exit(e);  // usage errors: message, help hint, CLI11's non-zero code
   } catch (const UnusableResult& e) {
-    std::cerr << name << ": result not usable: " << e.what() << '\n';
+    std::cerr << "exoid: result not usable: " << e.what() << '\n';
     return 3;
-  } catch (const ident::DatasetError& e) {
-    std::cerr << name << ": error: " << e.what() << '\n';
-    return 1;
   } catch (const std::exception& e) {
-    std::cerr << name << ": error: " << e.what() << '\n';
+    std::cerr << "exoid: error: " << e.what() << '\n';
     return 1;
   }
   return 0;

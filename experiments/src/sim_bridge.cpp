@@ -15,24 +15,18 @@ ident::Dataset toDataset(const sim::SimResult& r) {
   const sim::Table& t = r.table;
   ident::Dataset d;
   for (const auto& [key, value] : t.metadata) d.comments.push_back(" " + key + ": " + value);
-  auto col = [&](const std::string& name) -> Eigen::Index {
-    for (std::size_t k = 0; k < t.names.size(); ++k) {
-      if (t.names[k] == name) return static_cast<Eigen::Index>(k);
-    }
-    throw std::logic_error("simulated table has no column '" + name + "'");
-  };
   const Eigen::Index n = t.values.rows();
-  d.t_s = t.values.col(col("t"));
+  d.t_s = t.col("t");
   d.q_rad.resize(n, 2);
   d.tau_Nm.resize(n, 2);
-  d.q_rad << t.values.col(col("q_hip")), t.values.col(col("q_knee"));
-  d.tau_Nm << t.values.col(col("tau_hip")), t.values.col(col("tau_knee"));
+  d.q_rad << t.col("q_hip"), t.col("q_knee");
+  d.tau_Nm << t.col("tau_hip"), t.col("tau_knee");
   const std::vector<std::string> required{"t", "q_hip", "q_knee", "tau_hip", "tau_knee"};
   for (const std::string& name : t.names) {
     if (std::find(required.begin(), required.end(), name) == required.end()) d.extra_names.push_back(name);
   }
   d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
-  for (std::size_t k = 0; k < d.extra_names.size(); ++k) d.extra.col(static_cast<Eigen::Index>(k)) = t.values.col(col(d.extra_names[k]));
+  for (std::size_t k = 0; k < d.extra_names.size(); ++k) d.extra.col(static_cast<Eigen::Index>(k)) = t.col(d.extra_names[k]);
   return d;
 }
 
@@ -87,7 +81,7 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
   j["tool"] = toolJson();
   const ident::ParamVector rigid = toParamVector(r.truth.x);
   // Each truth is {"parameters": {...}, ...} so `exoid identify --truth` reads every one of them.
-  if (r.table.names.size() > 7) {  // exact columns present
+  if (r.config.exact_columns) {
     const BestFit b = bestFitTruth(d, constantsOf(r.truth), rigid);
     j["truth"]["best_fit"] = {{"parameters", paramsJson(b.x)},
                               {"residual_rms_Nm", b.residual_rms_Nm},

@@ -235,7 +235,7 @@ Dataset readDatasetCsv(const std::string& path, const CsvReadOptions& options) {
 
 void writeDatasetCsv(const Dataset& d, std::ostream& out) {
   const Eigen::Index n = d.size();
-  if (d.q_rad.rows() != n || d.tau_Nm.rows() != n || d.extra.rows() != (d.extra_names.empty() ? d.extra.rows() : n) ||
+  if (d.q_rad.rows() != n || d.tau_Nm.rows() != n || (!d.extra_names.empty() && d.extra.rows() != n) ||
       d.extra.cols() != static_cast<Eigen::Index>(d.extra_names.size())) {
     throw std::invalid_argument("dataset: column sizes disagree with t (" + std::to_string(n) + " rows)");
   }
