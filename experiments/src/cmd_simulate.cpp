@@ -37,6 +37,14 @@ void runSimulate(const SimulateArgs& a) {
             << "tracking error RMS hip " << fmt(s.tracking_hip.rms_deg, 3) << " deg, knee "
             << fmt(s.tracking_knee.rms_deg, 3) << " deg; loop error max " << fmt(s.loop_error_max_m, 3)
             << " m; pedestal |x| max " << fmt(s.base_x_max_abs_m, 3) << " m; " << fmt(s.wall_time_s, 3) << " s\n";
+  const nlohmann::json& hf = side.at("torque_variance_above_10Hz");
+  std::cout << "torque variance above 10 Hz (Welch): recorded hip " << fixed(100.0 * hf.at("tau_hip").get<double>(), 2)
+            << " %, knee " << fixed(100.0 * hf.at("tau_knee").get<double>(), 2) << " %";
+  if (hf.contains("tau_hip_ideal")) {
+    std::cout << "; ideal at the exact states hip " << fixed(100.0 * hf.at("tau_hip_ideal").get<double>(), 2)
+              << " %, knee " << fixed(100.0 * hf.at("tau_knee_ideal").get<double>(), 2) << " %";
+  }
+  std::cout << "\n";
 }
 
 struct TruthArgs {

@@ -4,6 +4,7 @@
 #include "exoid/experiments/version.hpp"
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/segmental.hpp"
+#include "exoid/ident/spectrum.hpp"
 #include "exoid/sim/sidecar.hpp"
 
 #include <cmath>
@@ -76,6 +77,19 @@ BestFit bestFitTruth(const ident::Dataset& d, const ident::LegConstants& c, cons
   return b;
 }
 
+std::map<std::string, double> torqueVarianceAbove(const ident::Dataset& d, double f_hz) {
+  const double fs = 1.0 / d.sampleInterval_s();
+  std::map<std::string, double> out;
+  out["tau_hip"] = ident::varianceFractionAbove(d.tau_Nm.col(0), fs, f_hz);
+  out["tau_knee"] = ident::varianceFractionAbove(d.tau_Nm.col(1), fs, f_hz);
+  for (const std::string& name : d.extra_names) {
+    if (name.rfind("tau_", 0) == 0 && name.find("_cmd") == std::string::npos) {
+      out[name] = ident::varianceFractionAbove(d.extraColumn(name), fs, f_hz);
+    }
+  }
+  return out;
+}
+
 nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& d) {
   nlohmann::json j = sim::sidecar(r, std::string(kVersion) + " (" + kGitRevision + ")");
   j["tool"] = toolJson();
@@ -91,6 +105,9 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
                                           "estimator of this model can do on it. Blocks this record cannot "
                                           "identify are copied from the rigid truth (from_rigid)."}};
   }
+  j["torque_variance_above_10Hz"] = torqueVarianceAbove(d);
+  j["torque_variance_above_10Hz"]["method"] =
+      "Welch (Hann, 2 s segments, 50 % overlap, mean removed): share of the variance above 10 Hz";
   return j;
 }
 
@@ -155,7 +172,19 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   app.add_option("--fv-hip", c.variant.fv_hip_Nms, "Hip viscous friction, N m s/rad (default: model)")->check(CLI::NonNegativeNumber)->group(g);
   app.add_option("--fc-knee", c.variant.fc_knee_Nm, "Knee Coulomb friction, N m (default: model)")->check(CLI::NonNegativeNumber)->group(g);
   app.add_option("--fv-knee", c.variant.fv_knee_Nms, "Knee viscous friction, N m s/rad (default: model)")->check(CLI::NonNegativeNumber)->group(g);
-  app.add_flag("--feedforward", c.feedforward, "Add model-based feedforward to the PID")->group(g);
+  app.add_flag("--feedforward,!--no-feedforward", c.feedforward,
+               "Model-based feedforward of the planned reference through the actuators' inverse (default on)")
+      ->capture_default_str()->group(g);
+  app.add_option("--hip-actuator-bandwidth", c.actuators.hip_bandwidth_Hz, "Hip motor torque bandwidth, Hz (0 = ideal)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--knee-actuator-bandwidth", c.actuators.knee_bandwidth_Hz, "Knee hydraulic force-loop bandwidth, Hz (0 = ideal)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--torque-sensor-bandwidth", c.sensors.tau_bandwidth_Hz, "Torque sensor anti-aliasing bandwidth, Hz (0 = ideal)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--imu-acc-noise", c.sensors.imu_acc_noise_mps2, "Pedestal accelerometer noise std, m/s^2")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--imu-gyro-noise", c.sensors.imu_gyro_noise_radps, "Pedestal gyro noise std, rad/s")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--model", c.model_path, "MJCF model")->check(CLI::ExistingFile)->capture_default_str()->group(g);
 }
 

@@ -41,10 +41,11 @@ PidController::PidController(const PidGains& g, double dt_s) : g_(g), dt_(dt_s) 
   reset(Eigen::Vector2d::Zero(), {true, true});
 }
 
-void PidController::reset(const Eigen::Vector2d& q_meas, const std::array<bool, 2>& enabled,
+void PidController::reset(const Eigen::Vector2d& /*q_meas*/, const std::array<bool, 2>& enabled,
                           const Eigen::Vector2d& integral0_Nm) {
-  q_prev_ = q_meas;
-  v_est_.setZero();
+  e_prev_.setZero();
+  e_dot_est_.setZero();
+  first_ = true;
   integral_ = integral0_Nm.cwiseMax(-g_.integral_limit_Nm).cwiseMin(g_.integral_limit_Nm);
   enabled_ = enabled;
 }
@@ -52,18 +53,19 @@ void PidController::reset(const Eigen::Vector2d& q_meas, const std::array<bool, 
 Eigen::Vector2d PidController::update(const JointReference& ref, const Eigen::Vector2d& q_meas) {
   Eigen::Vector2d u;
   for (int j = 0; j < 2; ++j) {
-    const double v_raw = (q_meas[j] - q_prev_[j]) / dt_;
-    v_est_[j] += alpha_ * (v_raw - v_est_[j]);
-    q_prev_[j] = q_meas[j];
+    const double e = ref.q[j] - q_meas[j];
+    const double e_dot_raw = first_ ? 0.0 : (e - e_prev_[j]) / dt_;
+    e_dot_est_[j] += alpha_ * (e_dot_raw - e_dot_est_[j]);
+    e_prev_[j] = e;
     if (!enabled_[static_cast<std::size_t>(j)]) {
       u[j] = 0.0;
       continue;
     }
-    const double e = ref.q[j] - q_meas[j];
     integral_[j] += g_.ki_Nm_per_rad_s[j] * e * dt_;
     integral_[j] = std::clamp(integral_[j], -g_.integral_limit_Nm, g_.integral_limit_Nm);
-    u[j] = g_.kp_Nm_per_rad[j] * e + integral_[j] + g_.kd_Nms_per_rad[j] * (ref.qd[j] - v_est_[j]);
+    u[j] = g_.kp_Nm_per_rad[j] * e + integral_[j] + g_.kd_Nms_per_rad[j] * e_dot_est_[j];
   }
+  first_ = false;
   return u;
 }
 

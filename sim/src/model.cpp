@@ -201,6 +201,7 @@ LegIndices findLegIndices(const mjModel* m, const std::string& source) {
       m->eq_obj2id[x.eq_hip_lock] >= 0) {
     throw std::invalid_argument(source + ": equality 'hip_lock' must be a joint equality on 'hip' alone");
   }
+  x.site_imu = need(m, mjOBJ_SITE, "imu", source, "site");
   return x;
 }
 

@@ -21,15 +21,44 @@ void SensorOptions::validate() const {
   check("noise_tau_Nm", noise_tau_Nm, std::isfinite(noise_tau_Nm) && noise_tau_Nm >= 0, "finite and >= 0");
   check("tau_bias_Nm[hip]", tau_bias_Nm[0], std::isfinite(tau_bias_Nm[0]), "finite");
   check("tau_bias_Nm[knee]", tau_bias_Nm[1], std::isfinite(tau_bias_Nm[1]), "finite");
+  check("tau_bandwidth_Hz", tau_bandwidth_Hz, std::isfinite(tau_bandwidth_Hz) && tau_bandwidth_Hz >= 0,
+        ">= 0 (0 = ideal) and below the Nyquist frequency");
+  check("imu_acc_noise_mps2", imu_acc_noise_mps2, std::isfinite(imu_acc_noise_mps2) && imu_acc_noise_mps2 >= 0,
+        "finite and >= 0");
+  check("imu_gyro_noise_radps", imu_gyro_noise_radps,
+        std::isfinite(imu_gyro_noise_radps) && imu_gyro_noise_radps >= 0, "finite and >= 0");
 }
 
-Sensors::Sensors(const SensorOptions& o, std::uint64_t seed)
+namespace {
+constexpr double kButterworthDamping = 0.70710678118654752;  // 1 / sqrt(2)
+
+SecondOrderLowpass torqueFilter(const SensorOptions& o, double dt_s) {
+  o.validate();
+  return SecondOrderLowpass(o.tau_bandwidth_Hz, kButterworthDamping, dt_s);
+}
+}  // namespace
+
+Sensors::Sensors(const SensorOptions& o, std::uint64_t seed, double dt_s)
     : o_(o),
       noise_q_rad_(o.noise_q_deg * M_PI / 180.0),
       quant_rad_(o.quantisation_deg * M_PI / 180.0),
       enc_(streamSeed(seed, kStreamEncoder)),
-      tau_(streamSeed(seed, kStreamTorque)) {
-  o.validate();
+      tau_(streamSeed(seed, kStreamTorque)),
+      imu_(streamSeed(seed, kStreamImu)),
+      tau_filter_{torqueFilter(o, dt_s), torqueFilter(o, dt_s)} {}
+
+void Sensors::resetTorqueFilters(const Eigen::Vector2d& tau) {
+  for (int j = 0; j < 2; ++j) tau_filter_[static_cast<std::size_t>(j)].reset(tau[j]);
+}
+
+Eigen::Vector3d Sensors::imu(const Eigen::Vector3d& truth) {
+  Eigen::Vector3d out = truth;
+  if (o_.imu_acc_noise_mps2 > 0) {
+    out[0] += o_.imu_acc_noise_mps2 * imu_.normal();
+    out[1] += o_.imu_acc_noise_mps2 * imu_.normal();
+  }
+  if (o_.imu_gyro_noise_radps > 0) out[2] += o_.imu_gyro_noise_radps * imu_.normal();
+  return out;
 }
 
 Eigen::Vector2d Sensors::angles(const Eigen::Vector2d& q) {
@@ -46,7 +75,7 @@ Eigen::Vector2d Sensors::angles(const Eigen::Vector2d& q) {
 Eigen::Vector2d Sensors::torques(const Eigen::Vector2d& tau) {
   Eigen::Vector2d out;
   for (int j = 0; j < 2; ++j) {
-    double v = tau[j] + o_.tau_bias_Nm[static_cast<std::size_t>(j)];
+    double v = tau_filter_[static_cast<std::size_t>(j)].step(tau[j]) + o_.tau_bias_Nm[static_cast<std::size_t>(j)];
     if (o_.noise_tau_Nm > 0) v += o_.noise_tau_Nm * tau_.normal();
     out[j] = v;
   }

@@ -31,7 +31,14 @@ nlohmann::json configJson(const SimConfig& c) {
   j["sensors"] = {{"noise_q_deg", c.sensors.noise_q_deg},
                   {"quantisation_deg", c.sensors.quantisation_deg},
                   {"noise_tau_Nm", c.sensors.noise_tau_Nm},
-                  {"tau_bias_Nm", {{"hip", c.sensors.tau_bias_Nm[0]}, {"knee", c.sensors.tau_bias_Nm[1]}}}};
+                  {"tau_bias_Nm", {{"hip", c.sensors.tau_bias_Nm[0]}, {"knee", c.sensors.tau_bias_Nm[1]}}},
+                  {"tau_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},
+                  {"imu_acc_noise_mps2", c.sensors.imu_acc_noise_mps2},
+                  {"imu_gyro_noise_radps", c.sensors.imu_gyro_noise_radps}};
+  j["actuators"] = {{"hip_bandwidth_Hz", c.actuators.hip_bandwidth_Hz},
+                    {"hip_damping", c.actuators.hip_damping},
+                    {"knee_bandwidth_Hz", c.actuators.knee_bandwidth_Hz},
+                    {"knee_damping", c.actuators.knee_damping}};
   j["variant"] = {{"cylinder_mass_scale", c.variant.cylinder_mass_scale},
                   {"vibration_level", c.variant.vibration_level},
                   {"fc_hip_Nm", opt(c.variant.fc_hip_Nm)},
@@ -48,6 +55,8 @@ nlohmann::json configJson(const SimConfig& c) {
                 {"derivative_cutoff_Hz", c.gains.derivative_cutoff_Hz},
                 {"integral_limit_Nm", c.gains.integral_limit_Nm}};
   j["feedforward"] = c.feedforward;
+  j["feedforward_model"] =
+      c.feedforward_model == SimConfig::ControllerModel::kRigidLinks ? "rigid links (no cylinder mass)" : "rig as simulated";
   j["seed"] = c.seed;
   j["exact_columns"] = c.exact_columns;
   j["max_loop_error_m"] = c.max_loop_error_m;

@@ -1,6 +1,7 @@
 #include "exoid/sim/simulate.hpp"
 
 #include "exoid/sim/four_bar.hpp"
+#include "exoid/sim/imu.hpp"
 #include "exoid/sim/inverse_dynamics.hpp"
 
 #include <chrono>
@@ -29,14 +30,16 @@ enum Col : int {
   kT = 0, kQHip, kQKnee, kTauHip, kTauKnee,
   kQHipTrue, kQKneeTrue, kQdHipTrue, kQdKneeTrue, kQddHipTrue, kQddKneeTrue,
   kTauHipTrue, kTauKneeTrue, kTauHipIdeal, kTauKneeIdeal,
-  kQHipRef, kQKneeRef, kBaseX, kBaseZ, kBasePitch, kLoopError, kNumCols
+  kQHipRef, kQKneeRef, kBaseX, kBaseZ, kBasePitch, kLoopError,
+  kTauHipCmd, kTauKneeCmd, kBaseAccX, kBaseAccZ, kBaseGyroY, kNumCols
 };
 const char* const kColNames[kNumCols] = {
     "t", "q_hip", "q_knee", "tau_hip", "tau_knee",
     "q_hip_true", "q_knee_true", "qd_hip_true", "qd_knee_true", "qdd_hip_true", "qdd_knee_true",
     "tau_hip_true", "tau_knee_true", "tau_hip_ideal", "tau_knee_ideal",
-    "q_hip_ref", "q_knee_ref", "base_x", "base_z", "base_pitch", "loop_error"};
-const int kShortCols[] = {kT, kQHip, kQKnee, kTauHip, kTauKnee, kQHipRef, kQKneeRef};
+    "q_hip_ref", "q_knee_ref", "base_x", "base_z", "base_pitch", "loop_error",
+    "tau_hip_cmd", "tau_knee_cmd", "base_acc_x", "base_acc_z", "base_gyro_y"};
+const int kShortCols[] = {kT, kQHip, kQKnee, kTauHip, kTauKnee, kQHipRef, kQKneeRef, kBaseAccX, kBaseAccZ, kBaseGyroY};
 
 std::string num(double v) {
   char buf[40];
@@ -73,6 +76,8 @@ void SimConfig::validate() const {
     throw std::invalid_argument("'floor' disturbance needs 'vibration_level' > 0 (a welded pedestal cannot move)");
   }
   gains.validate();
+  actuators.validate(dt_s);
+  if (sensors.tau_bandwidth_Hz * dt_s >= 0.5) badField("sensors.tau_bandwidth_Hz", sensors.tau_bandwidth_Hz, "below the Nyquist frequency 1 / (2 dt)");
   if (!std::isfinite(max_loop_error_m) || max_loop_error_m <= 0) badField("max_loop_error_m", max_loop_error_m, "> 0");
 }
 
@@ -94,10 +99,13 @@ struct Simulator::Impl {
   DataPtr data;
   std::optional<FourBar> fb;
   std::optional<IdealInverseDynamics> ideal;
+  std::optional<IdealInverseDynamics> controller_model;  // the feedforward's model
   std::optional<Trajectory> traj;
   std::optional<Sensors> sensors;
   std::optional<PidController> pid;
+  std::optional<Actuators> act;
   std::optional<FloorForce> floor;
+  Eigen::MatrixX2d ff_cmd;  // feedforward command per step (pre-roll included), when enabled
   Eigen::Index n = 0;
   Eigen::MatrixXd rec;
   double first_loop_error_m = 0.0;  // after the very first step, pre-roll included
@@ -114,13 +122,47 @@ struct Simulator::Impl {
     fb.emplace(m, leg.idx);
     ideal.emplace(loadLeg(cfg.model_path, cfg.variant, /*force_welded=*/true));
     traj.emplace(cfg.trajectorySpec(), cfg.ramp_s);
-    sensors.emplace(cfg.sensors, cfg.seed);
+    sensors.emplace(cfg.sensors, cfg.seed, cfg.dt_s);
     pid.emplace(cfg.gains, cfg.dt_s);
+    act.emplace(cfg.actuators, cfg.dt_s);
     floor.emplace(cfg.floor, cfg.seed);
     n = sampleCount(cfg);
     rec.setZero(n, kNumCols);
+    if (cfg.feedforward) {
+      ModelVariant nominal = cfg.variant;
+      if (cfg.feedforward_model == SimConfig::ControllerModel::kRigidLinks) nominal.cylinder_mass_scale = 0.0;
+      controller_model.emplace(loadLeg(cfg.model_path, nominal, /*force_welded=*/true));
+      planFeedforward();
+    }
     initialState();
     setup_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  Eigen::Index preroll() const {
+    return cfg.record_after_ramp ? static_cast<Eigen::Index>(std::llround(cfg.ramp_s / cfg.dt_s)) : 0;
+  }
+
+  // Model-based feedforward of the planned reference, computed before the run as a rig with a
+  // planned trajectory can: the controller model's inverse dynamics at the reference, through the
+  // actuators' inverse (derivatives by central differences of the smooth torque plan), so that
+  // the joints get the reference torque despite the actuator lag. The hip gets none when locked.
+  void planFeedforward() {
+    const Eigen::Index steps = preroll() + n;
+    Eigen::MatrixX2d tau(steps, 2);
+    for (Eigen::Index k = 0; k < steps; ++k) {
+      const JointReference r = traj->at(static_cast<double>(k) * cfg.dt_s);
+      tau.row(k) = controller_model->torque(r.q, r.qd, r.qdd).transpose();
+    }
+    if (traj->hipLocked()) tau.col(0).setZero();
+    ff_cmd.resize(steps, 2);
+    const double dt = cfg.dt_s;
+    for (Eigen::Index k = 0; k < steps; ++k) {
+      const Eigen::Index a = std::max<Eigen::Index>(k - 1, 0), b = std::min<Eigen::Index>(k + 1, steps - 1);
+      const Eigen::Vector2d d1 = (tau.row(b) - tau.row(a)).transpose() / (static_cast<double>(b - a) * dt);
+      const Eigen::Vector2d d2 = b - a == 2 ? Eigen::Vector2d((tau.row(b) - 2.0 * tau.row(k) + tau.row(a)).transpose() / (dt * dt))
+                                           : Eigen::Vector2d::Zero();
+      ff_cmd.row(k) = act->inverse(tau.row(k).transpose(), d1, d2).transpose();
+    }
   }
 
   void initialState() {
@@ -148,11 +190,15 @@ struct Simulator::Impl {
     }
     mj_forward(m, d);
     checkStepHealth(m, d, 0.0, "initial state");
-    // The controller starts holding the initial pose: integral = static holding torque.
+    // The rig starts holding the initial pose: the actuators deliver the static holding torque
+    // (from the feedforward, else from the PID's preloaded integral) and the torque sensors read it.
     Eigen::Vector2d hold = ideal->torque(r0.q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
-    if (cfg.feedforward) hold.setZero();
     if (locked) hold[0] = 0.0;
-    pid->reset(r0.q, {!locked, true}, hold);
+    // With feedforward the integral holds what the controller's model misses of the pose.
+    const Eigen::Vector2d integral0 = cfg.feedforward ? Eigen::Vector2d(hold - ff_cmd.row(0).transpose()) : hold;
+    pid->reset(r0.q, {!locked, true}, integral0);
+    act->reset(hold);
+    sensors->resetTorqueFilters(hold);
   }
 
   void run() {
@@ -162,12 +208,11 @@ struct Simulator::Impl {
     const mjModel* m = leg.model.get();
     mjData* d = data.get();
     const LegIndices& x = leg.idx;
-    const bool locked = traj->hipLocked();
     const bool has_floor = cfg.floor.active();
     const double dt = cfg.dt_s;
     // With record_after_ramp the start ramp runs unrecorded (as a rig is started before its log):
     // rows go to a scratch row until the ramp is over, and the table's t starts at 0 after it.
-    const Eigen::Index preroll = cfg.record_after_ramp ? static_cast<Eigen::Index>(std::llround(cfg.ramp_s / dt)) : 0;
+    const Eigen::Index preroll = this->preroll();
     Eigen::MatrixXd scratch = Eigen::MatrixXd::Zero(1, rec.cols());
     for (Eigen::Index step = 0; step < preroll + n; ++step) {
       const Eigen::Index k = step - preroll;  // record row, negative during the pre-roll
@@ -196,13 +241,12 @@ struct Simulator::Impl {
       row[kQHip] = qm[0];
       row[kQKnee] = qm[1];
       Eigen::Vector2d u = pid->update(ref, qm);
-      if (cfg.feedforward) {
-        const Eigen::Vector2d ff = ideal->torque(ref.q, ref.qd, ref.qdd);
-        u[0] += locked ? 0.0 : ff[0];
-        u[1] += ff[1];
-      }
-      d->ctrl[x.act[0]] = u[0];
-      d->ctrl[x.act[1]] = u[1];
+      if (cfg.feedforward) u += ff_cmd.row(step).transpose();
+      row[kTauHipCmd] = u[0];
+      row[kTauKneeCmd] = u[1];
+      const Eigen::Vector2d applied = act->step(u);
+      d->ctrl[x.act[0]] = applied[0];
+      d->ctrl[x.act[1]] = applied[1];
       d->qfrc_applied[x.vadr[0]] = -leg.coulomb.torque(0, qd[0]);
       d->qfrc_applied[x.vadr[1]] = -leg.coulomb.torque(1, qd[1]);
       if (has_floor) {
@@ -221,6 +265,10 @@ struct Simulator::Impl {
       row[kQddHipTrue] = d->qacc[x.vadr[0]];
       row[kQddKneeTrue] = d->qacc[x.vadr[1]];
       // Loop error of this row's state (xpos from the mj_forward above).
+      const Eigen::Vector3d imu = sensors->imu(pedestalImuTruth(m, d, x));
+      row[kBaseAccX] = imu[0];
+      row[kBaseAccZ] = imu[1];
+      row[kBaseGyroY] = imu[2];
       const double le = loopError(m, d, x);
       row[kLoopError] = le;
       if (step == 0) first_loop_error_m = le;
@@ -316,6 +364,9 @@ struct Simulator::Impl {
     meta("vibration_level", num(cfg.variant.vibration_level));
     meta("cylinder_mass_scale", num(cfg.variant.cylinder_mass_scale));
     meta("feedforward", cfg.feedforward ? "true" : "false");
+    meta("hip_actuator_bandwidth_Hz", num(cfg.actuators.hip_bandwidth_Hz));
+    meta("knee_actuator_bandwidth_Hz", num(cfg.actuators.knee_bandwidth_Hz));
+    meta("torque_sensor_bandwidth_Hz", num(cfg.sensors.tau_bandwidth_Hz));
     meta("units", "s, rad, rad/s, rad/s^2, N m, m");
     s.wall_time_s = setup_time_s + loop_time_s +
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

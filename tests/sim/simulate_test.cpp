@@ -38,15 +38,16 @@ TEST_F(SimulateTest, LoopStaysClosedDuringMotion) {
   }
 }
 
-TEST_F(SimulateTest, PidTrackingOnTrajectory3IsInThePapersRange) {
-  // Paper Table 2 reports 0.02-0.04 deg tracking error; the default gains reach that RMS on the
-  // full 10 s record (ramp included) and stay below 0.1 deg peak.
+TEST_F(SimulateTest, TrackingOnTrajectory3IsWithinThePapersBound) {
+  // Paper Table 2 reports 0.02-0.04 deg tracking error; the default controller (rigid-link
+  // feedforward through the actuators' inverse, PID at 4 Hz) stays below that RMS on the full
+  // 10 s record (ramp included) and below 0.1 deg peak.
   const SimResult r = simulate(shortRun(3, 10.0));
   std::printf("[ info ] trajectory 3 PID tracking: hip rms %.4f max %.4f, knee rms %.4f max %.4f deg\n",
               r.stats.tracking_hip.rms_deg, r.stats.tracking_hip.max_deg, r.stats.tracking_knee.rms_deg,
               r.stats.tracking_knee.max_deg);
   for (const JointErrorStats& e : {r.stats.tracking_hip, r.stats.tracking_knee}) {
-    EXPECT_GT(e.rms_deg, 0.005);
+    EXPECT_GT(e.rms_deg, 0.0);
     EXPECT_LT(e.rms_deg, 0.04);
     EXPECT_LT(e.max_deg, 0.1);
   }
@@ -54,11 +55,29 @@ TEST_F(SimulateTest, PidTrackingOnTrajectory3IsInThePapersRange) {
 
 TEST_F(SimulateTest, FeedforwardReducesTheTrackingError) {
   SimConfig c = shortRun(3);
+  c.feedforward = false;
   const SimResult pid = simulate(c);
   c.feedforward = true;
   const SimResult ff = simulate(c);
   EXPECT_LT(ff.stats.tracking_hip.rms_deg, 0.5 * pid.stats.tracking_hip.rms_deg);
   EXPECT_LT(ff.stats.tracking_knee.rms_deg, 0.5 * pid.stats.tracking_knee.rms_deg);
+}
+
+TEST_F(SimulateTest, ActuatorsLagTheCommandAndTheSensorReadsTheJointTorque) {
+  // The command is not the torque the joint gets: the joint torque is the command through the
+  // actuator's low-pass. With ideal actuators and an ideal sensor the three coincide.
+  SimConfig c = shortRun(3, 1.0);
+  const SimResult r = simulate(c);
+  const Eigen::VectorXd cmd = r.table.col("tau_knee_cmd"), joint = r.table.col("tau_knee_true");
+  EXPECT_GT((cmd - joint).cwiseAbs().maxCoeff(), 1e-3);
+  c.actuators.hip_bandwidth_Hz = c.actuators.knee_bandwidth_Hz = 0.0;
+  c.sensors.tau_bandwidth_Hz = 0.0;
+  const SimResult ideal = simulate(c);
+  for (const char* j : {"hip", "knee"}) {
+    const std::string s(j);
+    EXPECT_EQ(ideal.table.col("tau_" + s + "_cmd"), ideal.table.col("tau_" + s + "_true")) << j;
+    EXPECT_EQ(ideal.table.col("tau_" + s), ideal.table.col("tau_" + s + "_true")) << j;
+  }
 }
 
 TEST_F(SimulateTest, HipIsLockedInTrajectories1And2) {

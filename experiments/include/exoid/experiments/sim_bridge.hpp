@@ -29,7 +29,13 @@ struct BestFit {
 };
 BestFit bestFitTruth(const ident::Dataset& d, const ident::LegConstants& c, const ident::ParamVector& fallback);
 
-/// The full sidecar: sim's (settings, rigid truth, band, stats) plus the best-fit truth.
+/// Share of each torque's variance above `f_hz` (Welch, ident::varianceFractionAbove): how much
+/// of a record is high-frequency content (controller chatter, noise) rather than motion. Keys:
+/// the torque columns present (tau_hip, tau_knee, and tau_*_true, tau_*_ideal when recorded).
+std::map<std::string, double> torqueVarianceAbove(const ident::Dataset& d, double f_hz = 10.0);
+
+/// The full sidecar: sim's (settings, rigid truth, band, stats) plus the best-fit truth and the
+/// torques' variance share above 10 Hz.
 nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& d);
 
 /// Flags of `exoid simulate` (shared with render and the experiments that simulate). With

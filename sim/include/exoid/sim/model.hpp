@@ -86,6 +86,7 @@ struct LegIndices {
   std::array<int, 3> mount_qadr{-1, -1, -1};
   std::array<int, 3> mount_vadr{-1, -1, -1};
   int eq_loop = -1, eq_hip_lock = -1;
+  int site_imu = -1;  ///< the pedestal IMU's site (on the trunk)
   bool hasMount() const { return mount_jnt[0] >= 0; }
 };
 

@@ -13,7 +13,7 @@ std::uint64_t splitmix64(std::uint64_t& state);
 std::uint64_t streamSeed(std::uint64_t seed, std::uint64_t stream);
 
 /// Stream ids of streamSeed() used by the simulator.
-enum RandomStream : std::uint64_t { kStreamEncoder = 1, kStreamTorque = 2, kStreamFloor = 3 };
+enum RandomStream : std::uint64_t { kStreamEncoder = 1, kStreamTorque = 2, kStreamFloor = 3, kStreamImu = 4 };
 
 class Rng {
  public:

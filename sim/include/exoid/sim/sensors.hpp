@@ -1,6 +1,7 @@
 #pragma once
-// Joint sensors at the control rate: encoders and joint torque sensors. They see the joint
-// quantities only, never the pedestal motion.
+// Sensors at the control rate: joint encoders, joint torque sensors (anti-aliasing low-pass,
+// then white noise and bias) and a pedestal IMU (accelerometer x, z and pitch gyro).
+#include "exoid/sim/lowpass.hpp"
 #include "exoid/sim/random.hpp"
 
 #include <Eigen/Core>
@@ -19,22 +20,38 @@ struct SensorOptions {
   double noise_tau_Nm = 0.0;
   /// Constant torque sensor bias (N m), hip and knee; finite.
   std::array<double, 2> tau_bias_Nm{0.0, 0.0};
+  /// Torque sensor bandwidth (Hz): a 2nd-order Butterworth anti-aliasing low-pass ahead of the
+  /// 1 kHz sampling (strain-gauge amplifier + filter; an engineering choice of fs / 5, see
+  /// models/README.md). 0 = ideal sensor. Must be below Nyquist. Its delay, sqrt(2) / (2 pi fc) =
+  /// 1.1 ms at 200 Hz, is part of a real rig's torque record.
+  double tau_bandwidth_Hz = 200.0;
+  /// Pedestal IMU white noise per sample (datasheet noise density times sqrt(fs / 2), TDK
+  /// ICM-42688-P: 70 ug/sqrt(Hz) -> 0.0154 m/s^2, 0.0028 deg/s/sqrt(Hz) -> 1.09e-3 rad/s at 1 kHz).
+  double imu_acc_noise_mps2 = 0.0154;
+  double imu_gyro_noise_radps = 1.09e-3;
   /// Throws std::invalid_argument naming the field.
   void validate() const;
 };
 
 class Sensors {
  public:
-  Sensors(const SensorOptions& o, std::uint64_t seed);
+  /// dt_s: the sample interval (the torque filters are discretised for it).
+  Sensors(const SensorOptions& o, std::uint64_t seed, double dt_s);
   /// Encoder readings (rad) of the true angles (rad).
   Eigen::Vector2d angles(const Eigen::Vector2d& q_true_rad);
-  /// Torque readings (N m) of the true motor torques.
+  /// Torque readings (N m) of the torques the joints get this sample (anti-aliasing filter,
+  /// then bias and noise).
   Eigen::Vector2d torques(const Eigen::Vector2d& tau_true_Nm);
+  /// Starts the torque sensors' filters in steady state at these torques.
+  void resetTorqueFilters(const Eigen::Vector2d& tau_Nm);
+  /// IMU readings [acc_x, acc_z, gyro_y] of the true values (noise added).
+  Eigen::Vector3d imu(const Eigen::Vector3d& truth);
 
  private:
   SensorOptions o_;
   double noise_q_rad_, quant_rad_;
-  Rng enc_, tau_;
+  Rng enc_, tau_, imu_;
+  std::array<SecondOrderLowpass, 2> tau_filter_;
 };
 
 }  // namespace exoid::sim

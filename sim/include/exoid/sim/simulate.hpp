@@ -4,14 +4,17 @@
 //
 // Per sample k (t = k dt, controller and sensors at 1/dt):
 //   1. read the exact state (q, qd) and the pedestal state; the encoder reads q;
-//   2. the PID (+ optional feedforward) computes the motor torques from the readings;
+//   2. the PID plus the planned feedforward computes the torque commands from the readings, and
+//      the actuators (finite bandwidth) turn them into the torques the joints get;
 //   3. Coulomb friction -fc tanh(qd/v0) goes into qfrc_applied, the floor force into
 //      xfrc_applied of the pedestal;
-//   4. mj_step; then qacc (acceleration of the state of step 1 under these torques) and
-//      actuator_force (the motor torque) complete row k, and the torque sensor reads it;
+//   4. mj_forward: qacc (acceleration of the state of step 1 under these torques), actuator_force
+//      (the joint torque) and the pedestal IMU complete row k; the torque sensor (anti-aliasing
+//      filter, noise) reads the joint torque; then the integrator advances the state;
 //   5. warnings, finite state and the loop error are checked: any failure throws.
 // Row k therefore satisfies the continuous-time dynamics exactly: tau_true(k) is the torque
 // that produced qdd_true(k) at (q_true(k), qd_true(k)).
+#include "exoid/sim/actuators.hpp"
 #include "exoid/sim/controller.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/sensors.hpp"
@@ -43,8 +46,16 @@ struct SimConfig {
   ModelVariant variant;         ///< cylinder mass scale, vibration level, friction overrides
   FloorDisturbance floor;       ///< needs variant.vibration_level > 0 when active
   PidGains gains;
-  /// Adds the ideal rig's inverse dynamics at the reference state to the PID (IdealInverseDynamics).
-  bool feedforward = false;
+  ActuatorOptions actuators;    ///< command -> joint torque bandwidth of the hip motor and knee hydraulics
+  /// Model-based feedforward: the ideal rig's inverse dynamics (IdealInverseDynamics) at the
+  /// reference, passed through the actuators' inverse, planned before the run; the PID only
+  /// corrects. false = PID alone (then the default gains track poorly: they assume feedforward).
+  bool feedforward = true;
+  /// The controller's model for the feedforward. Default kRigidLinks: the CAD model of the rigid
+  /// links, without the hydraulic cylinder's and rod's moving mass (a nominal model, as a rig
+  /// has; the feedback absorbs the difference). kRig: the rig exactly as simulated.
+  enum class ControllerModel { kRigidLinks, kRig };
+  ControllerModel feedforward_model = ControllerModel::kRigidLinks;
   std::uint64_t seed = 1;       ///< all randomness (sensors, floor) derives from it
   /// Write the exact/ground-truth columns (see simulate()); false = t, q, tau, q_ref only.
   bool exact_columns = true;
@@ -80,11 +91,14 @@ struct SimResult {
   std::string mujoco_version;   ///< mj_versionString()
 };
 
-/// Column names. Required: t,q_hip,q_knee,tau_hip,tau_knee (measured). Exact columns:
+/// Column names. Required: t,q_hip,q_knee,tau_hip,tau_knee (measured); the pedestal IMU
+/// base_acc_x, base_acc_z (m/s^2, accelerometer specific force in the trunk frame: +9.81 on z at
+/// rest) and base_gyro_y (rad/s, pitch rate), noisy like the sensor. Exact columns:
 /// q_*_true, qd_*_true, qdd_*_true, tau_*_true (noise-free motor torques), tau_*_ideal
 /// (IdealInverseDynamics at the exact joint states: the torques of a vibration-free rig; in
 /// trajectories 1-2 tau_hip_ideal is what the hip lock carries), q_*_ref, base_x, base_z,
-/// base_pitch (pedestal mount coordinates, 0 when welded), loop_error (m).
+/// base_pitch (pedestal mount coordinates, 0 when welded), loop_error (m), tau_*_cmd (the
+/// controller's command before the actuators).
 std::vector<std::string> datasetColumns(bool exact_columns);
 
 /// Stepping state, exposed for benchmarks: construct (loads models, allocates the table), run()
