@@ -92,6 +92,7 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
       std::cout << ident::toString(m.method) << " [" << st.name << "]: " << e.summary.message;
       if (e.condition_number) std::cout << "; rank " << *e.rank << ", condition " << fmt(*e.condition_number, 4);
       if (e.optimality_gap_rel) std::cout << "; L1 cost " << fmt(e.l1_cost, 8) << ", optimality gap " << fmt(100.0 * *e.optimality_gap_rel, 3) << " %";
+      if (e.optimality_gap_box_rel) std::cout << " (over its box: " << fmt(100.0 * *e.optimality_gap_box_rel, 3) << " %)";
       std::cout << '\n';
     }
   }

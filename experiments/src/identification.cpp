@@ -145,6 +145,10 @@ nlohmann::json toJson(const Stage& s, bool with_history) {
     j["optimum_l1_cost"] = *e.optimum_l1_cost;
     j["optimality_gap_rel"] = *e.optimality_gap_rel;
   }
+  if (e.optimum_box_l1_cost) {
+    j["optimum_box_l1_cost"] = *e.optimum_box_l1_cost;
+    j["optimality_gap_box_rel"] = *e.optimality_gap_box_rel;
+  }
   if (!e.cost_history.empty()) {
     j["initial_cost"] = e.summary.initial_cost;
     if (with_history) j["best_cost_history"] = e.cost_history;

@@ -1,6 +1,7 @@
 #include "exoid/experiments/protocol.hpp"
 
 #include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/ident/noise_covariance.hpp"
 #include "exoid/ident/random.hpp"
 #include "exoid/ident/segmental.hpp"
 #include "exoid/ident/stopwatch.hpp"
@@ -127,6 +128,29 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
 
 }  // namespace
 
+Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
+                         const ident::SignalOptions& signals, double sigma_Nm) {
+  const bool exact = v == Variant::kLsExact;
+  // The torque noise path of record k: the variant's processing of a raw record of its length.
+  const auto path = [&](int k) {
+    const ident::Dataset& d = r[static_cast<std::size_t>(k)].data;
+    const double fs = 1.0 / d.sampleInterval_s();
+    return exact ? ident::rawTorquePath(d.size(), signals.edgeTrimSamples(fs))
+                 : ident::torqueNoisePath(signals, fs, d.size());
+  };
+  const ident::JointSignals& s1 = exact ? r[0].exact_q : r[0].processed;
+  const ident::JointSignals& s3 = exact ? r[2].exact_q : r[2].processed;
+  const Eigen::MatrixXd K1 = ident::jointRegressor(s1, ident::Joint::kKnee, lc);
+  const Eigen::MatrixXd H3 = ident::jointRegressor(s3, ident::Joint::kHip, lc);
+  if (v == Variant::kLsStacked) {
+    const Eigen::MatrixXd K3 = ident::jointRegressor(s3, ident::Joint::kKnee, lc);
+    return ident::stdOf(ident::lsNoiseCovariance({{K1, path(0), sigma_Nm}, {H3, path(2), sigma_Nm}, {K3, path(2), sigma_Nm}}));
+  }
+  const ident::NoiseChannel knee{K1.middleCols(ident::kShankFirst, ident::kGroupSize), path(0), sigma_Nm};
+  const ident::NoiseChannel hip{H3.middleCols(ident::kThighFirst, ident::kGroupSize), path(2), sigma_Nm};
+  return ident::stdOf(ident::segmentalNoiseCovariance(knee, hip, H3.middleCols(ident::kShankFirst, ident::kGroupSize)));
+}
+
 ProtocolResult runProtocol(const ProtocolConfig& c) {
   c.validate();
   ident::Stopwatch clock;
@@ -147,6 +171,9 @@ ProtocolResult runProtocol(const ProtocolConfig& c) {
     s.hip_validation = ident::torqueError(res.records[3].processed.tau_Nm.col(0), hip_pred.col(0));
     s.vs_rigid = ident::paramError(s.outcome.x, res.truths.rigid);
     s.vs_best_fit = ident::paramError(s.outcome.x, res.truths.best_fit);
+    s.torque_space_vs_rigid = ident::torqueSpaceError(s.outcome.x, res.truths.rigid, lc);
+    s.torque_space_vs_best_fit = ident::torqueSpaceError(s.outcome.x, res.truths.best_fit, lc);
+    s.crb_std = noiseStd(v, res.records, lc, c.signals, c.sim.sensors.noise_tau_Nm);
     res.scores.push_back(std::move(s));
   }
   res.wall_time_s = clock.seconds();

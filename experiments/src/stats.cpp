@@ -164,4 +164,26 @@ WilcoxonResult wilcoxonSignedRank(const std::vector<double>& x, const std::vecto
   return r;
 }
 
+std::vector<double> holmAdjust(const std::vector<double>& p) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (!std::isnan(p[i])) order.push_back(i);
+  }
+  std::sort(order.begin(), order.end(), [&p](std::size_t a, std::size_t b) { return p[a] < p[b]; });
+  std::vector<double> out(p.size(), std::numeric_limits<double>::quiet_NaN());
+  const double m = static_cast<double>(order.size());
+  double running = 0.0;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    running = std::max(running, std::min(1.0, p[order[k]] * (m - static_cast<double>(k))));
+    out[order[k]] = running;
+  }
+  return out;
+}
+
+double minimalDetectableDifference(double sd, int n, double alpha, double power) {
+  if (n < 2 || !std::isfinite(sd)) return std::numeric_limits<double>::quiet_NaN();
+  const double df = n - 1.0;
+  return (studentTQuantile(1.0 - alpha / 2.0, df) + studentTQuantile(power, df)) * sd / std::sqrt(static_cast<double>(n));
+}
+
 }  // namespace exoid::experiments::stats

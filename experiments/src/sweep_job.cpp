@@ -18,17 +18,17 @@ nlohmann::json errorStats(const ident::TorqueErrorStats& s) {
   return {{"mean_abs", s.mean_abs}, {"std_abs", s.std_abs}, {"rms", s.rms}};
 }
 
-}  // namespace
-
-Eigen::VectorXd cramerRaoStd(const ProtocolResult& r, double sigma_Nm) {
-  const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
-  Eigen::VectorXd crb(ident::kNumParams);
-  const ident::SegmentalProblem knee = ident::kneeStage(r.records[0].ideal, lc);
-  const ident::SegmentalProblem hip = ident::hipStage(r.records[2].ideal, r.truths.best_fit.tail<5>(), lc);
-  crb.tail<5>() = ident::analyzeIdentifiability(knee.H, knee.y, sigma_Nm).crb_std;
-  crb.head<5>() = ident::analyzeIdentifiability(hip.H, hip.y, sigma_Nm).crb_std;
-  return crb;
+// Per stage: gap against the unconstrained and the box-constrained L1 optimum (PSO, RLS-PSO).
+nlohmann::json gapsJson(const MethodOutcome& m) {
+  nlohmann::json g = nlohmann::json::object();
+  for (const Stage& st : m.stages) {
+    if (st.estimate.optimality_gap_rel) g[st.name]["unconstrained"] = *st.estimate.optimality_gap_rel;
+    if (st.estimate.optimality_gap_box_rel) g[st.name]["box"] = *st.estimate.optimality_gap_box_rel;
+  }
+  return g;
 }
+
+}  // namespace
 
 nlohmann::json runSweepJob(const SweepConfig& config, JobId id) {
   ident::Stopwatch clock;
@@ -40,12 +40,15 @@ nlohmann::json runSweepJob(const SweepConfig& config, JobId id) {
     j["status"] = "ok";
     j["message"] = "";
     j["truth"] = {{"rigid", vec(r.truths.rigid)}, {"best_fit", vec(r.truths.best_fit)}};
-    j["crb_std"] = vec(cramerRaoStd(r, cond.torque_noise_Nm));
     for (const VariantScore& s : r.scores) {
       j["methods"].push_back({{"method", toString(s.variant)},
                               {"status", s.outcome.usable() ? "ok" : "unusable"},
                               {"message", s.outcome.usable() ? std::string() : s.outcome.problems()},
                               {"x", vec(s.outcome.x)},
+                              {"crb_std", vec(s.crb_std)},
+                              {"torque_space", {{"best_fit", {{"hip", s.torque_space_vs_best_fit.hip}, {"knee", s.torque_space_vs_best_fit.knee}}},
+                                                {"rigid", {{"hip", s.torque_space_vs_rigid.hip}, {"knee", s.torque_space_vs_rigid.knee}}}}},
+                              {"optimality_gaps", gapsJson(s.outcome)},
                               {"knee_validation", errorStats(s.knee_validation)},
                               {"hip_validation", errorStats(s.hip_validation)},
                               {"wall_time_s", s.outcome.wallTime_s()}});

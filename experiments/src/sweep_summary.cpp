@@ -7,6 +7,7 @@
 #include "exoid/ident/metrics.hpp"
 #include "exoid/ident/params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -25,9 +26,15 @@ struct Row {
   std::uint64_t seed = 0;
   std::string method, status, message;
   bool ok = false;
-  double err_rigid = kNaN, err_best_fit = kNaN;
+  double err_rigid = kNaN, err_best_fit = kNaN;  // norms: Mxt-dominated, kept under that name
   Eigen::VectorXd rel_best_fit = Eigen::VectorXd::Constant(kNumParams, kNaN);
+  Eigen::VectorXd rel_rigid = Eigen::VectorXd::Constant(kNumParams, kNaN);
   Eigen::VectorXd abs_best_fit = Eigen::VectorXd::Constant(kNumParams, kNaN);
+  Eigen::VectorXd crb = Eigen::VectorXd::Constant(kNumParams, kNaN);  // this method's noise std
+  Eigen::VectorXd z = Eigen::VectorXd::Constant(kNumParams, kNaN);    // abs_best_fit / crb
+  double ts_hip = kNaN, ts_knee = kNaN;                                // torque-space vs best fit
+  double gap_box = kNaN, gap_free = kNaN;                              // worst stage
+  double median_abs_rel = kNaN, max_abs_rel = kNaN;
   double val[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};  // knee mean/std/rms, hip mean/std/rms
   double wall_time_s = kNaN;
 };
@@ -36,6 +43,31 @@ Eigen::VectorXd vec(const nlohmann::json& j) {
   Eigen::VectorXd v(static_cast<Eigen::Index>(j.size()));
   for (std::size_t i = 0; i < j.size(); ++i) v[static_cast<Eigen::Index>(i)] = j[i].get<double>();
   return v;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t h = v.size() / 2;
+  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
+}
+
+// The per-method scores of a job record: CRB, torque-space errors, optimality gaps.
+void readScores(const nlohmann::json& m, Row& r) {
+  r.crb = vec(m.at("crb_std"));
+  for (int i = 0; i < kNumParams; ++i) r.z[i] = r.crb[i] > 0.0 ? r.abs_best_fit[i] / r.crb[i] : kNaN;
+  r.ts_hip = m.at("torque_space").at("best_fit").at("hip").get<double>();
+  r.ts_knee = m.at("torque_space").at("best_fit").at("knee").get<double>();
+  for (const auto& [stage, g] : m.at("optimality_gaps").items()) {
+    if (g.contains("box")) r.gap_box = std::isnan(r.gap_box) ? g["box"].get<double>() : std::max(r.gap_box, g["box"].get<double>());
+    if (g.contains("unconstrained")) {
+      r.gap_free = std::isnan(r.gap_free) ? g["unconstrained"].get<double>() : std::max(r.gap_free, g["unconstrained"].get<double>());
+    }
+  }
+  std::vector<double> a(r.rel_best_fit.data(), r.rel_best_fit.data() + kNumParams);
+  for (double& x : a) x = std::abs(x);
+  r.max_abs_rel = *std::max_element(a.begin(), a.end());
+  r.median_abs_rel = median(a);
 }
 
 std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
@@ -67,7 +99,9 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
       r.err_best_fit = eb.norm_rel;
       r.err_rigid = er.norm_rel;
       r.rel_best_fit = eb.rel;
+      r.rel_rigid = er.rel;
       r.abs_best_fit = eb.abs;
+      readScores(m, r);
       int k = 0;
       for (const char* joint : {"knee_validation", "hip_validation"}) {
         for (const char* f : {"mean_abs", "std_abs", "rms"}) r.val[k++] = m.at(joint).at(f).get<double>();
@@ -101,8 +135,15 @@ struct Metric {
   double (*get)(const Row&);
 };
 const Metric kMetrics[] = {
-    {"err_best_fit", [](const Row& r) { return r.err_best_fit; }},
-    {"err_rigid", [](const Row& r) { return r.err_rigid; }},
+    {"torque_err_hip", [](const Row& r) { return r.ts_hip; }},
+    {"torque_err_knee", [](const Row& r) { return r.ts_knee; }},
+    {"torque_err_mean", [](const Row& r) { return 0.5 * (r.ts_hip + r.ts_knee); }},
+    {"median_abs_rel_err", [](const Row& r) { return r.median_abs_rel; }},
+    {"max_abs_rel_err", [](const Row& r) { return r.max_abs_rel; }},
+    {"norm_err_best_fit_mxt_dominated", [](const Row& r) { return r.err_best_fit; }},
+    {"norm_err_rigid_mxt_dominated", [](const Row& r) { return r.err_rigid; }},
+    {"gap_box_max", [](const Row& r) { return r.gap_box; }},
+    {"gap_unconstrained_max", [](const Row& r) { return r.gap_free; }},
     {"knee_val_mean_abs", [](const Row& r) { return r.val[0]; }},
     {"knee_val_rms", [](const Row& r) { return r.val[2]; }},
     {"hip_val_mean_abs", [](const Row& r) { return r.val[3]; }},
@@ -110,7 +151,7 @@ const Metric kMetrics[] = {
     {"val_rms", [](const Row& r) { return 0.5 * (r.val[2] + r.val[5]); }},
 };
 // Paired comparisons against LS run on these.
-const char* kPaired[] = {"err_best_fit", "val_rms"};
+const char* kPaired[] = {"torque_err_mean", "val_rms"};
 
 double metricOf(const Row& r, const std::string& name) {
   for (const Metric& m : kMetrics) {
@@ -122,20 +163,26 @@ double metricOf(const Row& r, const std::string& name) {
 struct Cell {
   std::map<std::string, std::map<int, const Row*>> by_method;  // method -> replicate -> row (ok only)
   std::map<std::string, int> failed;
-  Eigen::VectorXd crb_sum = Eigen::VectorXd::Zero(kNumParams);
-  int crb_n = 0;
 };
 
 void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
   ident::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell,replicate," << kConditionHeader << ",seed,method,status,err_rigid,err_best_fit";
-    for (int i = 0; i < kNumParams; ++i) out << ",rel_err_" << ident::paramName(i);
+    out << "cell,replicate," << kConditionHeader
+        << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
+           "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max";
+    for (const char* prefix : {"rel_err_", "rel_err_rigid_", "err_over_crb_", "crb_std_"}) {
+      for (int i = 0; i < kNumParams; ++i) out << ',' << prefix << ident::paramName(i);
+    }
     out << ",knee_val_mean_abs,knee_val_std_abs,knee_val_rms,hip_val_mean_abs,hip_val_std_abs,hip_val_rms,message,wall_time_s\n";
     for (const Row& r : rows) {
       out << r.cell << ',' << r.replicate << ',' << conditionCsv(conds[static_cast<std::size_t>(r.cell)]) << ',' << r.seed << ','
-          << r.method << ',' << r.status << ',' << num(r.err_rigid) << ',' << num(r.err_best_fit);
-      for (int i = 0; i < kNumParams; ++i) out << ',' << num(r.rel_best_fit[i]);
+          << r.method << ',' << r.status << ',' << num(r.ts_hip) << ',' << num(r.ts_knee) << ',' << num(r.median_abs_rel)
+          << ',' << num(r.max_abs_rel) << ',' << num(r.err_rigid) << ',' << num(r.err_best_fit) << ',' << num(r.gap_box) << ','
+          << num(r.gap_free);
+      for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) {
+        for (int i = 0; i < kNumParams; ++i) out << ',' << num((*v)[i]);
+      }
       for (double v : r.val) out << ',' << num(v);
       out << ',' << csvQuote(r.message) << ',' << num(r.wall_time_s) << '\n';
     }
@@ -145,6 +192,7 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
 struct Paired {
   int n = 0;
   double win_rate = kNaN, p_value = kNaN, median_diff = kNaN;
+  double mdd = kNaN;  // minimal detectable mean difference, 80 % power, alpha 0.05
   bool exact = false;
 };
 Paired paired(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ls, const std::string& metric) {
@@ -161,6 +209,9 @@ Paired paired(const std::map<int, const Row*>& m, const std::map<int, const Row*
   double wins = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) wins += a[i] < b[i] ? 1.0 : (a[i] == b[i] ? 0.5 : 0.0);
   p.win_rate = wins / static_cast<double>(a.size());
+  std::vector<double> diff(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) diff[i] = a[i] - b[i];
+  p.mdd = stats::minimalDetectableDifference(stats::sampleStd(diff), p.n);
   const stats::WilcoxonResult w = stats::wilcoxonSignedRank(a, b);
   p.p_value = w.p_value;
   p.exact = w.exact;
@@ -188,16 +239,48 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
   }
 }
 
+namespace {
+
+// Per parameter over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
+// mean noise std (CRB) and RMS of error / CRB.
+nlohmann::json parameterJson(const std::map<int, const Row*>& reps) {
+  nlohmann::json out;
+  for (int i = 0; i < kNumParams; ++i) {
+    std::vector<double> rel, abs_rel, crb;
+    double z2 = 0.0;
+    int zn = 0;
+    for (const auto& [rep, row] : reps) {
+      rel.push_back(row->rel_best_fit[i]);
+      abs_rel.push_back(std::abs(row->rel_best_fit[i]));
+      if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
+      if (std::isfinite(row->z[i])) {
+        z2 += row->z[i] * row->z[i];
+        ++zn;
+      }
+    }
+    const stats::ConfidenceInterval ci = stats::meanCi(rel);
+    out[std::string(ident::paramName(i))] = {
+        {"rel_err", {{"mean", jnum(ci.mean)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}}},
+        {"abs_rel_err_median", jnum(median(abs_rel))},
+        {"abs_rel_err_max", jnum(abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end()))},
+        {"crb_std", jnum(stats::mean(crb))},
+        {"rms_error_over_crb", jnum(zn ? std::sqrt(z2 / zn) : kNaN)}};
+  }
+  return out;
+}
+
+const std::map<int, const Row*>& repsOf(const Cell& c, const std::string& method) {
+  static const std::map<int, const Row*> empty;
+  const auto it = c.by_method.find(method);
+  return it == c.by_method.end() ? empty : it->second;
+}
+
+}  // namespace
+
 nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
   const std::vector<Row> rows = rowsOf(config, jobs);
   const std::vector<SweepCondition> conds = config.conditions();
   std::map<int, Cell> cells;
-  for (const nlohmann::json& job : jobs) {
-    if (job.at("status") != "ok") continue;
-    Cell& c = cells[job.at("cell").get<int>()];
-    c.crb_sum += vec(job.at("crb_std"));
-    ++c.crb_n;
-  }
   for (const Row& r : rows) {
     Cell& c = cells[r.cell];
     if (r.ok) {
@@ -213,60 +296,69 @@ nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlo
       {"confidence_interval", "95 % Student t interval of the mean over seeds: mean -+ t(0.975, n-1) std / sqrt(n)"},
       {"paired_test", "Wilcoxon signed-rank vs ls over the same seeds, two-sided; exact for n <= 25 without ties, "
                       "else normal approximation with tie and continuity corrections; zero differences dropped"},
+      {"p_holm", "Holm-Bonferroni adjusted over the sweep's cells, per method and metric"},
+      {"mdd", "minimal detectable mean paired difference (method - ls) at 80 % power, alpha 0.05, paired t: "
+              "(t(0.975, n-1) + t(0.8, n-1)) sd(diff) / sqrt(n)"},
       {"win_rate", "fraction of seeds where the method's value < ls's (ties count 1/2)"},
-      {"crb_std", "Cramer-Rao lower bound of each parameter's std: exact-state regressors of the knee stage "
-                  "(record 1) and hip stage (record 3), sigma = torque noise; mean over the cell's seeds"},
-      {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std, per parameter"}};
+      {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
+      {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
+                  "(experiments::noiseStd); mean over the cell's seeds"},
+      {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std of that seed"},
+      {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
   nlohmann::json conditions = nlohmann::json::array();
   for (const auto& [cell, c] : cells) {
     nlohmann::json cj;
     cj["cell"] = cell;
     cj["condition"] = toJson(conds[static_cast<std::size_t>(cell)]);
-    Eigen::VectorXd crb = Eigen::VectorXd::Constant(kNumParams, kNaN);
-    if (c.crb_n > 0) crb = c.crb_sum / c.crb_n;
-    for (int i = 0; i < kNumParams; ++i) cj["crb_std"][std::string(ident::paramName(i))] = jnum(crb[i]);
-    const auto ls = c.by_method.find("ls");
+    const std::map<int, const Row*>& ls = repsOf(c, "ls");
     for (Variant v : config.methods) {
       const std::string name = toString(v);
+      const std::map<int, const Row*>& reps = repsOf(c, name);
       nlohmann::json mj;
-      const auto it = c.by_method.find(name);
-      const std::map<int, const Row*> empty;
-      const std::map<int, const Row*>& reps = it == c.by_method.end() ? empty : it->second;
       mj["n"] = reps.size();
       mj["n_failed"] = c.failed.count(name) ? c.failed.at(name) : 0;
       for (const Metric& m : kMetrics) {
         std::vector<double> x;
-        for (const auto& [rep, row] : reps) x.push_back(m.get(*row));
+        for (const auto& [rep, row] : reps) {
+          if (std::isfinite(m.get(*row))) x.push_back(m.get(*row));
+        }
         const stats::ConfidenceInterval ci = stats::meanCi(x);
         mj["metrics"][m.name] = {{"mean", jnum(ci.mean)}, {"std", jnum(ci.std)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}};
       }
-      if (ls != c.by_method.end() && name != "ls") {
+      if (!ls.empty() && name != "ls") {
         for (const char* metric : kPaired) {
-          const Paired p = paired(reps, ls->second, metric);
-          mj["vs_ls"][metric] = {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)},
+          const Paired p = paired(reps, ls, metric);
+          mj["vs_ls"][metric] = {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
                                  {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}};
         }
       }
-      double ratio_sum = 0.0, ratio_max = kNaN;
-      int ratio_n = 0;
-      for (int i = 0; i < kNumParams; ++i) {
-        double ss = 0.0;
-        for (const auto& [rep, row] : reps) ss += row->abs_best_fit[i] * row->abs_best_fit[i];
-        const double rms = reps.empty() ? kNaN : std::sqrt(ss / static_cast<double>(reps.size()));
-        const double ratio = crb[i] > 0.0 ? rms / crb[i] : kNaN;
-        mj["rms_error"][std::string(ident::paramName(i))] = jnum(rms);
-        mj["rms_error_over_crb"][std::string(ident::paramName(i))] = jnum(ratio);
-        if (std::isfinite(ratio)) {
-          ratio_sum += ratio;
-          ++ratio_n;
-          ratio_max = std::isfinite(ratio_max) ? std::max(ratio_max, ratio) : ratio;
+      mj["parameters"] = parameterJson(reps);
+      double ratio_max = kNaN;
+      for (const auto& [pname, pj] : mj["parameters"].items()) {
+        if (!pj["rms_error_over_crb"].is_null()) {
+          const double r = pj["rms_error_over_crb"].get<double>();
+          ratio_max = std::isfinite(ratio_max) ? std::max(ratio_max, r) : r;
         }
       }
-      mj["rms_error_over_crb_mean"] = jnum(ratio_n ? ratio_sum / ratio_n : kNaN);
       mj["rms_error_over_crb_max"] = jnum(ratio_max);
       cj["methods"][name] = mj;
     }
     conditions.push_back(cj);
+  }
+  // Holm over the cells, per method and paired metric.
+  for (Variant v : config.methods) {
+    for (const char* metric : kPaired) {
+      std::vector<double> ps;
+      for (const nlohmann::json& cj : conditions) {
+        const nlohmann::json& mj = cj["methods"][toString(v)];
+        ps.push_back(mj.contains("vs_ls") && !mj["vs_ls"][metric]["p_value"].is_null() ? mj["vs_ls"][metric]["p_value"].get<double>() : kNaN);
+      }
+      const std::vector<double> adj = stats::holmAdjust(ps);
+      for (std::size_t k = 0; k < conditions.size(); ++k) {
+        nlohmann::json& mj = conditions[k]["methods"][toString(v)];
+        if (mj.contains("vs_ls")) mj["vs_ls"][metric]["p_holm"] = jnum(adj[k]);
+      }
+    }
   }
   out["conditions"] = conditions;
   return out;
@@ -282,8 +374,9 @@ void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const s
     for (const Metric& m : kMetrics) {
       for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << m.name << '_' << f;
     }
-    for (const char* p : kPaired) out << ",win_rate_vs_ls_" << p << ",p_wilcoxon_vs_ls_" << p;
-    out << ",rms_error_over_crb_mean,rms_error_over_crb_max\n";
+    for (const char* p : kPaired) out << ",win_rate_vs_ls_" << p << ",p_wilcoxon_vs_ls_" << p << ",p_holm_vs_ls_" << p << ",mdd_vs_ls_" << p;
+    for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
+    out << ",rms_error_over_crb_max\n";
     const std::vector<SweepCondition> conds = config.conditions();
     for (const nlohmann::json& c : s.at("conditions")) {
       for (Variant v : config.methods) {
@@ -295,12 +388,15 @@ void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const s
         }
         for (const char* p : kPaired) {
           if (m.contains("vs_ls")) {
-            out << ',' << num(get(m["vs_ls"][p]["win_rate"])) << ',' << num(get(m["vs_ls"][p]["p_value"]));
+            const nlohmann::json& q = m.at("vs_ls").at(p);
+            out << ',' << num(get(q.at("win_rate"))) << ',' << num(get(q.at("p_value"))) << ',' << num(get(q.at("p_holm"))) << ','
+                << num(get(q.at("mdd")));
           } else {
-            out << ",,";
+            out << ",,,,";
           }
         }
-        out << ',' << num(get(m.at("rms_error_over_crb_mean"))) << ',' << num(get(m.at("rms_error_over_crb_max"))) << '\n';
+        for (int i = 0; i < kNumParams; ++i) out << ',' << num(get(m.at("parameters").at(std::string(ident::paramName(i))).at("rms_error_over_crb")));
+        out << ',' << num(get(m.at("rms_error_over_crb_max"))) << '\n';
       }
     }
   });
@@ -314,12 +410,16 @@ std::string ciText(const nlohmann::json& m, double scale, int decimals) {
   return s;
 }
 
-// One markdown table per (cylinder, vibration, angle noise, quantisation): parameter error norm
-// vs best fit (%) per method (rows) and torque noise (columns), then RLS-PSO vs LS.
+// One section per (cylinder, vibration, angle noise, quantisation): methods (rows) x torque noise
+// (columns) for the torque-space error, the median and worst per-parameter error, the worst
+// error in units of the method's CRB, and RLS-PSO vs LS.
 void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const std::string& path) {
   ident::writeFileAtomically(path, [&](std::ostream& md) {
-    md << "# Sweep summary\n\nParameter error norm vs the best-fit truth, ||x - x_bf|| / ||x_bf||, in %: mean over seeds "
-          "[95 % Student-t CI]. Paired comparison: Wilcoxon signed-rank vs LS over the same seeds.\n";
+    md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
+          "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
+          "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
+          "noise-limited std). Paired comparison: Wilcoxon signed-rank vs LS over the same seeds, Holm-adjusted over the "
+          "sweep's cells; MDD = minimal detectable difference at 80 % power.\n";
     std::map<std::string, std::vector<const nlohmann::json*>> groups;
     std::vector<std::string> order;
     for (const nlohmann::json& c : s.at("conditions")) {
@@ -331,35 +431,48 @@ void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const st
       if (!groups.count(key)) order.push_back(key);
       groups[key].push_back(&c);
     }
+    const auto cellText = [](const nlohmann::json& m, const char* what) -> std::string {
+      const nlohmann::json& mt = m.at("metrics");
+      if (std::string(what) == "torque") return ciText(mt.at("torque_err_mean"), 100.0, 2);
+      if (std::string(what) == "params") {
+        const double med = get(mt.at("median_abs_rel_err").at("mean")), worst = get(mt.at("max_abs_rel_err").at("mean"));
+        return std::isfinite(med) ? fixed(100.0 * med, 1) + " (" + fixed(100.0 * worst, 1) + ")" : "-";
+      }
+      const double r = get(m.at("rms_error_over_crb_max"));
+      return std::isfinite(r) ? fmt(r, 3) : "-";
+    };
     for (const std::string& key : order) {
       const auto& cs = groups[key];
-      md << "\n## " << key << "\n\n";
-      std::vector<std::string> header{"method"};
-      for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
-      TextTable t(header);
-      for (Variant v : config.methods) {
-        std::vector<std::string> row{toString(v)};
-        for (const nlohmann::json* c : cs) row.push_back(ciText(c->at("methods").at(toString(v)).at("metrics").at("err_best_fit"), 100.0, 2));
-        t.addRow(row);
+      md << "\n## " << key << "\n";
+      for (const char* what : {"torque", "params", "crb"}) {
+        md << "\n" << (std::string(what) == "torque" ? "Torque-space error (%)" : std::string(what) == "params" ? "Per-parameter |error| (%): median (worst)" : "Worst RMS error / CRB") << "\n\n";
+        std::vector<std::string> header{"method"};
+        for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
+        TextTable t(header);
+        for (Variant v : config.methods) {
+          std::vector<std::string> row{toString(v)};
+          for (const nlohmann::json* c : cs) row.push_back(cellText(c->at("methods").at(toString(v)), what));
+          t.addRow(row);
+        }
+        t.printMarkdown(md);
       }
       bool have_pair = false;
       for (const nlohmann::json* c : cs) have_pair = have_pair || (c->at("methods").contains("rls-pso") && c->at("methods").at("rls-pso").contains("vs_ls"));
-      if (have_pair) {
-        for (const char* metric : kPaired) {
-          std::vector<std::string> row{std::string("rls-pso vs ls (") + metric + "): win rate, p"};
-          for (const nlohmann::json* c : cs) {
-            const nlohmann::json& p = c->at("methods").at("rls-pso").at("vs_ls").at(metric);
-            row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_value")), 3));
-          }
-          t.addRow(row);
+      if (!have_pair) continue;
+      md << "\nRLS-PSO vs LS (win rate, Holm-adjusted p, MDD)\n\n";
+      std::vector<std::string> header{"metric"};
+      for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
+      TextTable t(header);
+      for (const char* metric : kPaired) {
+        std::vector<std::string> row{metric};
+        for (const nlohmann::json* c : cs) {
+          const nlohmann::json& p = c->at("methods").at("rls-pso").at("vs_ls").at(metric);
+          const double scale = std::string(metric) == "torque_err_mean" ? 100.0 : 1.0;
+          row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_holm")), 3) + ", MDD " +
+                        fmt(scale * get(p.at("mdd")), 3) + (scale == 100.0 ? " %" : " N m"));
         }
+        t.addRow(row);
       }
-      std::vector<std::string> row{"CRB-relative RMS error of rls-pso (mean over params)"};
-      for (const nlohmann::json* c : cs) {
-        const auto& m = c->at("methods");
-        row.push_back(m.contains("rls-pso") ? (m.at("rls-pso").at("rms_error_over_crb_mean").is_null() ? "-" : fmt(get(m.at("rls-pso").at("rms_error_over_crb_mean")), 3)) : "-");
-      }
-      t.addRow(row);
       t.printMarkdown(md);
     }
   });

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 // The linear program and its dual (u = a - s, a + s = 1, a, s >= 0):
@@ -271,6 +272,7 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
     result.x = Eigen::VectorXd::Zero(p);
     result.cost = l1Cost(A, b, result.x);
     result.dual_bound = 0.0;
+    result.dual = Eigen::VectorXd::Zero(n);
     result.gap = result.cost;
     result.summary.status = Status::kRankDeficient;
     result.summary.message = rankDeficiencyMessage(qr, p);
@@ -423,9 +425,14 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
     }
   }
   double bound = dualBound(A, b, As, qr, result.x, u_ip);
+  result.dual = u_ip;
   if (vertex.found) {
     Eigen::VectorXd uv = vertex.u;
-    bound = std::max(bound, dualBound(A, b, As, qr, result.x, uv));
+    const double bound_v = dualBound(A, b, As, qr, result.x, uv);
+    if (bound_v > bound) {
+      bound = bound_v;
+      result.dual = std::move(uv);
+    }
   }
   // Weak duality makes cost >= bound; a difference below zero is rounding and is reported as 0.
   result.dual_bound = std::min(bound, result.cost);

@@ -1,5 +1,7 @@
 #include "exoid/ident/methods.hpp"
 
+#include "exoid/ident/lad_box.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -94,9 +96,17 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
       break;
   }
   e.l1_cost = (y - H * e.x).cwiseAbs().sum();
+  const auto gap = [&](double optimum) { return optimum > 0.0 ? (e.l1_cost - optimum) / optimum : 0.0; };
   if (lad && usable(lad->summary.status)) {
     e.optimum_l1_cost = lad->cost;
-    e.optimality_gap_rel = lad->cost > 0.0 ? (e.l1_cost - lad->cost) / lad->cost : 0.0;
+    e.optimality_gap_rel = gap(lad->cost);
+  }
+  if (o.report_optimality_gap && e.box && (method == Method::kPso || method == Method::kRlsPso)) {
+    const BoxedLadResult boxed = solveBoxedLeastAbsoluteDeviations(H, y, *e.box, o.lad);
+    if (usable(boxed.summary.status)) {
+      e.optimum_box_l1_cost = boxed.cost;
+      e.optimality_gap_box_rel = gap(boxed.cost);
+    }
   }
   return e;
 }

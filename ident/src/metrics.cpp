@@ -1,5 +1,7 @@
 #include "exoid/ident/metrics.hpp"
 
+#include "exoid/ident/random.hpp"
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -40,6 +42,34 @@ ParamError paramError(const Eigen::Ref<const Eigen::VectorXd>& estimate,
   p.norm_rel = p.abs.norm() / truth.norm();
   p.max_abs_rel = p.rel.cwiseAbs().maxCoeff();
   return p;
+}
+
+JointSignals validationStates() {
+  Rng rng(kValidationSeed);
+  const double deg = M_PI / 180.0;
+  JointSignals s;
+  s.t_s = Eigen::VectorXd::LinSpaced(kValidationStates, 0.0, kValidationStates - 1.0);
+  s.q_rad.resize(kValidationStates, 2);
+  s.qd_radps.resize(kValidationStates, 2);
+  s.qdd_radps2.resize(kValidationStates, 2);
+  s.tau_Nm = Eigen::MatrixX2d::Zero(kValidationStates, 2);
+  for (Eigen::Index i = 0; i < kValidationStates; ++i) {
+    s.q_rad(i, 0) = rng.uniform(-90.0 * deg, 30.0 * deg);
+    s.q_rad(i, 1) = rng.uniform(0.0, 110.0 * deg);
+    for (int j = 0; j < 2; ++j) s.qd_radps(i, j) = rng.uniform(-3.0, 3.0);
+    for (int j = 0; j < 2; ++j) s.qdd_radps2(i, j) = rng.uniform(-30.0, 30.0);
+  }
+  return s;
+}
+
+TorqueSpaceError torqueSpaceError(const ParamVector& estimate, const ParamVector& truth, const LegConstants& c) {
+  static const JointSignals states = validationStates();
+  const Eigen::MatrixXd Yh = jointRegressor(states, Joint::kHip, c), Yk = jointRegressor(states, Joint::kKnee, c);
+  const ParamVector dx = estimate - truth;
+  TorqueSpaceError e;
+  e.hip = (Yh * dx).norm() / (Yh * truth).norm();
+  e.knee = (Yk * dx).norm() / (Yk * truth).norm();
+  return e;
 }
 
 }  // namespace exoid::ident

@@ -67,7 +67,7 @@ TEST(Reproduce, SameSeedSameNumbersDifferentSeedDiffers) {
 }
 
 TEST(Reproduce, NoiseFreeRigidLegWithExactDerivativesRecoversTheTruth) {
-  // No noise, no vibration, no four-bar mass, exact derivative columns. The simulator's Coulomb
+  // No noise, no vibration, no four-bar mass, an ideal torque sensor, exact derivative columns. The simulator's Coulomb
   // term is fc tanh(qd / v0) where the 2-link model has fc sgn(qd), so LS returns the rigid
   // truth plus the LS image of that difference, which the test computes independently:
   // knee stage shift dk = H_k \ (fc2 (tanh - sgn)(qd2)); hip stage shift dh =
@@ -76,6 +76,7 @@ TEST(Reproduce, NoiseFreeRigidLegWithExactDerivativesRecoversTheTruth) {
   ProtocolConfig c;
   c.sim.duration_s = 4.0;
   c.sim.variant.cylinder_mass_scale = 0.0;
+  c.sim.sensors.tau_bandwidth_Hz = 0.0;  // an ideal torque sensor: its anti-aliasing delay is a measurement error
   c.variants = {Variant::kLsExact};
   const ProtocolResult r = runProtocol(c);
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};

@@ -74,5 +74,25 @@ TEST(Stats, WilcoxonZerosDroppedAndNormalApproximation) {
   EXPECT_THROW(wilcoxonSignedRank({1.0}, {1.0, 2.0}), std::invalid_argument);
 }
 
+TEST(Stats, HolmAdjustmentKnownValues) {
+  // Holm (1979) by hand: sorted p = 0.01, 0.02, 0.03, 0.04 with m = 4 -> 0.04, 0.06, 0.06, 0.06
+  // (running maximum of 0.04, 0.06, 0.06, 0.04); the NaN stays out of the family.
+  const std::vector<double> adj = holmAdjust({0.03, 0.01, std::nan(""), 0.04, 0.02});
+  EXPECT_NEAR(adj[1], 0.04, 1e-15);
+  EXPECT_NEAR(adj[4], 0.06, 1e-15);
+  EXPECT_NEAR(adj[0], 0.06, 1e-15);
+  EXPECT_NEAR(adj[3], 0.06, 1e-15);
+  EXPECT_TRUE(std::isnan(adj[2]));
+  EXPECT_EQ(holmAdjust({0.9, 0.8}), (std::vector<double>{1.0, 1.0}));
+}
+
+TEST(Stats, MinimalDetectableDifferenceMatchesTheLargeSampleFormula) {
+  // For large n the t quantiles tend to the normal ones: (1.959964 + 0.841621) sd / sqrt(n).
+  EXPECT_NEAR(minimalDetectableDifference(2.0, 100000), 2.801585 * 2.0 / std::sqrt(100000.0), 1e-5);
+  // n = 10: t(0.975, 9) = 2.262157, t(0.8, 9) = 0.883408.
+  EXPECT_NEAR(minimalDetectableDifference(1.0, 10), (2.262157 + 0.883408) / std::sqrt(10.0), 1e-5);
+  EXPECT_TRUE(std::isnan(minimalDetectableDifference(1.0, 1)));
+}
+
 }  // namespace
 }  // namespace exoid::experiments::stats

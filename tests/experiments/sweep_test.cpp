@@ -25,16 +25,26 @@ TEST(Sweep, WritesEveryOutputWithOneRowPerRunAndMethod) {
   EXPECT_EQ(std::count(runs.begin(), runs.end(), '\n'), 1 + 2 * 2 * 5);
   const nlohmann::json s = nlohmann::json::parse(slurp(d + "/summary.json"));
   ASSERT_EQ(s["conditions"].size(), 2u);
-  // Noise-free cell: the Cramer-Rao bound is 0 and no ratio is reported.
-  EXPECT_EQ(s["conditions"][0]["crb_std"]["Mxt"].get<double>(), 0.0);
-  EXPECT_TRUE(s["conditions"][0]["methods"]["ls"]["rms_error_over_crb_mean"].is_null());
-  EXPECT_GT(s["conditions"][1]["crb_std"]["Mxt"].get<double>(), 0.0);
+  // Noise-free cell: the noise-limited std (CRB) is 0 and no ratio is reported.
+  EXPECT_EQ(s["conditions"][0]["methods"]["ls"]["parameters"]["Mxt"]["crb_std"].get<double>(), 0.0);
+  EXPECT_TRUE(s["conditions"][0]["methods"]["ls"]["rms_error_over_crb_max"].is_null());
+  EXPECT_GT(s["conditions"][1]["methods"]["ls"]["parameters"]["Mxt"]["crb_std"].get<double>(), 0.0);
   const auto& rp = s["conditions"][1]["methods"]["rls-pso"];
   EXPECT_EQ(rp["n"], 2);
-  EXPECT_EQ(rp["vs_ls"]["err_best_fit"]["n"], 2);
-  const double mean = rp["metrics"]["err_best_fit"]["mean"];
-  EXPECT_LE(rp["metrics"]["err_best_fit"]["ci95_low"].get<double>(), mean);
-  EXPECT_GE(rp["metrics"]["err_best_fit"]["ci95_high"].get<double>(), mean);
+  EXPECT_EQ(rp["vs_ls"]["torque_err_mean"]["n"], 2);
+  EXPECT_TRUE(rp["vs_ls"]["torque_err_mean"].contains("p_holm"));
+  const double mean = rp["metrics"]["torque_err_mean"]["mean"];
+  EXPECT_LE(rp["metrics"]["torque_err_mean"]["ci95_low"].get<double>(), mean);
+  EXPECT_GE(rp["metrics"]["torque_err_mean"]["ci95_high"].get<double>(), mean);
+  // Every RLS-PSO run carries its optimality gaps, against the box and the unconstrained optimum;
+  // the box optimum is never worse than what PSO found inside the box.
+  EXPECT_GE(rp["metrics"]["gap_box_max"]["mean"].get<double>(), -1e-9);
+  EXPECT_GE(rp["metrics"]["gap_unconstrained_max"]["mean"].get<double>(), rp["metrics"]["gap_box_max"]["mean"].get<double>() - 1e-9);
+  // runs.csv carries per-parameter, CRB-normalised and torque-space errors.
+  const std::string header = runs.substr(0, runs.find('\n'));
+  for (const char* col : {"rel_err_Mxt", "rel_err_rigid_fv2", "err_over_crb_Js", "crb_std_fc1", "torque_err_hip", "gap_box_max"}) {
+    EXPECT_NE(header.find(col), std::string::npos) << col;
+  }
   EXPECT_EQ(slurp(d + "/summary.json").find("wall_time"), std::string::npos);
 }
 

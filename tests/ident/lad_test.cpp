@@ -245,6 +245,34 @@ TEST(LadTest, CertificateHoldsAndNoPerturbationDoesBetter) {
   }
 }
 
+TEST(LadTest, DualVectorReproducesTheBound) {
+  std::mt19937_64 rng(12);
+  const Eigen::MatrixXd A = kneeLikeRegressor(1000, 5, rng);
+  Eigen::VectorXd b = A * trueParameters(5);
+  for (auto& v : b) v += laplace(rng, 0.5);
+  const LadResult r = solveLeastAbsoluteDeviations(A, b);
+  expectCertified(r, A, b);
+  // dual_bound = min(cost, b^T u - |x|^T |A^T u|) for the returned u, |u_i| <= 1: recomputed here
+  // in long double, it differs from the solver's sums by far less than the cost's rounding.
+  ASSERT_EQ(r.dual.size(), b.size());
+  EXPECT_LE(r.dual.cwiseAbs().maxCoeff(), 1.0);
+  long double bound = 0.0L;
+  for (Eigen::Index i = 0; i < b.size(); ++i) bound += static_cast<long double>(b[i]) * r.dual[i];
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    long double g = 0.0L;
+    for (Eigen::Index i = 0; i < A.rows(); ++i) g += static_cast<long double>(A(i, j)) * r.dual[i];
+    bound -= std::abs(g) * std::abs(static_cast<long double>(r.x[j]));
+  }
+  EXPECT_NEAR(std::min(static_cast<double>(bound), r.cost), r.dual_bound, roundingLevel(A, b, r.x));
+
+  // Rank deficient: no certificate beyond u = 0.
+  Eigen::MatrixXd A_dup = A;
+  A_dup.col(3) = A_dup.col(1);
+  const LadResult d = solveLeastAbsoluteDeviations(A_dup, b);
+  ASSERT_EQ(d.summary.status, Status::kRankDeficient);
+  EXPECT_EQ(d.dual, Eigen::VectorXd::Zero(b.size()));
+}
+
 TEST(LadTest, ColumnScaleDoesNotChangeTheSolution) {
   std::mt19937_64 rng(21);
   const Eigen::MatrixXd A = kneeLikeRegressor(1500, 5, rng);

@@ -61,6 +61,11 @@ struct VariantScore {
   ident::TorqueErrorStats knee_validation;  ///< on trajectory 2 (knee equation)
   ident::TorqueErrorStats hip_validation;   ///< on trajectory 4 (hip equation)
   ident::ParamError vs_rigid, vs_best_fit;
+  /// ||Y (x - x*)|| / ||Y x*|| per joint on ident::validationStates().
+  ident::TorqueSpaceError torque_space_vs_rigid, torque_space_vs_best_fit;
+  /// Noise-limited std of each parameter for this variant's regressor, processing and structure
+  /// at the records' torque noise (noiseStd): the Cramer-Rao bound the variant is judged by.
+  Eigen::VectorXd crb_std;
 };
 
 struct ProtocolResult {
@@ -74,6 +79,16 @@ struct ProtocolResult {
 /// Seed of record `trajectory` and of the PSO runs, from the protocol seed (independent streams).
 std::uint64_t recordSeed(std::uint64_t seed, int trajectory);
 std::uint64_t psoSeed(std::uint64_t seed);
+
+/// Std of each parameter (order of X) that torque noise alone causes in `v`'s estimate: the LS
+/// covariance of the regressor the variant fits (processed columns for the paper's processing,
+/// exact columns for ls-exact), after its processing of the torque (filtfilt + trim, or trim
+/// only), for its structure (segmental with the knee stage's covariance propagated through
+/// Eq. 9, or stacked), at sigma_Nm per joint (ident::segmentalNoiseCovariance,
+/// ident::lsNoiseCovariance). For LS on raw torque this is the Cramer-Rao bound; every method
+/// fitting the same regressor (RLS, PSO, RLS-PSO, LAD) is scored against the same bound.
+Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
+                         const ident::SignalOptions& signals, double sigma_Nm);
 
 /// Simulates and processes the four records.
 std::array<Record, 4> simulateRecords(const ProtocolConfig& c);

@@ -1,7 +1,8 @@
 #pragma once
 // One sweep job = one protocol run of one (cell, replicate), kept as a small JSON record: the
-// raw numbers every score is computed from (estimates, truths, validation errors, the
-// Cramer-Rao bound of the condition's exact regressors). Doubles round-trip exactly.
+// raw numbers every score is computed from (estimates, truths, validation errors, each method's
+// noise-limited std for its own processing, torque-space errors, optimality gaps). Doubles
+// round-trip exactly.
 #include "exoid/experiments/sweep_config.hpp"
 
 #include <nlohmann/json.hpp>
@@ -19,11 +20,6 @@ struct JobId {
 /// Runs the job. Never throws for a failing run: a simulation or identification error becomes
 /// status "error" with the message (so a resumed sweep does not retry it forever).
 nlohmann::json runSweepJob(const SweepConfig& config, JobId id);
-
-/// Cramer-Rao lower bound of each parameter's std (order of X) for torque noise `sigma_Nm`:
-/// knee block from the knee stage of record 1, hip block from the hip stage of record 3, both
-/// on the exact states with the ideal torques. 0 noise gives 0.
-Eigen::VectorXd cramerRaoStd(const ProtocolResult& r, double sigma_Nm);
 
 /// "job-CCCCC-RRRR.json" (relative to DIR/runs).
 std::string jobFileName(JobId id);

@@ -27,6 +27,9 @@ struct LadResult {
   /// leftover A^T u is charged at its worst sign): cost >= optimum >= dual_bound.
   double dual_bound = 0.0;
   double gap = 0.0;         ///< cost - dual_bound >= 0: the certificate
+  /// The u (size N, |u_i| <= 1 exactly) that gave dual_bound, so a caller can re-check the
+  /// certificate or reuse it (the boxed solver does); all zero when the status is kRankDeficient.
+  Eigen::VectorXd dual;
   Summary summary;          ///< iterations, cost at the least-squares start, final cost, time
 };
 
