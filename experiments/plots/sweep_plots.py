@@ -28,14 +28,14 @@ def main(summary_path, out_dir):
         cs = sorted(panels[key], key=lambda c: c["condition"]["torque_noise_Nm"])
         x = [c["condition"]["torque_noise_Nm"] for c in cs]
         for m in methods:
-            st = [c["methods"][m]["metrics"]["err_best_fit"] for c in cs]
+            st = [c["methods"][m]["metrics"]["torque_err_mean"] for c in cs]
             y = [100 * (v["mean"] if v["mean"] is not None else float("nan")) for v in st]
             lo = [100 * (v["mean"] - v["ci95_low"]) if v["ci95_low"] is not None else 0 for v in st]
             hi = [100 * (v["ci95_high"] - v["mean"]) if v["ci95_high"] is not None else 0 for v in st]
             ax.errorbar(x, y, yerr=[lo, hi], marker="o", ms=3, capsize=3, label=m)
         ax.set_title("cyl %g, vib %g, q noise %g deg" % key[:3], fontsize=9)
         ax.set_xlabel("torque noise std (N m)")
-        ax.set_ylabel("param error vs best fit (%)")
+        ax.set_ylabel("torque-space error vs best fit (%)")
         ax.set_yscale("log")
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(keys):]:
@@ -57,8 +57,8 @@ def main(summary_path, out_dir):
             vibs = sorted({c["condition"]["vibration_level"] for c in groups[key]})
             grid = [[float("nan")] * len(taus) for _ in vibs]
             for c in groups[key]:
-                a = c["methods"]["rls-pso"]["metrics"]["err_best_fit"]["mean"]
-                b = c["methods"]["ls"]["metrics"]["err_best_fit"]["mean"]
+                a = c["methods"]["rls-pso"]["metrics"]["torque_err_mean"]["mean"]
+                b = c["methods"]["ls"]["metrics"]["torque_err_mean"]["mean"]
                 if a is not None and b:
                     grid[vibs.index(c["condition"]["vibration_level"])][taus.index(c["condition"]["torque_noise_Nm"])] = a / b
             im = ax.imshow(grid, origin="lower", cmap="RdBu_r", vmin=0, vmax=2, aspect="auto")
@@ -69,7 +69,7 @@ def main(summary_path, out_dir):
             ax.set_yticks(range(len(vibs)), [str(v) for v in vibs])
             ax.set_xlabel("torque noise std (N m)")
             ax.set_ylabel("vibration level")
-            ax.set_title("RLS-PSO / LS param error, cyl %g" % key[0], fontsize=9)
+            ax.set_title("RLS-PSO / LS torque-space error, cyl %g" % key[0], fontsize=9)
             fig.colorbar(im, ax=ax)
         fig.tight_layout()
         fig.savefig(out_dir + "/ratio_map.png", dpi=110)

@@ -29,9 +29,13 @@ void run(Args a) {
             << std::flush;
   const ProtocolResult r = runProtocol(a.config);
   writeReproduceOutputs(r, a.out);
-  TextTable t({"method", "param err vs best fit", "vs rigid", "knee val |e| (N m)", "hip val |e| (N m)", "time (s)"});
+  TextTable t({"method", "torque-space err hip", "knee", "worst param err", "knee val |e| (N m)", "hip val |e| (N m)", "time (s)"});
   for (const VariantScore& s : r.scores) {
-    t.addRow({toString(s.variant), fixed(100.0 * s.vs_best_fit.norm_rel, 2) + " %", fixed(100.0 * s.vs_rigid.norm_rel, 2) + " %",
+    Eigen::Index w = 0;
+    s.vs_best_fit.rel.cwiseAbs().maxCoeff(&w);
+    t.addRow({toString(s.variant), fixed(100.0 * s.torque_space_vs_best_fit.hip, 2) + " %",
+              fixed(100.0 * s.torque_space_vs_best_fit.knee, 2) + " %",
+              std::string(ident::paramName(static_cast<int>(w))) + " " + fixed(100.0 * s.vs_best_fit.rel[w], 1) + " %",
               fixed(s.knee_validation.mean_abs, 4) + " +- " + fixed(s.knee_validation.std_abs, 4),
               fixed(s.hip_validation.mean_abs, 4) + " +- " + fixed(s.hip_validation.std_abs, 4), fmt(s.outcome.wallTime_s(), 3)});
   }

@@ -41,7 +41,8 @@ TEST(Reproduce, ShortProtocolWritesEveryTableAndFigure) {
   }
   const std::string md = slurp(dir + "/report.md");
   for (const char* section : {"## Verdict", "## Knee parameters", "## Hip parameters", "## Is the truth inside the RLS box?",
-                              "## Validation torque error", "## Parameter error against ground truth", "![knee validation]",
+                              "## Validation torque error", "## Scores against ground truth",
+                              "## Errors in units of each method's Cramer-Rao bound", "![knee validation]",
                               "paper: LS (Table 4)", "truth: best fit"}) {
     EXPECT_NE(md.find(section), std::string::npos) << section;
   }
