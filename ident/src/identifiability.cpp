@@ -50,4 +50,26 @@ IdentifiabilityReport analyzeIdentifiability(const Eigen::MatrixXd& H, const Eig
   return r;
 }
 
+IdentifiabilityReport analyzeIdentifiability(const std::vector<NoiseChannel>& channels, const Eigen::VectorXd& y,
+                                             const Eigen::VectorXd& reference) {
+  if (channels.empty()) throw std::invalid_argument("identifiability: no noise channels");
+  Eigen::Index rows = 0;
+  for (const NoiseChannel& c : channels) rows += c.H.rows();
+  Eigen::MatrixXd H(rows, channels.front().H.cols());
+  rows = 0;
+  for (const NoiseChannel& c : channels) {
+    if (c.H.cols() != H.cols()) throw std::invalid_argument("identifiability: noise channels differ in column count");
+    H.middleRows(rows, c.H.rows()) = c.H;
+    rows += c.H.rows();
+  }
+  IdentifiabilityReport r = analyzeIdentifiability(H, y, 0.0, reference);
+  if (r.rank < H.cols()) return r;
+  const Eigen::VectorXd& ref = reference.size() ? reference : solveLeastSquares(H, y).x;
+  r.crb_std = stdOf(lsNoiseCovariance(channels));
+  for (Eigen::Index j = 0; j < H.cols(); ++j) {
+    r.crb_rel_std[j] = ref[j] != 0.0 ? r.crb_std[j] / std::abs(ref[j]) : std::numeric_limits<double>::infinity();
+  }
+  return r;
+}
+
 }  // namespace exoid::ident

@@ -2,6 +2,8 @@
 // What a record can identify, before anyone runs an experiment: rank and conditioning, which
 // parameters are not identifiable, Cramer-Rao standard deviations at a torque noise level, and
 // collinearity of each column with the others.
+#include "exoid/ident/noise_covariance.hpp"
+
 #include <Eigen/Core>
 
 #include <vector>
@@ -28,6 +30,14 @@ struct IdentifiabilityReport {
 /// estimate of y = H x. noise_sigma >= 0 (N m). Throws std::invalid_argument on bad sizes.
 IdentifiabilityReport analyzeIdentifiability(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                                              double noise_sigma,
+                                             const Eigen::VectorXd& reference = Eigen::VectorXd());
+
+/// The same report with the Cramer-Rao std of the noise as it reaches the fit: `channels` hold the
+/// rows of H by independent noise channel with their processing path and sigma (see
+/// noise_covariance.hpp); H is their rows stacked in that order and y the matching torques.
+/// crb_std = sqrt(diag(lsNoiseCovariance(channels))): the bound the sweep and reproduce report
+/// for the same processing.
+IdentifiabilityReport analyzeIdentifiability(const std::vector<NoiseChannel>& channels, const Eigen::VectorXd& y,
                                              const Eigen::VectorXd& reference = Eigen::VectorXd());
 
 }  // namespace exoid::ident
