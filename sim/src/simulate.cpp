@@ -107,7 +107,9 @@ struct Simulator::Impl {
   std::optional<FloorForce> floor;
   Eigen::MatrixX2d ff_cmd;  // feedforward command per step (pre-roll included), when enabled
   Eigen::Index n = 0;
-  Eigen::MatrixXd rec;
+  // One row per sample, stored row by row: the loop writes a whole row per step into one or two
+  // cache lines (a column-major table would scatter 26 writes over 26 pages each step).
+  Eigen::Matrix<double, Eigen::Dynamic, kNumCols, Eigen::RowMajor> rec;
   double first_loop_error_m = 0.0;  // after the very first step, pre-roll included
   bool ran = false, finished = false;
   double setup_time_s = 0.0, loop_time_s = 0.0;
@@ -213,7 +215,7 @@ struct Simulator::Impl {
     // With record_after_ramp the start ramp runs unrecorded (as a rig is started before its log):
     // rows go to a scratch row until the ramp is over, and the table's t starts at 0 after it.
     const Eigen::Index preroll = this->preroll();
-    Eigen::MatrixXd scratch = Eigen::MatrixXd::Zero(1, rec.cols());
+    Eigen::Matrix<double, 1, kNumCols> scratch = Eigen::Matrix<double, 1, kNumCols>::Zero();
     for (Eigen::Index step = 0; step < preroll + n; ++step) {
       const Eigen::Index k = step - preroll;  // record row, negative during the pre-roll
       const double t = static_cast<double>(step) * dt;  // trajectory (and disturbance) time
@@ -224,7 +226,7 @@ struct Simulator::Impl {
       }
       const Eigen::Vector2d q(d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]);
       const Eigen::Vector2d qd(d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]);
-      auto row = k >= 0 ? rec.row(k) : scratch.row(0);
+      double* row = k >= 0 ? rec.data() + k * kNumCols : scratch.data();
       row[kT] = static_cast<double>(k) * dt;
       row[kQHipTrue] = q[0];
       row[kQKneeTrue] = q[1];
@@ -338,7 +340,7 @@ struct Simulator::Impl {
     Table& tb = r.table;
     tb.names = datasetColumns(cfg.exact_columns);
     if (cfg.exact_columns) {
-      tb.values = std::move(rec);
+      tb.values = rec;
     } else {
       tb.values.resize(n, static_cast<Eigen::Index>(std::size(kShortCols)));
       for (std::size_t i = 0; i < std::size(kShortCols); ++i) {
