@@ -32,6 +32,8 @@ void BM_BareMjStep(benchmark::State& state) {
   const SimResult ref = simulate(c);
   const Eigen::VectorXd tau_hip = ref.table.col("tau_hip_true");
   const Eigen::VectorXd tau_knee = ref.table.col("tau_knee_true");
+  // The simulator's Coulomb friction, replayed open-loop too (same applied forces, same motion).
+  const Eigen::VectorXd qd_hip = ref.table.col("qd_hip_true"), qd_knee = ref.table.col("qd_knee_true");
   LegModel leg = loadLeg(c.model_path, c.variant);
   mjModel* m = leg.model.get();
   m->opt.timestep = c.dt_s;
@@ -55,6 +57,8 @@ void BM_BareMjStep(benchmark::State& state) {
     for (Eigen::Index k = 0; k < n; ++k) {
       d->ctrl[leg.idx.act[0]] = tau_hip[k];
       d->ctrl[leg.idx.act[1]] = tau_knee[k];
+      d->qfrc_applied[leg.idx.vadr[0]] = -leg.coulomb.torque(0, qd_hip[k]);
+      d->qfrc_applied[leg.idx.vadr[1]] = -leg.coulomb.torque(1, qd_knee[k]);
       mj_step(m, d.get());
     }
     benchmark::DoNotOptimize(d->qpos[0]);
