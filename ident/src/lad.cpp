@@ -1,6 +1,7 @@
 #include "exoid/ident/lad.hpp"
 
 #include "exoid/ident/least_squares.hpp"
+#include "lad_common.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <Eigen/Cholesky>
@@ -30,6 +31,10 @@
 namespace exoid::ident {
 namespace {
 
+using lad_detail::l1Cost;
+using lad_detail::roundingLevel;
+using lad_detail::str;
+
 /// Pivots |R_kk| < kRankTolerance * |R_00| of the column-scaled A are treated as zero; the same
 /// default as least squares (LsOptions::rank_tolerance): a scaled condition number above 1e8
 /// would also square to ~1e16 in the interior point's normal equations.
@@ -38,11 +43,6 @@ constexpr double kRankTolerance = 1e-8;
 constexpr double kStepFraction = 0.99995;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-std::string str(double v) {
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
 
 [[noreturn]] void throwInput(const std::string& what) {
   throw std::invalid_argument("least absolute deviations: " + what);
@@ -105,20 +105,7 @@ std::string rankDeficiencyMessage(const Eigen::ColPivHouseholderQR<Eigen::Matrix
   return msg;
 }
 
-/// The rounding error bound of evaluating b - A x in double, summed over rows:
-/// (p + 1) eps sum_i (|b_i| + |a_i|^T |x|). No cost, hence no gap, is resolved more finely.
-double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const double abs_ax = A.cwiseAbs().colwise().sum().dot(x.cwiseAbs().transpose());
-  return static_cast<double>(A.cols() + 1) * kEps * (b.lpNorm<1>() + abs_ax);
-}
 
-/// ||b - A x||_1 accumulated in long double.
-double l1Cost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const Eigen::VectorXd r = b - A * x;
-  long double sum = 0.0L;
-  for (Eigen::Index i = 0; i < r.size(); ++i) sum += std::abs(static_cast<long double>(r[i]));
-  return static_cast<double>(sum);
-}
 
 /// Makes u dual feasible and returns its lower bound on the optimum. u is projected onto the null
 /// space of A^T (least squares on the QR of the scaled A, whose null space is the same) and then

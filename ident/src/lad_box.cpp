@@ -1,6 +1,7 @@
 #include "exoid/ident/lad_box.hpp"
 
 #include "exoid/ident/stopwatch.hpp"
+#include "lad_common.hpp"
 
 #include <Eigen/QR>
 
@@ -38,6 +39,10 @@
 namespace exoid::ident {
 namespace {
 
+using lad_detail::l1Cost;
+using lad_detail::roundingLevel;
+using lad_detail::str;
+
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 /// A coordinate this close to a bound, relative to the box width, is tried on it (see intoBox):
 /// far above the rounding of a vertex solve, far below any distance PSO resolves.
@@ -48,11 +53,6 @@ constexpr double kRoom = 1.0 - 1e-9;
 /// Floor of the penalised tolerance (LadOptions needs > 0); below it only rounding stops.
 constexpr double kTiny = std::numeric_limits<double>::min();
 
-std::string str(double v) {
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
 
 [[noreturn]] void throwInput(const std::string& what) {
   throw std::invalid_argument("boxed least absolute deviations: " + what);
@@ -99,20 +99,7 @@ void checkInputs(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& 
   }
 }
 
-/// ||b - A x||_1 accumulated in long double.
-double l1Cost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const Eigen::VectorXd r = b - A * x;
-  long double sum = 0.0L;
-  for (Eigen::Index i = 0; i < r.size(); ++i) sum += std::abs(static_cast<long double>(r[i]));
-  return static_cast<double>(sum);
-}
 
-/// The rounding error bound of evaluating b - A x in double, summed over rows (as in lad.cpp):
-/// (p + 1) eps sum_i (|b_i| + |a_i|^T |x|). No cost, hence no gap, is resolved more finely.
-double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const double abs_ax = A.cwiseAbs().colwise().sum().dot(x.cwiseAbs().transpose());
-  return static_cast<double>(A.cols() + 1) * kEps * (b.lpNorm<1>() + abs_ax);
-}
 
 /// The penalised problem [A; diag(c); diag(c)] x ~ [b; c .* upper; c .* lower] and its in-box
 /// constant K = sum_j c_j (upper_j - lower_j).
