@@ -4,6 +4,8 @@
 // random feasible probes, and every certificate re-derived here from the returned dual vector.
 #include "exoid/ident/lad_box.hpp"
 
+#include "lad_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -14,71 +16,33 @@
 #include <functional>
 #include <limits>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace exoid::ident {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kTol = LadOptions{}.gap_tolerance;  // 1e-10
+using test::expectInvalid;
+using test::kEps;
+using test::kneeLikeRegressor;
+using test::kTol;
+using test::l1Cost;
+using test::laplace;
+using test::roundingLevel;
+using test::trueParameters;
+using test::uniform;
 
 using MatrixL = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
 using VectorL = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
-
-// sum_i |b_i - a_i^T x|, accumulated in long double so the test's own sum adds no error.
-double l1Cost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const Eigen::VectorXd r = b - A * x;
-  long double sum = 0.0L;
-  for (Eigen::Index i = 0; i < r.size(); ++i) sum += std::abs(static_cast<long double>(r[i]));
-  return static_cast<double>(sum);
-}
-
-// Error bound of evaluating b - A x in double, summed over the rows: two evaluations of the cost
-// at the same or nearby points cannot be compared more finely than this.
-double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const double abs_ax = A.cwiseAbs().colwise().sum().dot(x.cwiseAbs().transpose());
-  return static_cast<double>(A.cols() + 1) * kEps * (b.lpNorm<1>() + abs_ax);
-}
 
 // The largest rounding level of any point of the box (|x_j| <= max(|lower_j|, |upper_j|)).
 double boxRoundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box) {
   return roundingLevel(A, b, box.lower.cwiseAbs().cwiseMax(box.upper.cwiseAbs()));
 }
 
-double uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(rng);
-}
-
-// Laplace(0, scale) by inverting its CDF.
-double laplace(std::mt19937_64& rng, double scale) {
-  const double u = uniform(rng, -0.5, 0.5);
-  return -scale * (u < 0.0 ? -1.0 : 1.0) * std::log1p(-2.0 * std::abs(u));
-}
-
-// The knee-like regressor of lad_test.cpp: qdd (~30), g sin q (~10), g cos q (~10), sgn(qd) (1),
-// qd (~3) sampled at 1 kHz.
-Eigen::MatrixXd kneeLikeRegressor(Eigen::Index n, std::mt19937_64& rng) {
-  constexpr double kTwoPi = 6.283185307179586;
-  const double phase = uniform(rng, 0.0, kTwoPi);
-  Eigen::MatrixXd A(n, 5);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = 1e-3 * static_cast<double>(i);
-    const double w1 = kTwoPi * 0.5, w2 = kTwoPi * 1.3;
-    const double q = 0.8 * std::sin(w1 * t) + 0.3 * std::sin(w2 * t + phase);
-    const double qd = 0.8 * w1 * std::cos(w1 * t) + 0.3 * w2 * std::cos(w2 * t + phase);
-    const double qdd = -0.8 * w1 * w1 * std::sin(w1 * t) - 0.3 * w2 * w2 * std::sin(w2 * t + phase);
-    A.row(i) << qdd, 9.81 * std::sin(q), 9.81 * std::cos(q), qd > 0.0 ? 1.0 : -1.0, qd;
-  }
-  return A;
-}
-
 // b = A x_true + Laplace(0.5) noise, x_true = (0.3, 1.0, 1.7, ...).
 Eigen::VectorXd noisyData(const Eigen::MatrixXd& A, std::mt19937_64& rng) {
-  Eigen::VectorXd x_true(A.cols());
-  for (Eigen::Index j = 0; j < A.cols(); ++j) x_true[j] = 0.3 + 0.7 * static_cast<double>(j);
-  Eigen::VectorXd b = A * x_true;
+  Eigen::VectorXd b = A * trueParameters(A.cols());
   for (auto& v : b) v += laplace(rng, 0.5);
   return b;
 }
@@ -134,19 +98,9 @@ void expectCertified(const BoxedLadResult& r, const Eigen::MatrixXd& A, const Ei
   EXPECT_FALSE(r.summary.message.empty());
 }
 
-// Throws std::invalid_argument whose message contains `expected`.
-void expectInvalid(const std::function<void()>& call, const std::string& expected) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument containing \"" << expected << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-  }
-}
-
 TEST(LadBoxTest, BoxHoldingTheUnconstrainedOptimumReturnsIt) {
   std::mt19937_64 rng(31);
-  const Eigen::MatrixXd A = kneeLikeRegressor(2000, rng);
+  const Eigen::MatrixXd A = kneeLikeRegressor(2000, 5, rng);
   const Eigen::VectorXd b = noisyData(A, rng);
   const LadResult free = solveLeastAbsoluteDeviations(A, b);
   ASSERT_EQ(free.summary.status, Status::kConverged);
@@ -170,7 +124,7 @@ TEST(LadBoxTest, ParameterHeldJustInsideABoundIsNotFlagged) {
   // raises the cost by ~1e-4 times the cost's slope, far above its rounding. The box holds the
   // optimum, so the answer is the unconstrained one, strictly inside.
   std::mt19937_64 rng(32);
-  const Eigen::MatrixXd A = kneeLikeRegressor(2000, rng);
+  const Eigen::MatrixXd A = kneeLikeRegressor(2000, 5, rng);
   const Eigen::VectorXd b = noisyData(A, rng);
   const LadResult free = solveLeastAbsoluteDeviations(A, b);
   ASSERT_EQ(free.summary.status, Status::kConverged);
@@ -345,7 +299,7 @@ TEST(LadBoxTest, OneDimensionalOptimumIsTheMedianClampedIntoTheInterval) {
 
 TEST(LadBoxTest, KneeLikeProblemWithBoundsForcedActive) {
   std::mt19937_64 rng(10000);
-  const Eigen::MatrixXd A = kneeLikeRegressor(10000, rng);
+  const Eigen::MatrixXd A = kneeLikeRegressor(10000, 5, rng);
   const Eigen::VectorXd b = noisyData(A, rng);
   const LadResult free = solveLeastAbsoluteDeviations(A, b);
   ASSERT_EQ(free.summary.status, Status::kConverged);
@@ -432,7 +386,7 @@ TEST(LadBoxTest, RankDeficientDataIsWellPosedInABox) {
   // Project-sized: a duplicated and a zero column. x_1 + x_3 is all the data sees and x_2 is
   // invisible to it, so x is not unique; the cost and its certificate are.
   std::mt19937_64 rng_knee(56);
-  Eigen::MatrixXd A = kneeLikeRegressor(3000, rng_knee);
+  Eigen::MatrixXd A = kneeLikeRegressor(3000, 5, rng_knee);
   const Eigen::VectorXd b = noisyData(A, rng_knee);
   A.col(3) = A.col(1);
   A.col(2).setZero();
@@ -445,7 +399,7 @@ TEST(LadBoxTest, BoxesFarWiderThanTheSolutionStillCertify) {
   // Bounds of 1e6 put rounding errors of ~eps c_j 1e6 into the penalty rows, far above the data
   // cost's resolution: the second pass (active bounds fixed, dual refined) must deliver.
   std::mt19937_64 rng(77);
-  const Eigen::MatrixXd A = kneeLikeRegressor(5000, rng);
+  const Eigen::MatrixXd A = kneeLikeRegressor(5000, 5, rng);
   const Eigen::VectorXd b = noisyData(A, rng);
   const LadResult free = solveLeastAbsoluteDeviations(A, b);
   ASSERT_EQ(free.summary.status, Status::kConverged);
@@ -466,7 +420,7 @@ TEST(LadBoxTest, BoxesFarWiderThanTheSolutionStillCertify) {
 
 TEST(LadBoxTest, IterationLimitReturnsAnHonestBracket) {
   std::mt19937_64 rng(9);
-  const Eigen::MatrixXd A = kneeLikeRegressor(3000, rng);
+  const Eigen::MatrixXd A = kneeLikeRegressor(3000, 5, rng);
   const Eigen::VectorXd b = noisyData(A, rng);
   Box box = Box::uniform(5, -5.0, 5.0);
   box.upper[0] = 0.1;
@@ -489,7 +443,7 @@ TEST(LadBoxTest, IterationLimitReturnsAnHonestBracket) {
 
 TEST(LadBoxTest, RejectsBadInput) {
   std::mt19937_64 rng(3);
-  const Eigen::MatrixXd A = kneeLikeRegressor(20, rng).leftCols(3);
+  const Eigen::MatrixXd A = kneeLikeRegressor(20, 5, rng).leftCols(3);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(20);
   const Box box = Box::uniform(3, -1.0, 1.0);
   const auto solve = [](const Eigen::MatrixXd& A_, const Eigen::VectorXd& b_, const Box& box_) {

@@ -2,6 +2,8 @@
 // enumeration, exact and outlier-corrupted data, and the duality certificate checked by probing.
 #include "exoid/ident/lad.hpp"
 
+#include "lad_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
@@ -13,64 +15,21 @@
 #include <functional>
 #include <limits>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace exoid::ident {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kTol = LadOptions{}.gap_tolerance;  // 1e-10
-
-// sum_i |b_i - a_i^T x|, accumulated in long double so the test's own sum adds no error.
-double l1Cost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const Eigen::VectorXd r = b - A * x;
-  long double sum = 0.0L;
-  for (Eigen::Index i = 0; i < r.size(); ++i) sum += std::abs(static_cast<long double>(r[i]));
-  return static_cast<double>(sum);
-}
-
-// Error bound of evaluating b - A x in double, summed over the rows: two evaluations of the cost
-// at the same or nearby points cannot be compared more finely than this.
-double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen::VectorXd& x) {
-  const double abs_ax = A.cwiseAbs().colwise().sum().dot(x.cwiseAbs().transpose());
-  return static_cast<double>(A.cols() + 1) * kEps * (b.lpNorm<1>() + abs_ax);
-}
-
-double uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::uniform_real_distribution<double>(lo, hi)(rng);
-}
-
-// Laplace(0, scale) by inverting its CDF.
-double laplace(std::mt19937_64& rng, double scale) {
-  const double u = uniform(rng, -0.5, 0.5);
-  return -scale * (u < 0.0 ? -1.0 : 1.0) * std::log1p(-2.0 * std::abs(u));
-}
-
-// A knee-like regressor sampled at 1 kHz: columns of very different size as in the paper's
-// equation, qdd (~30), g sin q (~10), g cos q (~10), sgn(qd) (1), qd (~3), then random columns.
-Eigen::MatrixXd kneeLikeRegressor(Eigen::Index n, Eigen::Index p, std::mt19937_64& rng) {
-  constexpr double kTwoPi = 6.283185307179586;
-  const double phase = uniform(rng, 0.0, kTwoPi);
-  Eigen::MatrixXd A(n, p);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = 1e-3 * static_cast<double>(i);
-    const double w1 = kTwoPi * 0.5, w2 = kTwoPi * 1.3;
-    const double q = 0.8 * std::sin(w1 * t) + 0.3 * std::sin(w2 * t + phase);
-    const double qd = 0.8 * w1 * std::cos(w1 * t) + 0.3 * w2 * std::cos(w2 * t + phase);
-    const double qdd = -0.8 * w1 * w1 * std::sin(w1 * t) - 0.3 * w2 * w2 * std::sin(w2 * t + phase);
-    const double cols[5] = {qdd, 9.81 * std::sin(q), 9.81 * std::cos(q), qd > 0.0 ? 1.0 : -1.0, qd};
-    for (Eigen::Index j = 0; j < p; ++j) A(i, j) = j < 5 ? cols[j] : uniform(rng, -2.0, 2.0);
-  }
-  return A;
-}
-
-Eigen::VectorXd trueParameters(Eigen::Index p) {
-  Eigen::VectorXd x(p);
-  for (Eigen::Index j = 0; j < p; ++j) x[j] = 0.3 + 0.7 * static_cast<double>(j);
-  return x;
-}
+using test::expectInvalid;
+using test::kEps;
+using test::kneeLikeRegressor;
+using test::kTol;
+using test::l1Cost;
+using test::laplace;
+using test::roundingLevel;
+using test::trueParameters;
+using test::uniform;
 
 // The checks every converged result must pass: a valid, tight certificate and a filled summary.
 void expectCertified(const LadResult& r, const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
@@ -86,16 +45,6 @@ void expectCertified(const LadResult& r, const Eigen::MatrixXd& A, const Eigen::
   EXPECT_GE(r.summary.initial_cost, r.cost - roundingLevel(A, b, r.x));
   EXPECT_GE(r.summary.wall_time_s, 0.0);
   EXPECT_FALSE(r.summary.message.empty());
-}
-
-// Throws std::invalid_argument whose message contains `expected`.
-void expectInvalid(const std::function<void()>& call, const std::string& expected) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument containing \"" << expected << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-  }
 }
 
 TEST(LadTest, OddSampleGivesTheMedian) {
