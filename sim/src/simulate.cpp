@@ -107,8 +107,8 @@ struct Simulator::Impl {
   std::optional<FloorForce> floor;
   Eigen::MatrixX2d ff_cmd;  // feedforward command per step (pre-roll included), when enabled
   Eigen::Index n = 0;
-  // One row per sample, stored row by row: the loop writes a whole row per step into one or two
-  // cache lines (a column-major table would scatter 26 writes over 26 pages each step).
+  // One row per sample, stored row by row: the loop writes one contiguous row per step (the table
+  // is column-major; finish() converts once).
   Eigen::Matrix<double, Eigen::Dynamic, kNumCols, Eigen::RowMajor> rec;
   double first_loop_error_m = 0.0;  // after the very first step, pre-roll included
   bool ran = false, finished = false;
