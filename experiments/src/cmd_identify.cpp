@@ -165,7 +165,7 @@ void run(const IdentifyArgs& a) {
     // The first method's estimate at top level, for tools that expect one answer.
     j["method"] = ident::toString(outcomes.front().method);
     j["parameters"] = paramsJson(outcomes.front().x);
-    j["status"] = outcomes.front().usable() ? "usable" : "not_usable";
+    j["status"] = outcomes.front().usable() && outcomes.front().implausible.empty() ? "usable" : "not_usable";
     if (!truths.empty()) {
       j["truth"] = nlohmann::json::object();
       for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
@@ -175,6 +175,9 @@ void run(const IdentifyArgs& a) {
   std::string problems;
   for (const MethodOutcome& m : outcomes) {
     if (!m.usable()) problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": " + m.problems();
+    for (const std::string& v : m.implausible) {
+      problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": physically implausible: " + v;
+    }
   }
   if (!problems.empty()) throw UnusableResult(problems);
 }

@@ -1,5 +1,7 @@
 #include "exoid/experiments/identification.hpp"
 
+#include "exoid/ident/plausibility.hpp"
+
 #include "exoid/experiments/version.hpp"
 #include "exoid/ident/atomic_file.hpp"
 #include "exoid/ident/segmental.hpp"
@@ -56,6 +58,17 @@ void nameColumns(Stage& s) {
 }
 }  // namespace
 
+namespace {
+// Checks x against the physical conditions, leaving out what the stages could not identify.
+void checkPlausibility(MethodOutcome& out) {
+  std::vector<int> not_estimated;
+  for (const Stage& st : out.stages) {
+    for (Eigen::Index c : st.estimate.unidentifiable) not_estimated.push_back(st.indices[static_cast<std::size_t>(c)]);
+  }
+  out.implausible = ident::implausibilities(out.x, not_estimated);
+}
+}  // namespace
+
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
                           const ident::MethodOptions& o) {
   MethodOutcome out;
@@ -64,6 +77,7 @@ MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const i
   nameColumns(st);
   out.x = st.estimate.x;
   out.stages.push_back(std::move(st));
+  checkPlausibility(out);
   return out;
 }
 
@@ -77,6 +91,7 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
   out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
   out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
   for (Stage& st : out.stages) nameColumns(st);
+  checkPlausibility(out);
   return out;
 }
 
@@ -162,6 +177,8 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
   return {{"method", ident::toString(m.method)},
           {"parameters", paramsJson(m.x)},
           {"usable", m.usable()},
+          {"physically_plausible", m.implausible.empty()},
+          {"implausible", m.implausible},
           {"wall_time_s", m.wallTime_s()},
           {"stages", stages}};
 }

@@ -213,6 +213,14 @@ std::string renderMedia(const ProtocolResult& r, const std::string& dir) {
 
 }  // namespace
 
+// "yes", or "no: " and the violated conditions' parameter names (ident::implausibilities).
+std::string plausibleText(const MethodOutcome& m) {
+  if (m.implausible.empty()) return "yes";
+  std::string out = "no:";
+  for (const std::string& v : m.implausible) out += " " + v.substr(0, v.find(' '));
+  return out;
+}
+
 std::string verdict(const ProtocolResult& r) {
   // Rule: a method is closer to the truth when its torque-space error (mean of hip and knee, on
   // the fixed validation states) is lower; validation torque errors are compared per joint.
@@ -353,9 +361,10 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
      << " fixed validation states (hip -90..30 deg, knee 0..110 deg, |qd| <= 3 rad/s, |qdd| <= 30 rad/s^2; "
         "`ident::validationStates`), x* = best fit: a parameter error weighed by what it does to the predicted torque. "
         "The norm ||x - x*|| / ||x*|| is dominated by Mxt and Myt and is kept for comparison only. L1 optimality gaps: "
-        "against the exact minimum of the paper's cost over the method's own search box, and unconstrained.\n\n";
+        "against the exact minimum of the paper's cost over the method's own search box, and unconstrained. Physically "
+        "plausible: Js > 0, Jt > Js, friction >= 0 (what the parameter definitions imply).\n\n";
   TextTable pe({"method", "torque-space error hip", "knee", "median / worst |param error|", "norm (Mxt-dominated)",
-                "L1 gap over its box (knee / hip)", "L1 gap unconstrained", "time (s)"});
+                "L1 gap over its box (knee / hip)", "L1 gap unconstrained", "physically plausible", "time (s)"});
   for (const VariantScore& s : r.scores) {
     Eigen::Index worst = 0;
     s.vs_best_fit.rel.cwiseAbs().maxCoeff(&worst);
@@ -373,7 +382,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
     pe.addRow({toString(s.variant), pct(s.torque_space_vs_best_fit.hip), pct(s.torque_space_vs_best_fit.knee),
                pct(med) + " / " + std::string(ident::paramName(static_cast<int>(worst))) + " " + pct(s.vs_best_fit.rel[worst]),
                pct(s.vs_best_fit.norm_rel), box_gaps.empty() ? "-" : box_gaps, gaps.empty() ? "-" : gaps,
-               fmt(s.outcome.wallTime_s(), 3)});
+               plausibleText(s.outcome), fmt(s.outcome.wallTime_s(), 3)});
   }
   pe.printMarkdown(md);
   md << "\n## Errors in units of each method's Cramer-Rao bound\n\n"

@@ -46,6 +46,7 @@ nlohmann::json runSweepJob(const SweepConfig& config, JobId id) {
                               {"message", s.outcome.usable() ? std::string() : s.outcome.problems()},
                               {"x", vec(s.outcome.x)},
                               {"crb_std", vec(s.crb_std)},
+                              {"implausible", s.outcome.implausible},
                               {"torque_space", {{"best_fit", {{"hip", s.torque_space_vs_best_fit.hip}, {"knee", s.torque_space_vs_best_fit.knee}}},
                                                 {"rigid", {{"hip", s.torque_space_vs_rigid.hip}, {"knee", s.torque_space_vs_rigid.knee}}}}},
                               {"optimality_gaps", gapsJson(s.outcome)},

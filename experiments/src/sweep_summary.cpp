@@ -35,6 +35,7 @@ struct Row {
   double ts_hip = kNaN, ts_knee = kNaN;                                // torque-space vs best fit
   double gap_box = kNaN, gap_free = kNaN;                              // worst stage
   double median_abs_rel = kNaN, max_abs_rel = kNaN;
+  double plausible = kNaN;  // 1 when no physical condition is violated
   double val[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};  // knee mean/std/rms, hip mean/std/rms
   double wall_time_s = kNaN;
 };
@@ -55,6 +56,7 @@ double median(std::vector<double> v) {
 // The per-method scores of a job record: CRB, torque-space errors, optimality gaps.
 void readScores(const nlohmann::json& m, Row& r) {
   r.crb = vec(m.at("crb_std"));
+  r.plausible = m.at("implausible").empty() ? 1.0 : 0.0;
   for (int i = 0; i < kNumParams; ++i) r.z[i] = r.crb[i] > 0.0 ? r.abs_best_fit[i] / r.crb[i] : kNaN;
   r.ts_hip = m.at("torque_space").at("best_fit").at("hip").get<double>();
   r.ts_knee = m.at("torque_space").at("best_fit").at("knee").get<double>();
@@ -143,6 +145,7 @@ const Metric kMetrics[] = {
     {"norm_err_best_fit_mxt_dominated", [](const Row& r) { return r.err_best_fit; }},
     {"norm_err_rigid_mxt_dominated", [](const Row& r) { return r.err_rigid; }},
     {"gap_box_max", [](const Row& r) { return r.gap_box; }},
+    {"plausible_rate", [](const Row& r) { return r.plausible; }},
     {"gap_unconstrained_max", [](const Row& r) { return r.gap_free; }},
     {"knee_val_mean_abs", [](const Row& r) { return r.val[0]; }},
     {"knee_val_rms", [](const Row& r) { return r.val[2]; }},
@@ -170,7 +173,7 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
   ident::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell,replicate," << kConditionHeader
         << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
-           "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max";
+           "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max,plausible";
     for (const char* prefix : {"rel_err_", "rel_err_rigid_", "err_over_crb_", "crb_std_"}) {
       for (int i = 0; i < kNumParams; ++i) out << ',' << prefix << ident::paramName(i);
     }
@@ -179,7 +182,7 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
       out << r.cell << ',' << r.replicate << ',' << conditionCsv(conds[static_cast<std::size_t>(r.cell)]) << ',' << r.seed << ','
           << r.method << ',' << r.status << ',' << num(r.ts_hip) << ',' << num(r.ts_knee) << ',' << num(r.median_abs_rel)
           << ',' << num(r.max_abs_rel) << ',' << num(r.err_rigid) << ',' << num(r.err_best_fit) << ',' << num(r.gap_box) << ','
-          << num(r.gap_free);
+          << num(r.gap_free) << ',' << num(r.plausible);
       for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) {
         for (int i = 0; i < kNumParams; ++i) out << ',' << num((*v)[i]);
       }

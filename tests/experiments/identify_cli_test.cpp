@@ -14,8 +14,9 @@ namespace {
 
 using test::runExoid;
 
-std::string writeRecord(int trajectory, bool with_derivatives, const std::string& name) {
-  const ident::JointSignals s = test::exactRecord(trajectory, ident::defaultLeg(), 9.81);
+std::string writeRecord(int trajectory, bool with_derivatives, const std::string& name,
+                        const ident::LegPhysical& leg = ident::defaultLeg()) {
+  const ident::JointSignals s = test::exactRecord(trajectory, leg, 9.81);
   ident::Dataset d;
   d.comments = {" thigh_length_m: 0.45", " gravity_mps2: 9.81"};
   d.t_s = s.t_s;
@@ -52,6 +53,22 @@ TEST(IdentifyCli, RecoversTrajectory3ParametersFromExactDerivativeColumns) {
   EXPECT_TRUE(j["tool"].contains("version"));
   EXPECT_EQ(j["seed"], 1);
   EXPECT_DOUBLE_EQ(j["constants"]["thigh_length_m"].get<double>(), 0.45);
+}
+
+TEST(IdentifyCli, PhysicallyImplausibleEstimateExitsThree) {
+  // A "leg" whose knee friction feeds energy in (fv2 = -0.2): LS recovers it exactly, and the
+  // result is flagged as no physical leg's, named, with exit code 3 and the JSON still written.
+  ident::LegPhysical leg = ident::defaultLeg();
+  leg.fv_knee_Nms = -0.2;
+  const std::string csv = writeRecord(3, true, "traj3_negative_fv2.csv", leg);
+  const std::string out = ::testing::TempDir() + "/traj3_negative_fv2.json";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--no-filter", "--json", out}), 3);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("physically implausible: fv2 = -0.2"), std::string::npos) << err;
+  const nlohmann::json j = readJson(out);
+  EXPECT_EQ(j["status"], "not_usable");
+  EXPECT_FALSE(j["methods"]["ls"]["physically_plausible"].get<bool>());
 }
 
 TEST(IdentifyCli, SegmentalStrategyWithValidationAndTruth) {

@@ -24,6 +24,9 @@ struct MethodOutcome {
   ident::Method method = ident::Method::kLs;
   ident::ParamVector x = ident::ParamVector::Zero();
   std::vector<Stage> stages;
+  /// Violated physical conditions of x (ident::implausibilities; parameters a stage could not
+  /// identify are not checked). Non-empty: the estimate cannot be the leg's.
+  std::vector<std::string> implausible;
   bool usable() const;        ///< every stage usable
   std::string problems() const;  ///< the messages of unusable stages
   double wallTime_s() const;
