@@ -6,8 +6,9 @@ namespace exoid::experiments {
 
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
   static const std::map<std::string, ident::Differentiation> kDiff = {
-      {"forward", ident::Differentiation::kForward}, {"central", ident::Differentiation::kCentral}};
-  app.add_option("--diff", o.differentiation, "Differentiation of angles: forward (paper) or central")
+      {"forward", ident::Differentiation::kForward}, {"central", ident::Differentiation::kCentral},
+      {"central4", ident::Differentiation::kCentral4}};
+  app.add_option("--diff", o.differentiation, "Differentiation of angles: forward (paper), central or central4 (five-point)")
       ->transform(CLI::CheckedTransformer(kDiff, CLI::ignore_case))
       ->default_str("forward")
       ->group("Signal processing");
@@ -119,7 +120,7 @@ ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Datas
 }
 
 nlohmann::json toJson(const ident::SignalOptions& o) {
-  return {{"differentiation", o.differentiation == ident::Differentiation::kForward ? "forward" : "central"},
+  return {{"differentiation", ident::toString(o.differentiation)},
           {"use_recorded_derivatives", o.use_recorded_derivatives},
           {"filter", o.filter ? "butterworth_filtfilt" : "none"},
           {"filter_order", o.filter_order},

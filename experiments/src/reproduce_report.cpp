@@ -302,7 +302,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
   md << "- Sensors: encoder quantisation " << fmt(c.sim.sensors.quantisation_deg, 4) << " deg, noise " << c.sim.sensors.noise_q_deg
      << " deg; torque noise " << c.sim.sensors.noise_tau_Nm << " N m. Records of " << c.sim.duration_s
      << " s, recorded after a " << c.sim.ramp_s << " s start ramp.\n";
-  md << "- Signals: " << (c.signals.differentiation == ident::Differentiation::kForward ? "forward" : "central")
+  md << "- Signals: " << ident::toString(c.signals.differentiation)
      << " differences; " << (c.signals.filter ? "zero-phase Butterworth order " + std::to_string(c.signals.filter_order) + " at " + fmt(c.signals.cutoff_hz) + " Hz" : std::string("no filter"))
      << "; " << c.signals.edgeTrimSamples(1000.0) << " samples trimmed at each end.\n";
   md << "- PSO: " << c.methods.rls_pso.pso.swarm_size << " particles, G = " << c.methods.rls_pso.pso.max_iterations

@@ -145,6 +145,15 @@ Eigen::Index padLength(const SosFilter& f) {
 
 }  // namespace
 
+const char* toString(Differentiation d) {
+  switch (d) {
+    case Differentiation::kForward: return "forward";
+    case Differentiation::kCentral: return "central";
+    case Differentiation::kCentral4: return "central4";
+  }
+  return "unknown";
+}
+
 Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentiation method) {
   if (x.rows() < 2) {
     throw std::invalid_argument("x must have at least 2 rows (samples), got " + std::to_string(x.rows()));
@@ -161,6 +170,14 @@ Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentia
     case Differentiation::kCentral:
       dx.row(0) = (x.row(1) - x.row(0)) / dt_s;
       if (n > 2) dx.middleRows(1, n - 2) = (x.bottomRows(n - 2) - x.topRows(n - 2)) / (2.0 * dt_s);
+      break;
+    case Differentiation::kCentral4:
+      dx.row(0) = (x.row(1) - x.row(0)) / dt_s;
+      if (n > 2) dx.middleRows(1, n - 2) = (x.bottomRows(n - 2) - x.topRows(n - 2)) / (2.0 * dt_s);
+      if (n > 4) {
+        dx.middleRows(2, n - 4) = (x.topRows(n - 4) - 8.0 * x.middleRows(1, n - 4) + 8.0 * x.middleRows(3, n - 4) -
+                                   x.bottomRows(n - 4)) / (12.0 * dt_s);
+      }
       break;
     default:
       throw std::invalid_argument("unknown Differentiation method " +

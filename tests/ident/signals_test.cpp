@@ -118,7 +118,7 @@ TEST(Differentiate, BothMethodsAreExactOnALine) {
   const double slope0 = -1.5, slope1 = 2.0;
   x.col(0) = (0.5 + slope0 * t.array()).matrix();
   x.col(1) = (3.0 + slope1 * t.array()).matrix();
-  for (const auto method : {Differentiation::kForward, Differentiation::kCentral}) {
+  for (const auto method : {Differentiation::kForward, Differentiation::kCentral, Differentiation::kCentral4}) {
     const Eigen::MatrixXd dx = differentiate(x, dt_s, method);
     ASSERT_EQ(dx.rows(), x.rows());
     ASSERT_EQ(dx.cols(), x.cols());
@@ -179,6 +179,30 @@ TEST(Differentiate, ErrorIsFirstOrderForForwardAndSecondOrderForCentral) {
   const double cen_half = sineDerivativeError(dt_s / 2, Differentiation::kCentral, 1, 1);
   EXPECT_NEAR(cen / cen_half, 4.0, 0.04);
   EXPECT_NEAR(cen, dt_s * dt_s / 6 * omega * omega * omega, 0.01 * cen);
+}
+
+TEST(Differentiate, FivePointIsExactOnAQuarticInTheInteriorAndFourthOrderOnASine) {
+  // The five-point stencil differentiates polynomials up to degree 4 exactly: interior error is
+  // rounding only (the stencil's weights sum to 18/12 of |x| / dt: 36 eps max|x| / (12 dt) plus
+  // relative rounding of the result, doubled).
+  const double dt_s = 0.01;
+  const Eigen::VectorXd t = timeGrid(101, dt_s);
+  const Eigen::Index n = t.size();
+  const Eigen::ArrayXd ta = t.array();
+  const Eigen::MatrixXd x = (1.0 - 2.0 * ta + 3.0 * ta.square() - 0.5 * ta.cube() + 0.25 * ta.pow(4)).matrix();
+  const Eigen::ArrayXd exact = -2.0 + 6.0 * ta - 1.5 * ta.square() + ta.cube();
+  const double tol = 2.0 * (36.0 * kEps * x.cwiseAbs().maxCoeff() / (12.0 * dt_s) + 8.0 * kEps * exact.abs().maxCoeff());
+  const Eigen::MatrixXd d4 = differentiate(x, dt_s, Differentiation::kCentral4);
+  EXPECT_LE((d4.col(0).array().segment(2, n - 4) - exact.segment(2, n - 4)).abs().maxCoeff(), tol);
+  // On sin(omega t): leading error (omega dt)^4 / 30 times omega; halving dt divides it by 16.
+  // Two samples at each end use lower orders and are excluded. Next terms and the grid sampling
+  // of the maximum: <= (omega dt)^2 relative, 4e-3 here, so 2 % bounds.
+  const double omega = 2.0 * kPi;
+  const double e = sineDerivativeError(dt_s, Differentiation::kCentral4, 2, 2);
+  const double e_half = sineDerivativeError(dt_s / 2, Differentiation::kCentral4, 2, 2);
+  EXPECT_NEAR(e, std::pow(omega * dt_s, 4) / 30.0 * omega, 0.02 * e);
+  EXPECT_NEAR(e / e_half, 16.0, 0.32);
+  EXPECT_STREQ(toString(Differentiation::kCentral4), "central4");
 }
 
 TEST(Differentiate, RejectsBadArguments) {
