@@ -71,20 +71,19 @@ void checkChannel(const NoiseChannel& c, Eigen::Index p, std::size_t k) {
 }  // namespace
 
 Eigen::MatrixXd TorqueNoisePath::transposeApply(const Eigen::MatrixXd& H) const {
-  if (H.rows() != fittedRows() || trim < 0) {
+  if (H.rows() != fittedRows() || trim < 0 || decimation < 1) {
     throw std::invalid_argument("noise path: expected " + std::to_string(fittedRows()) + " rows, got " +
                                 std::to_string(H.rows()));
   }
-  if (!filter) {
-    Eigen::MatrixXd out = Eigen::MatrixXd::Zero(raw_rows, H.cols());
-    out.middleRows(trim, H.rows()) = H;
-    return out;
-  }
+  // Decimation and trim transposed: each fitted row back at its raw sample, zeros elsewhere.
+  Eigen::MatrixXd placed = Eigen::MatrixXd::Zero(raw_rows, H.cols());
+  for (Eigen::Index i = 0; i < H.rows(); ++i) placed.row(trim + i * decimation) = H.row(i);
+  if (!filter) return placed;
   // K z with K the symmetric kernel of filtfilt: causal pass from rest, then the anti-causal
   // pass from rest after a zero tail long enough for the causal output to have died out.
   const Eigen::Index tail = settlingSamples(*filter);
   Eigen::MatrixXd z = Eigen::MatrixXd::Zero(raw_rows + tail, H.cols());
-  z.middleRows(trim, H.rows()) = H;
+  z.topRows(raw_rows) = placed;
   Eigen::MatrixXd y = sosfilt(*filter, z).colwise().reverse();
   y = sosfilt(*filter, y).colwise().reverse();
   return y.topRows(raw_rows);
@@ -95,7 +94,9 @@ TorqueNoisePath torqueNoisePath(const SignalOptions& o, double sample_rate_hz, E
   TorqueNoisePath p;
   p.raw_rows = raw_rows;
   p.trim = o.edgeTrimSamples(sample_rate_hz);
-  if (o.filter && o.filter_torque) p.filter = butterworthLowpass(o.filter_order, o.cutoff_hz, sample_rate_hz);
+  const bool parallel = o.processing == Processing::kParallel;
+  if (o.filter && (parallel || o.filter_torque)) p.filter = butterworthLowpass(o.filter_order, o.cutoff_hz, sample_rate_hz);
+  if (parallel) p.decimation = o.decimationFactor(sample_rate_hz);
   return p;
 }
 

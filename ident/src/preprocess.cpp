@@ -1,12 +1,24 @@
 #include "exoid/ident/preprocess.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 namespace exoid::ident {
 
+const char* toString(Processing p) { return p == Processing::kParallel ? "parallel" : "paper"; }
+
+int SignalOptions::decimationFactor(double sample_rate_hz) const {
+  if (decimation > 0) return decimation;
+  return std::max(1, static_cast<int>(std::floor(sample_rate_hz / (5.0 * cutoff_hz))));
+}
+
 void SignalOptions::validate() const {
+  if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + std::to_string(decimation));
+  if (!(derivative_cutoff_hz >= 0.0) || !std::isfinite(derivative_cutoff_hz)) {
+    throw std::invalid_argument("'derivative_cutoff_hz' must be >= 0 (0 = no pre-filter)");
+  }
   if (filter_order < 1 || filter_order > 8) {
     throw std::invalid_argument("'filter_order' must be in 1..8, got " + std::to_string(filter_order));
   }
@@ -71,6 +83,77 @@ JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
   s.qdd_radps2 = in.qdd_radps2.middleRows(trim, keep);
   s.tau_Nm = in.tau_Nm.middleRows(trim, keep);
   return s;
+}
+
+ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
+  return {jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s};
+}
+
+namespace {
+
+// Rows [trim, n - trim) of x, every r-th.
+Eigen::MatrixXd trimAndDecimate(const Eigen::MatrixXd& x, Eigen::Index trim, int r) {
+  const Eigen::Index keep = x.rows() - 2 * trim;
+  const Eigen::Index out_rows = (keep + r - 1) / r;
+  Eigen::MatrixXd out(out_rows, x.cols());
+  for (Eigen::Index i = 0; i < out_rows; ++i) out.row(i) = x.row(trim + i * r);
+  return out;
+}
+
+// States for the parallel processing: recorded derivatives, else five-point differences of the
+// (widely pre-filtered) angles; the angles themselves unfiltered.
+JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs) {
+  JointSignals s;
+  s.t_s = d.t_s;
+  s.q_rad = d.q_rad;
+  s.tau_Nm = d.tau_Nm;
+  if (o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2) {
+    s.qd_radps = *d.qd_radps;
+    s.qdd_radps2 = *d.qdd_radps2;
+    return s;
+  }
+  const double dt = 1.0 / fs;
+  Eigen::MatrixXd q = d.q_rad;
+  if (o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
+  s.qd_radps = differentiate(q, dt, Differentiation::kCentral4);
+  s.qdd_radps2 = differentiate(s.qd_radps, dt, Differentiation::kCentral4);
+  return s;
+}
+
+}  // namespace
+
+ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
+  o.validate();
+  if (o.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, o), c);
+  const double fs = 1.0 / d.sampleInterval_s();
+  const JointSignals s = parallelStates(d, o, fs);
+  // Hip rows, knee rows and torques side by side: one filter pass over all 22 columns.
+  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 2);
+  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm;
+  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  if (s.size() - 2 * trim < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples leave " +
+                                std::to_string(s.size() - 2 * trim) + " after trimming " + std::to_string(trim) +
+                                " at each end (edge_trim_s); need >= 20");
+  }
+  const int r = o.decimationFactor(fs);
+  const Eigen::MatrixXd kept = trimAndDecimate(all, trim, r);
+  if (kept.rows() < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string(kept.rows()) + " rows after trimming and decimating by " +
+                                std::to_string(r) + "; need >= 20 (lower 'decimation')");
+  }
+  ProcessedRecord out;
+  out.hip = kept.leftCols(kNumParams);
+  out.knee = kept.middleCols(kNumParams, kNumParams);
+  out.tau_Nm = kept.rightCols(2);
+  JointSignals& st = out.states;
+  st.t_s = trimAndDecimate(s.t_s, trim, r).col(0);
+  st.q_rad = trimAndDecimate(s.q_rad, trim, r);
+  st.qd_radps = trimAndDecimate(s.qd_radps, trim, r);
+  st.qdd_radps2 = trimAndDecimate(s.qdd_radps2, trim, r);
+  st.tau_Nm = out.tau_Nm;
+  return out;
 }
 
 }  // namespace exoid::ident

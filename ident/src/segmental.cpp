@@ -5,32 +5,42 @@
 
 namespace exoid::ident {
 
-SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c) {
-  return {jointRegressor(knee_record, Joint::kKnee, c).middleCols(kShankFirst, kGroupSize),
-          knee_record.tau_Nm.col(1)};
+SegmentalProblem kneeStage(const ProcessedRecord& r) {
+  return {r.knee.middleCols(kShankFirst, kGroupSize), r.tau_Nm.col(1)};
 }
 
-SegmentalProblem hipStage(const JointSignals& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee,
-                          const LegConstants& c) {
+SegmentalProblem hipStage(const ProcessedRecord& r, const Eigen::Ref<const Eigen::VectorXd>& x_knee) {
   if (x_knee.size() != kGroupSize) {
     throw std::invalid_argument("segmental hip stage: expected 5 knee parameters, got " +
                                 std::to_string(x_knee.size()));
   }
-  const Eigen::MatrixXd Hh = jointRegressor(both_record, Joint::kHip, c);
-  return {Hh.middleCols(kThighFirst, kGroupSize),
-          both_record.tau_Nm.col(0) - Hh.middleCols(kShankFirst, kGroupSize) * x_knee};
+  return {r.hip.middleCols(kThighFirst, kGroupSize), r.tau_Nm.col(0) - r.hip.middleCols(kShankFirst, kGroupSize) * x_knee};
+}
+
+SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c) {
+  return kneeStage(regressorRecord(knee_record, c));
+}
+
+SegmentalProblem hipStage(const JointSignals& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee,
+                          const LegConstants& c) {
+  return hipStage(regressorRecord(both_record, c), x_knee);
+}
+
+SegmentalResult identifySegmental(Method method, const ProcessedRecord& knee_record, const ProcessedRecord& both_record,
+                                  const MethodOptions& options) {
+  SegmentalResult r;
+  const SegmentalProblem knee = kneeStage(knee_record);
+  r.knee = estimate(method, knee.H, knee.y, options);
+  const SegmentalProblem hip = hipStage(both_record, r.knee.x);
+  r.hip = estimate(method, hip.H, hip.y, options);
+  r.x << r.hip.x, r.knee.x;
+  return r;
 }
 
 SegmentalResult identifySegmental(Method method, const JointSignals& knee_record,
                                   const JointSignals& both_record, const LegConstants& c,
                                   const MethodOptions& options) {
-  SegmentalResult r;
-  const SegmentalProblem knee = kneeStage(knee_record, c);
-  r.knee = estimate(method, knee.H, knee.y, options);
-  const SegmentalProblem hip = hipStage(both_record, r.knee.x, c);
-  r.hip = estimate(method, hip.H, hip.y, options);
-  r.x << r.hip.x, r.knee.x;
-  return r;
+  return identifySegmental(method, regressorRecord(knee_record, c), regressorRecord(both_record, c), options);
 }
 
 }  // namespace exoid::ident

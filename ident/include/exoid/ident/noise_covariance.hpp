@@ -27,7 +27,8 @@ struct TorqueNoisePath {
   std::optional<SosFilter> filter;  ///< one pass; applied forward and backward (filtfilt)
   Eigen::Index trim = 0;
   Eigen::Index raw_rows = 0;
-  Eigen::Index fittedRows() const { return raw_rows - 2 * trim; }
+  int decimation = 1;  ///< every decimation-th trimmed row is fitted (parallel processing)
+  Eigen::Index fittedRows() const { return (raw_rows - 2 * trim + decimation - 1) / decimation; }
   /// F^T H for H with fittedRows() rows: a raw_rows x H.cols() matrix. The trimmed rows of
   /// filtfilt are a stationary convolution with the filter's symmetric kernel |h|^2 (its edge
   /// handling has decayed once trim exceeds the filter's settling, e.g. 5e-6 of the kernel at the
@@ -35,8 +36,10 @@ struct TorqueNoisePath {
   Eigen::MatrixXd transposeApply(const Eigen::MatrixXd& H) const;
 };
 
-/// The path of `prepareSignals(d, o)` for a record of raw_rows samples at sample_rate_hz: the
-/// filter when o.filter && o.filter_torque, and o.edgeTrimSamples(). Throws on invalid options.
+/// The path of the torque through `processRecord(d, c, o)` for a record of raw_rows samples at
+/// sample_rate_hz. Paper processing: the filter when o.filter && o.filter_torque, and
+/// o.edgeTrimSamples(). Parallel processing: the filter when o.filter, the trim and
+/// o.decimationFactor(). Throws on invalid options.
 TorqueNoisePath torqueNoisePath(const SignalOptions& o, double sample_rate_hz, Eigen::Index raw_rows);
 /// A path without filter (raw torque), trimmed by `trim` at each end.
 TorqueNoisePath rawTorquePath(Eigen::Index raw_rows, Eigen::Index trim);

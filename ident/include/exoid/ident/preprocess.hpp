@@ -7,7 +7,34 @@
 
 namespace exoid::ident {
 
+/// How a record becomes the rows an estimator fits.
+enum class Processing {
+  /// The paper: angles, velocities, accelerations and torques each low-pass filtered, the
+  /// regressor built from the filtered signals. Its nonlinear columns (sgn, products) are not the
+  /// filtered columns, so even exact data give biased estimates.
+  kPaper,
+  /// Parallel filtering and decimation (Gautier 1997): the regressor is built from the states,
+  /// then the torque and EVERY regressor column pass through the same zero-phase low-pass and are
+  /// trimmed and decimated alike: filter(tau) = filter(Y) x holds exactly whenever tau = Y x,
+  /// whatever the filter. Derivatives: recorded ones, else five-point central differences of the
+  /// angles after a wide zero-phase pre-filter (derivative_cutoff_hz).
+  kParallel,
+};
+const char* toString(Processing p);  ///< "paper", "parallel"
+
 struct SignalOptions {
+  /// Regressor-level processing (processRecord). prepareSignals is always the paper's.
+  Processing processing = Processing::kPaper;
+  /// Parallel processing: keep every decimation-th row after filtering and trimming; 0 = automatic,
+  /// floor(fs / (5 cutoff_hz)) (20 at 1 kHz and 10 Hz: the new Nyquist frequency is 2.5x the
+  /// cutoff), 1 = none. Range >= 0.
+  int decimation = 0;
+  /// Parallel processing: cutoff (Hz) of the angles' pre-filter before differentiating, order 4,
+  /// zero-phase. Wide, so the motion passes unchanged ((f/fc)^8 = 4e-14 at f = 1 Hz, 50 Hz); the
+  /// parallel filter removes the noise it lets through afterwards. 0 = no pre-filter.
+  double derivative_cutoff_hz = 50.0;
+  /// The decimation factor for a record sampled at sample_rate_hz.
+  int decimationFactor(double sample_rate_hz) const;
   /// How qd and qdd are computed from the angles. Paper: forward differences.
   Differentiation differentiation = Differentiation::kForward;
   /// Use recorded qd_* / qdd_* columns instead of differentiating, when the dataset has them.
@@ -43,5 +70,22 @@ JointSignals trimEdges(const JointSignals& s, Eigen::Index trim);
 
 /// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).
 JointSignals recordedSignals(const Dataset& d);
+
+/// The rows an estimator fits: each joint's regressor (N x 10) and the torques, processed alike,
+/// with the states they were built from (same rows).
+struct ProcessedRecord {
+  Eigen::MatrixXd hip;     ///< hip equation rows
+  Eigen::MatrixXd knee;    ///< knee equation rows
+  Eigen::MatrixX2d tau_Nm;  ///< measured torques, processed like the rows
+  JointSignals states;     ///< states at the rows (for the parallel processing: unfiltered)
+  Eigen::Index size() const { return tau_Nm.rows(); }
+};
+
+/// The regressor of signals as they are (no further processing).
+ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
+/// A record processed by o.processing: kPaper = regressorRecord(prepareSignals(d, o)); kParallel =
+/// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
+/// prepareSignals does.
+ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
 
 }  // namespace exoid::ident

@@ -3,6 +3,7 @@
 // (hip fixed), then hip parameters X(1:5) from a record where both joints swing, after
 // subtracting the knee part of the hip equation: T1' = T1 - H_hip(6:10) X(6:10).
 #include "exoid/ident/methods.hpp"
+#include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
 
 namespace exoid::ident {
@@ -13,8 +14,11 @@ struct SegmentalProblem {
   Eigen::VectorXd y;  ///< N
 };
 /// Stage 1: knee equation of the knee record, columns 6-10.
-SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c);
+SegmentalProblem kneeStage(const ProcessedRecord& knee_record);
 /// Stage 2: hip equation of the two-joint record, columns 1-5, with the knee part subtracted.
+SegmentalProblem hipStage(const ProcessedRecord& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee);
+/// The same on signals as they are (regressorRecord).
+SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c);
 SegmentalProblem hipStage(const JointSignals& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee,
                           const LegConstants& c);
 
@@ -24,6 +28,8 @@ struct SegmentalResult {
   ParamVector x;  ///< the assembled 10-vector
 };
 
+SegmentalResult identifySegmental(Method method, const ProcessedRecord& knee_record,
+                                  const ProcessedRecord& both_record, const MethodOptions& options);
 SegmentalResult identifySegmental(Method method, const JointSignals& knee_record,
                                   const JointSignals& both_record, const LegConstants& c,
                                   const MethodOptions& options);
