@@ -18,7 +18,7 @@ struct Args {
   std::string data, json_out;
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
-  ident::SignalOptions signals;
+  ident::SignalOptions signals = defaultIdentifySignals();
 };
 
 struct Block {
@@ -37,10 +37,10 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
 void run(const Args& a) {
   const ident::Dataset d = ident::readDatasetCsv(a.data);
   const ident::LegConstants c = resolveConstants(a.constants, d, nullptr);
-  const ident::JointSignals s = ident::prepareSignals(d, a.signals);
+  const ident::ProcessedRecord s = ident::processRecord(d, c, a.signals);
   const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
-  const Eigen::MatrixXd Hh = ident::jointRegressor(s, ident::Joint::kHip, c);
-  const Eigen::MatrixXd Hk = ident::jointRegressor(s, ident::Joint::kKnee, c);
+  const Eigen::MatrixXd& Hh = s.hip;
+  const Eigen::MatrixXd& Hk = s.knee;
   // White torque noise of std noise_tau reaches the fit through this record's processing.
   const ident::TorqueNoisePath path = ident::torqueNoisePath(a.signals, 1.0 / d.sampleInterval_s(), d.size());
   const double sg = a.noise_tau_Nm;

@@ -19,7 +19,7 @@ struct IdentifyArgs {
   std::vector<std::string> validate;
   std::string truth;
   ConstantsFlags constants;
-  ident::SignalOptions signals;
+  ident::SignalOptions signals = defaultIdentifySignals();
   ident::MethodOptions methods_options;
   bool history = false;
 };
@@ -125,20 +125,20 @@ void run(const IdentifyArgs& a) {
   const ident::Dataset primary = ident::readDatasetCsv(single ? a.data : a.both_data);
   std::string constants_origin;
   const ident::LegConstants c = resolveConstants(a.constants, primary, &constants_origin);
-  const ident::JointSignals s_primary = ident::prepareSignals(primary, a.signals);
-  ident::JointSignals s_knee;
-  if (segmental) s_knee = ident::prepareSignals(ident::readDatasetCsv(a.knee_data), a.signals);
+  const ident::ProcessedRecord r_primary = ident::processRecord(primary, c, a.signals);
+  ident::ProcessedRecord r_knee;
+  if (segmental) r_knee = ident::processRecord(ident::readDatasetCsv(a.knee_data), c, a.signals);
 
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) {
-    outcomes.push_back(single ? identifyAll(m, s_primary, c, a.methods_options)
-                              : identifySegmented(m, s_knee, s_primary, c, a.methods_options));
+    outcomes.push_back(single ? identifyAll(m, r_primary, a.methods_options)
+                              : identifySegmented(m, r_knee, r_primary, a.methods_options));
   }
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
-    const ident::JointSignals sv = ident::prepareSignals(ident::readDatasetCsv(file), a.signals);
+    const ident::ProcessedRecord rv = ident::processRecord(ident::readDatasetCsv(file), c, a.signals);
     std::vector<Validation> v;
-    for (const MethodOutcome& m : outcomes) v.push_back(validate(sv, m.x, c));
+    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x));
     validations.emplace_back(file, std::move(v));
   }
 

@@ -69,11 +69,20 @@ void checkPlausibility(MethodOutcome& out) {
 }
 }  // namespace
 
-MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
-                          const ident::MethodOptions& o) {
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o) {
+  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
+  const Eigen::Index n = r.size();
+  Eigen::MatrixXd H(2 * n, kNumParams);
+  Eigen::VectorXd y(2 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    H.row(2 * i) = r.hip.row(i);
+    H.row(2 * i + 1) = r.knee.row(i);
+    y[2 * i] = r.tau_Nm(i, 0);
+    y[2 * i + 1] = r.tau_Nm(i, 1);
+  }
   MethodOutcome out;
   out.method = m;
-  Stage st{"all", range(0, kNumParams), ident::estimate(m, ident::stackedRegressor(s, c), ident::stackedTorque(s), o)};
+  Stage st{"all", range(0, kNumParams), ident::estimate(m, H, y, o)};
   nameColumns(st);
   out.x = st.estimate.x;
   out.stages.push_back(std::move(st));
@@ -81,12 +90,16 @@ MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const i
   return out;
 }
 
-MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
-                                const ident::JointSignals& both_record, const ident::LegConstants& c,
-                                const ident::MethodOptions& o) {
+MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
+                          const ident::MethodOptions& o) {
+  return identifyAll(m, ident::regressorRecord(s, c), o);
+}
+
+MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
+                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o) {
   MethodOutcome out;
   out.method = m;
-  const ident::SegmentalResult r = ident::identifySegmental(m, knee_record, both_record, c, o);
+  const ident::SegmentalResult r = ident::identifySegmental(m, knee_record, both_record, o);
   out.x = r.x;
   out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
   out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
@@ -95,9 +108,18 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
   return out;
 }
 
+MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
+                                const ident::JointSignals& both_record, const ident::LegConstants& c,
+                                const ident::MethodOptions& o) {
+  return identifySegmented(m, ident::regressorRecord(knee_record, c), ident::regressorRecord(both_record, c), o);
+}
+
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x) {
+  return {ident::torqueError(r.tau_Nm.col(0), r.hip * x), ident::torqueError(r.tau_Nm.col(1), r.knee * x)};
+}
+
 Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c) {
-  const Eigen::MatrixX2d pred = ident::predictTorque(s, x, c);
-  return {ident::torqueError(s.tau_Nm.col(0), pred.col(0)), ident::torqueError(s.tau_Nm.col(1), pred.col(1))};
+  return validate(ident::regressorRecord(s, c), x);
 }
 
 nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices) {

@@ -4,13 +4,33 @@
 
 namespace exoid::experiments {
 
+ident::SignalOptions defaultIdentifySignals() {
+  ident::SignalOptions o;
+  o.processing = ident::Processing::kParallel;
+  o.differentiation = ident::Differentiation::kCentral4;
+  return o;
+}
+
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
+  static const std::map<std::string, ident::Processing> kProcessing = {{"parallel", ident::Processing::kParallel},
+                                                                      {"paper", ident::Processing::kPaper}};
+  app.add_option("--processing", o.processing,
+                 "parallel: regressor from the states, then the same zero-phase filter on the torque and every column, "
+                 "trimmed and decimated (exact on exact data); paper: the paper's signal filtering")
+      ->transform(CLI::CheckedTransformer(kProcessing, CLI::ignore_case))
+      ->default_str(ident::toString(o.processing))
+      ->group("Signal processing");
+  app.add_option("--decimation", o.decimation, "Parallel processing: keep every n-th row (0 = auto: fs / (5 cutoff))")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
+  app.add_option("--derivative-cutoff-hz", o.derivative_cutoff_hz,
+                 "Parallel processing: angles' pre-filter before differentiating, Hz (0 = none)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
   static const std::map<std::string, ident::Differentiation> kDiff = {
       {"forward", ident::Differentiation::kForward}, {"central", ident::Differentiation::kCentral},
       {"central4", ident::Differentiation::kCentral4}};
   app.add_option("--diff", o.differentiation, "Differentiation of angles: forward (paper), central or central4 (five-point)")
       ->transform(CLI::CheckedTransformer(kDiff, CLI::ignore_case))
-      ->default_str("forward")
+      ->default_str(ident::toString(o.differentiation))
       ->group("Signal processing");
   app.add_flag("!--no-filter", o.filter, "Do not low-pass filter (paper: zero-phase 10 Hz)")
       ->group("Signal processing");
@@ -120,7 +140,10 @@ ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Datas
 }
 
 nlohmann::json toJson(const ident::SignalOptions& o) {
-  return {{"differentiation", ident::toString(o.differentiation)},
+  return {{"processing", ident::toString(o.processing)},
+          {"decimation", o.decimation},
+          {"derivative_cutoff_hz", o.derivative_cutoff_hz},
+          {"differentiation", ident::toString(o.differentiation)},
           {"use_recorded_derivatives", o.use_recorded_derivatives},
           {"filter", o.filter ? "butterworth_filtfilt" : "none"},
           {"filter_order", o.filter_order},

@@ -39,6 +39,10 @@ Variant parseVariant(const std::string& name) {
 void ProtocolConfig::validate() const {
   sim.validate();
   signals.validate();
+  if (signals.processing != ident::Processing::kPaper) {
+    throw std::invalid_argument("the protocol's arms use the paper's signal processing ('--processing paper'); "
+                                "a parallel-processing arm is not part of it yet");
+  }
   methods.validate();
   if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
 }

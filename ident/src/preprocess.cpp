@@ -11,6 +11,7 @@ const char* toString(Processing p) { return p == Processing::kParallel ? "parall
 
 int SignalOptions::decimationFactor(double sample_rate_hz) const {
   if (decimation > 0) return decimation;
+  if (!filter) return 1;  // no anti-aliasing filter: keep every row
   return std::max(1, static_cast<int>(std::floor(sample_rate_hz / (5.0 * cutoff_hz))));
 }
 

@@ -108,9 +108,10 @@ TEST(Reproduce, NoiseFreeRigidLegWithExactDerivativesRecoversTheTruth) {
 
 TEST(Reproduce, IdentifiabilityReportsTheSameBoundAsTheProtocol) {
   // The knee stage of the segmental strategy fits record 1's knee equation after the paper's
-  // processing: `exoid identifiability` on that record (default processing = the paper's) must
+  // processing: `exoid identifiability` on that record (with the paper's processing named) must
   // report the same noise-limited std for Mxs..fv2 as the protocol (the same computation on the
-  // same rows: agreement to rounding, 1e-9 relative).
+  // same rows: agreement to rounding, 1e-9 relative). The paper processing is named: identifiability
+  // defaults to the parallel one.
   ProtocolConfig c;
   c.sim.duration_s = 3.0;
   c.sim.sensors.noise_tau_Nm = 0.5;
@@ -119,7 +120,9 @@ TEST(Reproduce, IdentifiabilityReportsTheSameBoundAsTheProtocol) {
   const std::string dir = ::testing::TempDir();
   const std::string csv = dir + "/exoid_crb_record1.csv", json = dir + "/exoid_crb_record1.json";
   ident::writeDatasetCsv(r.records[0].data, csv);
-  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--noise-tau", "0.5", "--json", json}), 0);
+  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--noise-tau", "0.5", "--processing", "paper", "--diff", "forward",
+                      "--json", json}),
+            0);
   const nlohmann::json j = nlohmann::json::parse(slurp(json));
   const nlohmann::json& knee = j["blocks"][2];
   ASSERT_EQ(knee["block"], "knee equation, params 6-10");

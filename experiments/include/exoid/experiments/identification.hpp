@@ -3,6 +3,7 @@
 // 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
 #include "exoid/ident/methods.hpp"
 #include "exoid/ident/metrics.hpp"
+#include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
 
 #include <nlohmann/json.hpp>
@@ -33,9 +34,12 @@ struct MethodOutcome {
 };
 
 /// All 10 parameters from both joint equations of one record (rows in time order).
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o);
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
                           const ident::MethodOptions& o);
 /// The paper's segmental strategy.
+MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
+                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o);
 MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
                                 const ident::JointSignals& both_record, const ident::LegConstants& c,
                                 const ident::MethodOptions& o);
@@ -45,6 +49,7 @@ struct Validation {
   ident::TorqueErrorStats hip;
   ident::TorqueErrorStats knee;
 };
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x);
 Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c);
 
 /// {"Mxt": ..., ...} and back (all 10 names required; unknown names rejected with the name).

@@ -12,6 +12,9 @@
 namespace exoid::experiments {
 
 /// --diff, --no-filter, --cutoff-hz, --filter-order, --no-filter-torque, --differentiate.
+/// The signal processing `identify` and `identifiability` use by default: the parallel filtering
+/// (exact on exact data whatever the filter); the paper's is `--processing paper`.
+ident::SignalOptions defaultIdentifySignals();
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
 void addMethodOptions(CLI::App& app, ident::MethodOptions& o);

@@ -27,7 +27,7 @@ struct SignalOptions {
   Processing processing = Processing::kPaper;
   /// Parallel processing: keep every decimation-th row after filtering and trimming; 0 = automatic,
   /// floor(fs / (5 cutoff_hz)) (20 at 1 kHz and 10 Hz: the new Nyquist frequency is 2.5x the
-  /// cutoff), 1 = none. Range >= 0.
+  /// cutoff) when filtering, else 1; 1 = none. Range >= 0.
   int decimation = 0;
   /// Parallel processing: cutoff (Hz) of the angles' pre-filter before differentiating, order 4,
   /// zero-phase. Wide, so the motion passes unchanged ((f/fc)^8 = 4e-14 at f = 1 Hz, 50 Hz); the
