@@ -44,34 +44,6 @@ constexpr double kStepFraction = 0.99995;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 
-[[noreturn]] void throwInput(const std::string& what) {
-  throw std::invalid_argument("least absolute deviations: " + what);
-}
-
-void checkInputs(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
-  if (A.rows() == 0 || A.cols() == 0) {
-    throwInput("A must have at least one row and one column, got " + std::to_string(A.rows()) +
-               " x " + std::to_string(A.cols()));
-  }
-  if (b.size() != A.rows()) {
-    throwInput("expected b of size " + std::to_string(A.rows()) + " (the rows of A), got " +
-               std::to_string(b.size()));
-  }
-  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    for (Eigen::Index i = 0; i < A.rows(); ++i) {
-      if (!std::isfinite(A(i, j))) {
-        throwInput("A(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite, got " +
-                   str(A(i, j)));
-      }
-    }
-  }
-  for (Eigen::Index i = 0; i < b.size(); ++i) {
-    if (!std::isfinite(b[i])) {
-      throwInput("b(" + std::to_string(i) + ") is not finite, got " + str(b[i]));
-    }
-  }
-}
-
 /// "rank r < p: column k is a linear combination of columns {i, j}" for each column beyond the
 /// numerical rank of the pivoted QR (coefficients from R11^{-1} R12 in the scaled columns, where
 /// a coefficient above 1e-8 is a real participant; a zero column has none).
@@ -235,7 +207,7 @@ void LadOptions::validate() const {
 LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
                                        const LadOptions& options) {
   options.validate();
-  checkInputs(A, b);
+  lad_detail::checkProblem("least absolute deviations", A, b);
   const Stopwatch clock;
   const Eigen::Index n = A.rows();
   const Eigen::Index p = A.cols();

@@ -54,43 +54,19 @@ constexpr double kRoom = 1.0 - 1e-9;
 constexpr double kTiny = std::numeric_limits<double>::min();
 
 
-[[noreturn]] void throwInput(const std::string& what) {
-  throw std::invalid_argument("boxed least absolute deviations: " + what);
-}
+constexpr const char kWho[] = "boxed least absolute deviations";
 
-void checkFinite(const Eigen::VectorXd& v, const char* name) {
-  for (Eigen::Index i = 0; i < v.size(); ++i) {
-    if (!std::isfinite(v[i])) {
-      throwInput(std::string(name) + "(" + std::to_string(i) + ") is not finite, got " + str(v[i]));
-    }
-  }
-}
+[[noreturn]] void throwInput(const std::string& what) { lad_detail::throwInput(kWho, what); }
 
 void checkInputs(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box) {
-  if (A.rows() == 0 || A.cols() == 0) {
-    throwInput("A must have at least one row and one column, got " + std::to_string(A.rows()) +
-               " x " + std::to_string(A.cols()));
-  }
-  if (b.size() != A.rows()) {
-    throwInput("expected b of size " + std::to_string(A.rows()) + " (the rows of A), got " +
-               std::to_string(b.size()));
-  }
+  lad_detail::checkProblem(kWho, A, b);
   if (box.lower.size() != A.cols() || box.upper.size() != A.cols()) {
     throwInput("expected a box of dimension " + std::to_string(A.cols()) +
                " (the columns of A), got lower of size " + std::to_string(box.lower.size()) +
                " and upper of size " + std::to_string(box.upper.size()));
   }
-  for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    for (Eigen::Index i = 0; i < A.rows(); ++i) {
-      if (!std::isfinite(A(i, j))) {
-        throwInput("A(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite, got " +
-                   str(A(i, j)));
-      }
-    }
-  }
-  checkFinite(b, "b");
-  checkFinite(box.lower, "box.lower");
-  checkFinite(box.upper, "box.upper");
+  lad_detail::checkFinite(kWho, box.lower, "box.lower");
+  lad_detail::checkFinite(kWho, box.upper, "box.upper");
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
     if (!(box.lower[j] < box.upper[j])) {
       throwInput("box.lower(" + std::to_string(j) + ") = " + str(box.lower[j]) +

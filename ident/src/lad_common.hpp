@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace exoid::ident::lad_detail {
@@ -31,6 +32,37 @@ inline std::string str(double v) {
   std::ostringstream os;
   os << std::setprecision(10) << v;
   return os.str();
+}
+
+/// Throws std::invalid_argument("<who>: <what>").
+[[noreturn]] inline void throwInput(const std::string& who, const std::string& what) {
+  throw std::invalid_argument(who + ": " + what);
+}
+
+/// Every entry of v finite, else throws naming "<name>(i)" and the value.
+inline void checkFinite(const std::string& who, const Eigen::VectorXd& v, const char* name) {
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i])) throwInput(who, std::string(name) + "(" + std::to_string(i) + ") is not finite, got " + str(v[i]));
+  }
+}
+
+/// A has at least one row and column, b has A's rows, both finite; else throws naming the entry.
+inline void checkProblem(const std::string& who, const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+  if (A.rows() == 0 || A.cols() == 0) {
+    throwInput(who, "A must have at least one row and one column, got " + std::to_string(A.rows()) + " x " +
+                        std::to_string(A.cols()));
+  }
+  if (b.size() != A.rows()) {
+    throwInput(who, "expected b of size " + std::to_string(A.rows()) + " (the rows of A), got " + std::to_string(b.size()));
+  }
+  for (Eigen::Index j = 0; j < A.cols(); ++j) {
+    for (Eigen::Index i = 0; i < A.rows(); ++i) {
+      if (!std::isfinite(A(i, j))) {
+        throwInput(who, "A(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite, got " + str(A(i, j)));
+      }
+    }
+  }
+  checkFinite(who, b, "b");
 }
 
 }  // namespace exoid::ident::lad_detail

@@ -58,38 +58,6 @@ void expectStdInBand(const Eigen::MatrixXd& draws, const Eigen::VectorXd& predic
   }
 }
 
-// A record of a two-frequency motion of both joints (or of the knee with the hip held), sampled
-// at 1 kHz, with exact derivatives recorded and exact torques from the independent dynamics.
-Dataset multisineRecord(bool hip_moves, double duration_s) {
-  const auto n = static_cast<Eigen::Index>(std::llround(duration_s * 1000.0));
-  Dataset d;
-  d.t_s.resize(n);
-  d.q_rad.resize(n, 2);
-  d.tau_Nm.resize(n, 2);
-  Eigen::MatrixX2d qd(n, 2), qdd(n, 2);
-  const double w[4] = {2 * M_PI * 0.5, 2 * M_PI * 1.3, 2 * M_PI * 0.7, 2 * M_PI * 1.9};
-  const double a[4] = {hip_moves ? 0.4 : 0.0, hip_moves ? 0.15 : 0.0, 0.5, 0.1};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = 1e-3 * static_cast<double>(i);
-    Eigen::Vector2d q(-0.4, 0.9), v(0, 0), acc(0, 0);
-    for (int k = 0; k < 4; ++k) {
-      const int j = k / 2;
-      const double ph = w[k] * t + (k == 2 ? 1.0 : 0.0);
-      q[j] += a[k] * std::sin(ph);
-      v[j] += a[k] * w[k] * std::cos(ph);
-      acc[j] -= a[k] * w[k] * w[k] * std::sin(ph);
-    }
-    d.t_s[i] = t;
-    d.q_rad.row(i) = q;
-    qd.row(i) = v;
-    qdd.row(i) = acc;
-    d.tau_Nm.row(i) = test::inverseDynamics(defaultLeg(), kC.gravity_mps2, q, v, acc);
-  }
-  d.qd_radps = qd;
-  d.qdd_radps2 = qdd;
-  return d;
-}
-
 // `estimator(d)` on kDraws copies of d with white torque noise on both joints.
 Eigen::MatrixXd monteCarlo(const Dataset& d, const std::function<Eigen::VectorXd(const Dataset&)>& estimator,
                            std::uint64_t seed) {
@@ -119,7 +87,7 @@ NoiseChannel channel(const Eigen::MatrixXd& H, const Dataset& d, const SignalOpt
 
 // All 10 parameters from both equations of one record: two independent channels (hip, knee).
 void checkStacked(const SignalOptions& o, std::uint64_t seed, const std::string& what) {
-  const Dataset d = multisineRecord(true, 5.0);
+  const Dataset d = test::multisineRecord(5.0, true);
   const JointSignals s = prepareSignals(d, o);
   const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, kC), Hk = jointRegressor(s, Joint::kKnee, kC);
   const Eigen::VectorXd predicted = stdOf(lsNoiseCovariance({channel(Hh, d, o), channel(Hk, d, o)}));
@@ -146,7 +114,7 @@ TEST(NoiseCovariance, FilteredAnglesRawTorqueMatchesMonteCarlo) {
 
 TEST(NoiseCovariance, PaperProcessingSegmentalMatchesMonteCarlo) {
   const SignalOptions o = paperProcessing();
-  const Dataset knee_rec = multisineRecord(false, 5.0), both_rec = multisineRecord(true, 5.0);
+  const Dataset knee_rec = test::multisineRecord(5.0, false), both_rec = test::multisineRecord(5.0, true);
   const JointSignals sk = prepareSignals(knee_rec, o), sb = prepareSignals(both_rec, o);
   const SegmentalProblem knee = kneeStage(sk, kC);
   const Eigen::MatrixXd Hh = jointRegressor(sb, Joint::kHip, kC);

@@ -17,39 +17,6 @@ namespace {
 
 const LegConstants kC{0.45, 9.81};
 
-// Two-frequency motion of both joints at 1 kHz, exact torques of the independent dynamics.
-Dataset multisine(double duration_s, bool with_derivatives) {
-  const auto n = static_cast<Eigen::Index>(std::llround(duration_s * 1000.0));
-  Dataset d;
-  d.t_s.resize(n);
-  d.q_rad.resize(n, 2);
-  d.tau_Nm.resize(n, 2);
-  Eigen::MatrixX2d qd(n, 2), qdd(n, 2);
-  const double w[4] = {2 * M_PI * 0.5, 2 * M_PI * 1.3, 2 * M_PI * 0.7, 2 * M_PI * 1.9};
-  const double a[4] = {0.4, 0.15, 0.5, 0.1};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double t = 1e-3 * static_cast<double>(i);
-    Eigen::Vector2d q(-0.4, 0.9), v(0, 0), acc(0, 0);
-    for (int k = 0; k < 4; ++k) {
-      const int j = k / 2;
-      const double ph = w[k] * t + (k == 0 ? 0.3 : k == 2 ? 1.0 : 0.0);  // no sample at zero velocity
-      q[j] += a[k] * std::sin(ph);
-      v[j] += a[k] * w[k] * std::cos(ph);
-      acc[j] -= a[k] * w[k] * w[k] * std::sin(ph);
-    }
-    d.t_s[i] = t;
-    d.q_rad.row(i) = q;
-    qd.row(i) = v;
-    qdd.row(i) = acc;
-    d.tau_Nm.row(i) = test::inverseDynamics(defaultLeg(), kC.gravity_mps2, q, v, acc);
-  }
-  if (with_derivatives) {
-    d.qd_radps = qd;
-    d.qdd_radps2 = qdd;
-  }
-  return d;
-}
-
 SignalOptions parallel() {
   SignalOptions o;
   o.processing = Processing::kParallel;
@@ -71,7 +38,7 @@ double maxRelError(const Eigen::VectorXd& x, const ParamVector& truth) {
 TEST(ParallelProcessing, ExactDataGiveExactParametersWithRecordedDerivatives) {
   // filter(tau) = filter(Y) x exactly: only rounding, amplified by the condition number (~1e3).
   const ParamVector truth = toParamVector(defaultLeg());
-  const ProcessedRecord r = processRecord(multisine(10.0, true), kC, parallel());
+  const ProcessedRecord r = processRecord(test::multisineRecord(10.0, true, true), kC, parallel());
   EXPECT_EQ(r.size(), (10000 - 2 * 300 + 19) / 20);  // trimmed 0.3 s each end, every 20th row
   EXPECT_LT(maxRelError(stackedLs(r), truth), 1e-8);
 }
@@ -82,8 +49,8 @@ TEST(ParallelProcessing, ExactDataGiveExactParametersFromAnglesAlone) {
   // 1e-6 promised. Precondition: no sample within the derivative error of zero velocity, where
   // sgn(qd) is not determined by the data (the paper's 1 Hz trajectories put a sample exactly on
   // every velocity reversal; there any estimate of the sign is as good as the record's).
-  const Dataset d = multisine(10.0, false);
-  ASSERT_GT(multisine(10.0, true).qd_radps->cwiseAbs().minCoeff(), 1e-5);
+  const Dataset d = test::multisineRecord(10.0, true, false);
+  ASSERT_GT(test::multisineRecord(10.0, true, true).qd_radps->cwiseAbs().minCoeff(), 1e-5);
   const ParamVector truth = toParamVector(defaultLeg());
   EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, parallel())), truth), 1e-6);
 }
@@ -92,13 +59,13 @@ TEST(ParallelProcessing, ThePapersProcessingIsBiasedOnTheSameExactData) {
   // The reason for the parallel processing: the paper's filters the signals, then builds the
   // nonlinear columns, which are then not the filtered columns.
   const ParamVector truth = toParamVector(defaultLeg());
-  EXPECT_GT(maxRelError(stackedLs(processRecord(multisine(10.0, true), kC, SignalOptions{})), truth), 1e-3);
+  EXPECT_GT(maxRelError(stackedLs(processRecord(test::multisineRecord(10.0, true, true), kC, SignalOptions{})), truth), 1e-3);
 }
 
 TEST(ParallelProcessing, NoisyTorquesScatterAsTheNoiseCovarianceSays) {
   // 200 seeds of 0.5 N m white torque noise: the sample std of each parameter lies in the
   // chi-square band of its predicted std (z = 3.89, probability 1e-4 per parameter).
-  const Dataset d = multisine(5.0, true);
+  const Dataset d = test::multisineRecord(5.0, true, true);
   const SignalOptions o = parallel();
   const ProcessedRecord r0 = processRecord(d, kC, o);
   const TorqueNoisePath path = torqueNoisePath(o, 1000.0, d.size());
@@ -128,7 +95,7 @@ TEST(ParallelProcessing, OptionsAreValidated) {
   EXPECT_THROW(o.validate(), std::invalid_argument);
   o = parallel();
   o.decimation = 400;  // 10 s at 1 kHz leaves 24 rows: fine; 1 s leaves 1: refused
-  Dataset d = multisine(1.0, true);
+  Dataset d = test::multisineRecord(1.0, true, true);
   EXPECT_THROW(processRecord(d, kC, o), std::invalid_argument);
 }
 

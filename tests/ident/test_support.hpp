@@ -1,6 +1,7 @@
 #pragma once
 // Test-only ground truth: an independent 2-link dynamics (d'Alembert on COM accelerations, not
 // the Lagrange regressor) and the paper's trajectories with analytic derivatives.
+#include "exoid/ident/dataset.hpp"
 #include "exoid/ident/params.hpp"
 #include "exoid/ident/regressor.hpp"
 
@@ -77,6 +78,44 @@ inline ident::JointSignals exactRecord(int id, const ident::LegPhysical& leg, do
     s.tau_Nm.row(i) = inverseDynamics(leg, g, q, qd, qdd);
   }
   return s;
+}
+
+/// A dataset of a two-frequency motion of both joints (0.5 + 1.3 Hz hip, 0.7 + 1.9 Hz knee; or of the
+/// knee alone with the hip held at -0.4 rad), sampled at 1 kHz, with exact torques from
+/// inverseDynamics() and, when with_derivatives, the exact qd/qdd columns. No sample lies on a
+/// velocity reversal (|qd| >= 2.9e-4 rad/s over 10 s), where sgn(qd) would be undetermined.
+inline ident::Dataset multisineRecord(double duration_s, bool hip_moves = true, bool with_derivatives = true,
+                                      double g = 9.81) {
+  const auto n = static_cast<Eigen::Index>(std::llround(duration_s * 1000.0));
+  ident::Dataset d;
+  d.t_s.resize(n);
+  d.q_rad.resize(n, 2);
+  d.tau_Nm.resize(n, 2);
+  Eigen::MatrixX2d qd(n, 2), qdd(n, 2);
+  const double w[4] = {2 * M_PI * 0.5, 2 * M_PI * 1.3, 2 * M_PI * 0.7, 2 * M_PI * 1.9};
+  const double a[4] = {hip_moves ? 0.4 : 0.0, hip_moves ? 0.15 : 0.0, 0.5, 0.1};
+  const double phase[4] = {0.3, 0.0, 1.0, 0.0};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = 1e-3 * static_cast<double>(i);
+    Eigen::Vector2d q(-0.4, 0.9), v(0, 0), acc(0, 0);
+    for (int k = 0; k < 4; ++k) {
+      const int j = k / 2;
+      const double ph = w[k] * t + phase[k];
+      q[j] += a[k] * std::sin(ph);
+      v[j] += a[k] * w[k] * std::cos(ph);
+      acc[j] -= a[k] * w[k] * w[k] * std::sin(ph);
+    }
+    d.t_s[i] = t;
+    d.q_rad.row(i) = q;
+    qd.row(i) = v;
+    qdd.row(i) = acc;
+    d.tau_Nm.row(i) = inverseDynamics(ident::defaultLeg(), g, q, v, acc);
+  }
+  if (with_derivatives) {
+    d.qd_radps = qd;
+    d.qdd_radps2 = qdd;
+  }
+  return d;
 }
 
 }  // namespace exoid::test
