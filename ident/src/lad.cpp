@@ -91,13 +91,10 @@ double dualBound(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Eigen
   u.noalias() -= As * t;
   const double m = u.cwiseAbs().maxCoeff();
   if (m > 1.0) u /= m;
-  long double bu = 0.0L;
-  for (Eigen::Index i = 0; i < b.size(); ++i) bu += static_cast<long double>(b[i]) * u[i];
+  const long double bu = lad_detail::dotLong(b, u);
   long double charge = 0.0L;
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    long double g = 0.0L;
-    for (Eigen::Index i = 0; i < A.rows(); ++i) g += static_cast<long double>(A(i, j)) * u[i];
-    charge += std::abs(g) * std::abs(static_cast<long double>(x[j]));
+    charge += std::abs(lad_detail::columnDotLong(A, j, u)) * std::abs(static_cast<long double>(x[j]));
   }
   return static_cast<double>(bu - charge);
 }

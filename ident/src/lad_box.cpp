@@ -150,12 +150,10 @@ std::vector<Eigen::Index> sides(const Eigen::VectorXd& x, const Box& box, int si
 /// any |u_i| <= 1 (see the top of the file), accumulated in long double.
 double boxBound(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box,
                 const Eigen::VectorXd& u) {
-  long double bu = 0.0L;
-  for (Eigen::Index i = 0; i < b.size(); ++i) bu += static_cast<long double>(b[i]) * u[i];
+  const long double bu = lad_detail::dotLong(b, u);
   long double charge = 0.0L;
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
-    long double g = 0.0L;
-    for (Eigen::Index i = 0; i < A.rows(); ++i) g += static_cast<long double>(A(i, j)) * u[i];
+    const long double g = lad_detail::columnDotLong(A, j, u);
     charge += std::max(static_cast<long double>(box.lower[j]) * g,
                        static_cast<long double>(box.upper[j]) * g);
   }

@@ -27,6 +27,20 @@ inline double roundingLevel(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, 
   return static_cast<double>(A.cols() + 1) * std::numeric_limits<double>::epsilon() * (b.lpNorm<1>() + abs_ax);
 }
 
+/// b^T u accumulated in long double.
+inline long double dotLong(const Eigen::VectorXd& b, const Eigen::VectorXd& u) {
+  long double sum = 0.0L;
+  for (Eigen::Index i = 0; i < b.size(); ++i) sum += static_cast<long double>(b[i]) * u[i];
+  return sum;
+}
+
+/// (A^T u)_j accumulated in long double: the dual residual the bounds charge.
+inline long double columnDotLong(const Eigen::MatrixXd& A, Eigen::Index j, const Eigen::VectorXd& u) {
+  long double g = 0.0L;
+  for (Eigen::Index i = 0; i < A.rows(); ++i) g += static_cast<long double>(A(i, j)) * u[i];
+  return g;
+}
+
 /// 10 significant digits.
 inline std::string str(double v) {
   std::ostringstream os;

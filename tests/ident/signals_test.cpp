@@ -3,6 +3,8 @@
 // second-order sections, |H(f)|^2 of a zero-phase filter) and one fixed scipy.signal output.
 #include "exoid/ident/signals.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +18,8 @@
 
 namespace exoid::ident {
 namespace {
+
+using test::expectInvalidArgumentMentioning;
 
 using Complex = std::complex<double>;
 constexpr double kPi = 3.14159265358979323846;
@@ -97,16 +101,6 @@ Eigen::Index settlingSamples(const SosFilter& f, double decay) {
 double butterworthMagnitude(int order, double cutoff_hz, double freq_hz) {
   const double ratio = std::tan(kPi * freq_hz / kFs_Hz) / std::tan(kPi * cutoff_hz / kFs_Hz);
   return 1.0 / std::sqrt(1.0 + std::pow(ratio, 2 * order));
-}
-
-void expectInvalidArgumentMentioning(const std::function<void()>& call, const std::string& text) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument mentioning '" << text << "'";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
-        << "message '" << e.what() << "' does not mention '" << text << "'";
-  }
 }
 
 // ---- differentiate ----------------------------------------------------------------------------

@@ -7,6 +7,8 @@
 
 #include "exoid/ident/random.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,6 +23,8 @@
 
 namespace exoid::ident {
 namespace {
+
+using test::expectInvalidArgumentMentioning;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
@@ -137,16 +141,6 @@ Eigen::VectorXd whiteNoise(Eigen::Index n, double sigma, std::uint64_t seed) {
 // sum(density[first..last]) * df.
 double bandPower(const PowerSpectrum& p, Eigen::Index first, Eigen::Index last) {
   return p.density.segment(first, last - first + 1).sum() * p.df_Hz;
-}
-
-void expectInvalidArgumentMentioning(const std::function<void()>& call, const std::string& text) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument mentioning '" << text << "'";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
-        << "message '" << e.what() << "' does not mention '" << text << "'";
-  }
 }
 
 // ---- welchPsd ---------------------------------------------------------------------------------

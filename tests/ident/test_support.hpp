@@ -6,8 +6,12 @@
 #include "exoid/ident/regressor.hpp"
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
 
 namespace exoid::test {
 
@@ -116,6 +120,17 @@ inline ident::Dataset multisineRecord(double duration_s, bool hip_moves = true, 
     d.qdd_radps2 = qdd;
   }
   return d;
+}
+
+/// Expects `call` to throw std::invalid_argument whose message contains `text`.
+inline void expectInvalidArgumentMentioning(const std::function<void()>& call, const std::string& text) {
+  try {
+    call();
+    ADD_FAILURE() << "expected std::invalid_argument mentioning '" << text << "'";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos)
+        << "message '" << e.what() << "' does not mention '" << text << "'";
+  }
 }
 
 }  // namespace exoid::test
