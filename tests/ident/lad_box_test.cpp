@@ -22,7 +22,7 @@
 namespace exoid::ident {
 namespace {
 
-using test::expectInvalid;
+using test::expectInvalidArgumentMentioning;
 using test::kEps;
 using test::kneeLikeRegressor;
 using test::kTol;
@@ -449,38 +449,38 @@ TEST(LadBoxTest, RejectsBadInput) {
   const auto solve = [](const Eigen::MatrixXd& A_, const Eigen::VectorXd& b_, const Box& box_) {
     return [=] { solveBoxedLeastAbsoluteDeviations(A_, b_, box_); };
   };
-  expectInvalid(solve(A, Eigen::VectorXd::Ones(19), box),
+  expectInvalidArgumentMentioning(solve(A, Eigen::VectorXd::Ones(19), box),
                 "expected b of size 20 (the rows of A), got 19");
-  expectInvalid(solve(Eigen::MatrixXd(0, 3), Eigen::VectorXd(0), box),
+  expectInvalidArgumentMentioning(solve(Eigen::MatrixXd(0, 3), Eigen::VectorXd(0), box),
                 "A must have at least one row and one column, got 0 x 3");
-  expectInvalid(solve(A, b, Box::uniform(2, -1.0, 1.0)),
+  expectInvalidArgumentMentioning(solve(A, b, Box::uniform(2, -1.0, 1.0)),
                 "expected a box of dimension 3 (the columns of A), got lower of size 2 and upper "
                 "of size 2");
-  expectInvalid(solve(A, b, Box{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Ones(4)}),
+  expectInvalidArgumentMentioning(solve(A, b, Box{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Ones(4)}),
                 "got lower of size 3 and upper of size 4");
   Box flat = box;
   flat.lower[1] = 2.0;
   flat.upper[1] = 2.0;
-  expectInvalid(solve(A, b, flat), "box.lower(1) = 2 must be < box.upper(1) = 2");
+  expectInvalidArgumentMentioning(solve(A, b, flat), "box.lower(1) = 2 must be < box.upper(1) = 2");
   Box inverted = box;
   inverted.lower[2] = 0.5;
   inverted.upper[2] = -0.5;
-  expectInvalid(solve(A, b, inverted), "box.lower(2) = 0.5 must be < box.upper(2) = -0.5");
+  expectInvalidArgumentMentioning(solve(A, b, inverted), "box.lower(2) = 0.5 must be < box.upper(2) = -0.5");
   Box nan_box = box;
   nan_box.upper[0] = std::numeric_limits<double>::quiet_NaN();
-  expectInvalid(solve(A, b, nan_box), "box.upper(0) is not finite, got nan");
+  expectInvalidArgumentMentioning(solve(A, b, nan_box), "box.upper(0) is not finite, got nan");
   Box inf_box = box;
   inf_box.lower[2] = -std::numeric_limits<double>::infinity();
-  expectInvalid(solve(A, b, inf_box), "box.lower(2) is not finite, got -inf");
+  expectInvalidArgumentMentioning(solve(A, b, inf_box), "box.lower(2) is not finite, got -inf");
   Eigen::MatrixXd A_nan = A;
   A_nan(4, 2) = std::numeric_limits<double>::quiet_NaN();
-  expectInvalid(solve(A_nan, b, box), "A(4, 2) is not finite, got nan");
+  expectInvalidArgumentMentioning(solve(A_nan, b, box), "A(4, 2) is not finite, got nan");
   Eigen::VectorXd b_inf = b;
   b_inf[7] = std::numeric_limits<double>::infinity();
-  expectInvalid(solve(A, b_inf, box), "b(7) is not finite, got inf");
+  expectInvalidArgumentMentioning(solve(A, b_inf, box), "b(7) is not finite, got inf");
   LadOptions options;
   options.gap_tolerance = 2.0;
-  expectInvalid([&] { solveBoxedLeastAbsoluteDeviations(A, b, box, options); },
+  expectInvalidArgumentMentioning([&] { solveBoxedLeastAbsoluteDeviations(A, b, box, options); },
                 "'gap_tolerance' must be in (0, 1), got 2");
 }
 

@@ -21,7 +21,7 @@
 namespace exoid::ident {
 namespace {
 
-using test::expectInvalid;
+using test::expectInvalidArgumentMentioning;
 using test::kEps;
 using test::kneeLikeRegressor;
 using test::kTol;
@@ -336,28 +336,28 @@ TEST(LadTest, RejectsBadInput) {
   std::mt19937_64 rng(3);
   const Eigen::MatrixXd A = kneeLikeRegressor(20, 3, rng);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(20);
-  expectInvalid([&] { solveLeastAbsoluteDeviations(A, Eigen::VectorXd::Ones(19)); },
+  expectInvalidArgumentMentioning([&] { solveLeastAbsoluteDeviations(A, Eigen::VectorXd::Ones(19)); },
                 "expected b of size 20 (the rows of A), got 19");
-  expectInvalid([&] { solveLeastAbsoluteDeviations(Eigen::MatrixXd(0, 3), Eigen::VectorXd(0)); },
+  expectInvalidArgumentMentioning([&] { solveLeastAbsoluteDeviations(Eigen::MatrixXd(0, 3), Eigen::VectorXd(0)); },
                 "A must have at least one row and one column, got 0 x 3");
   Eigen::MatrixXd A_nan = A;
   A_nan(4, 2) = std::numeric_limits<double>::quiet_NaN();
-  expectInvalid([&] { solveLeastAbsoluteDeviations(A_nan, b); }, "A(4, 2) is not finite, got nan");
+  expectInvalidArgumentMentioning([&] { solveLeastAbsoluteDeviations(A_nan, b); }, "A(4, 2) is not finite, got nan");
   Eigen::VectorXd b_inf = b;
   b_inf[7] = std::numeric_limits<double>::infinity();
-  expectInvalid([&] { solveLeastAbsoluteDeviations(A, b_inf); }, "b(7) is not finite, got inf");
+  expectInvalidArgumentMentioning([&] { solveLeastAbsoluteDeviations(A, b_inf); }, "b(7) is not finite, got inf");
 
   LadOptions options;
   options.gap_tolerance = 2.0;
-  expectInvalid([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got 2");
-  expectInvalid([&] { solveLeastAbsoluteDeviations(A, b, options); }, "'gap_tolerance'");
+  expectInvalidArgumentMentioning([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got 2");
+  expectInvalidArgumentMentioning([&] { solveLeastAbsoluteDeviations(A, b, options); }, "'gap_tolerance'");
   options.gap_tolerance = 0.0;
-  expectInvalid([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got 0");
+  expectInvalidArgumentMentioning([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got 0");
   options.gap_tolerance = std::numeric_limits<double>::quiet_NaN();
-  expectInvalid([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got nan");
+  expectInvalidArgumentMentioning([&] { options.validate(); }, "'gap_tolerance' must be in (0, 1), got nan");
   options = LadOptions{};
   options.max_iterations = 0;
-  expectInvalid([&] { options.validate(); }, "'max_iterations' must be >= 1, got 0");
+  expectInvalidArgumentMentioning([&] { options.validate(); }, "'max_iterations' must be >= 1, got 0");
   EXPECT_NO_THROW(LadOptions{}.validate());
 }
 

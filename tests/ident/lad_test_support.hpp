@@ -3,6 +3,7 @@
 // level computed independently of the solvers, the random draws, the knee-like regressor, and
 // the check for rejected input.
 #include "exoid/ident/lad.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -73,14 +74,5 @@ inline Eigen::VectorXd trueParameters(Eigen::Index p) {
   return x;
 }
 
-// Throws std::invalid_argument whose message contains `expected`.
-inline void expectInvalid(const std::function<void()>& call, const std::string& expected) {
-  try {
-    call();
-    ADD_FAILURE() << "expected std::invalid_argument containing \"" << expected << "\"";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-  }
-}
 
 }  // namespace exoid::test
