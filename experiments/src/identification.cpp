@@ -70,16 +70,9 @@ void checkPlausibility(MethodOutcome& out) {
 }  // namespace
 
 MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o) {
-  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
-  const Eigen::Index n = r.size();
-  Eigen::MatrixXd H(2 * n, kNumParams);
-  Eigen::VectorXd y(2 * n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    H.row(2 * i) = r.hip.row(i);
-    H.row(2 * i + 1) = r.knee.row(i);
-    y[2 * i] = r.tau_Nm(i, 0);
-    y[2 * i + 1] = r.tau_Nm(i, 1);
-  }
+  const ident::SegmentalProblem all = ident::bothEquations(r);
+  const Eigen::MatrixXd& H = all.H;
+  const Eigen::VectorXd& y = all.y;
   MethodOutcome out;
   out.method = m;
   Stage st{"all", range(0, kNumParams), ident::estimate(m, H, y, o)};

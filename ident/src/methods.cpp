@@ -14,6 +14,7 @@ const char* toString(Method m) {
     case Method::kPso: return "pso";
     case Method::kRlsPso: return "rls-pso";
     case Method::kLad: return "lad";
+    case Method::kIdimIv: return "idim-iv";
   }
   return "unknown";
 }
@@ -28,7 +29,8 @@ Method parseMethod(const std::string& name) {
   for (Method m : allMethods()) {
     if (name == toString(m)) return m;
   }
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso or lad)");
+  if (name == toString(Method::kIdimIv)) return Method::kIdimIv;
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad or idim-iv)");
 }
 
 void MethodOptions::validate() const {
@@ -54,6 +56,10 @@ void fromPso(Estimate& e, PsoResult&& pso) {
 Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                   const MethodOptions& o) {
   o.validate();
+  if (method == Method::kIdimIv) {
+    throw std::invalid_argument("idim-iv is not a method over y = H x alone: it simulates the model under the "
+                                "record's controller (identifySegmentalIv, identifyAllIv)");
+  }
   Estimate e;
   e.method = method;
   std::optional<LadResult> lad;
@@ -94,6 +100,7 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
       e.x = lad->x;
       e.summary = lad->summary;
       break;
+    case Method::kIdimIv: break;  // rejected above
   }
   e.l1_cost = (y - H * e.x).cwiseAbs().sum();
   const auto gap = [&](double optimum) { return optimum > 0.0 ? (e.l1_cost - optimum) / optimum : 0.0; };

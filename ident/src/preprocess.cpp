@@ -127,7 +127,13 @@ ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const Sig
   o.validate();
   if (o.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, o), c);
   const double fs = 1.0 / d.sampleInterval_s();
-  const JointSignals s = parallelStates(d, o, fs);
+  return parallelProcess(parallelStates(d, o, fs), c, o, fs);
+}
+
+ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, const SignalOptions& o,
+                                double sample_rate_hz) {
+  o.validate();
+  const double fs = sample_rate_hz;
   // Hip rows, knee rows and torques side by side: one filter pass over all 22 columns.
   Eigen::MatrixXd all(s.size(), 2 * kNumParams + 2);
   all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm;

@@ -5,6 +5,18 @@
 
 namespace exoid::ident {
 
+SegmentalProblem bothEquations(const ProcessedRecord& r) {
+  const Eigen::Index n = r.size();
+  SegmentalProblem p{Eigen::MatrixXd(2 * n, kNumParams), Eigen::VectorXd(2 * n)};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    p.H.row(2 * i) = r.hip.row(i);
+    p.H.row(2 * i + 1) = r.knee.row(i);
+    p.y[2 * i] = r.tau_Nm(i, 0);
+    p.y[2 * i + 1] = r.tau_Nm(i, 1);
+  }
+  return p;
+}
+
 SegmentalProblem kneeStage(const ProcessedRecord& r) {
   return {r.knee.middleCols(kShankFirst, kGroupSize), r.tau_Nm.col(1)};
 }

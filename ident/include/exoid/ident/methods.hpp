@@ -17,10 +17,14 @@ enum class Method {
   kPso,     ///< PSO over a wide box (the paper's "PSO" baseline)
   kRlsPso,  ///< RLS box + PSO (the paper's method)
   kLad,     ///< exact minimum of the L1 cost (reference the paper lacks)
+  /// Instrumental variables from closed-loop simulations of the model (idim_iv.hpp). Not a
+  /// method over y = H x alone: estimate() rejects it; it needs records and their controller.
+  kIdimIv,
 };
-const char* toString(Method m);  ///< "ls", "rls", "pso", "rls-pso", "lad"
-/// Parses a method name; throws std::invalid_argument listing the valid names.
+const char* toString(Method m);  ///< "ls", "rls", "pso", "rls-pso", "lad", "idim-iv"
+/// Parses a method name (allMethods() or "idim-iv"); throws std::invalid_argument listing them.
 Method parseMethod(const std::string& name);
+/// The methods over a linear problem y = H x (estimate() runs them): all but kIdimIv.
 const std::vector<Method>& allMethods();
 
 struct MethodOptions {

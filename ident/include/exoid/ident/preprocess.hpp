@@ -87,5 +87,10 @@ ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
 /// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
 /// prepareSignals does.
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
+/// The parallel filtering and decimation of states sampled at sample_rate_hz (whatever
+/// o.processing says): the rows processRecord gives for kParallel once it has the states. Rows
+/// align with processRecord's for a record of the same length and rate (IDIM-IV's instruments).
+ProcessedRecord parallelProcess(const JointSignals& states, const LegConstants& c, const SignalOptions& o,
+                                double sample_rate_hz);
 
 }  // namespace exoid::ident

@@ -13,6 +13,9 @@ struct SegmentalProblem {
   Eigen::MatrixXd H;  ///< N x 5
   Eigen::VectorXd y;  ///< N
 };
+/// Both equations of a record, all 10 columns, in time order: row 2i is sample i's hip equation,
+/// 2i+1 its knee equation (so RLS sees the record in order).
+SegmentalProblem bothEquations(const ProcessedRecord& record);
 /// Stage 1: knee equation of the knee record, columns 6-10.
 SegmentalProblem kneeStage(const ProcessedRecord& knee_record);
 /// Stage 2: hip equation of the two-joint record, columns 1-5, with the knee part subtracted.

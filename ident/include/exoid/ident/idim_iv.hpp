@@ -1,0 +1,75 @@
+#pragma once
+// IDIM-IV (Janot, Vandanjon, Gautier, IEEE TCST 2014): instrumental variables whose instruments
+// are the regressor of a closed-loop simulation of the model identified at the previous
+// iteration. The simulated states carry the motion but none of the measurement noise, so the
+// estimate loses the bias that noisy regressor columns (differentiated encoder noise) give LS;
+// the measured torque stays the output. Starts from LS; iterates until the step is a small
+// fraction of each parameter's standard error.
+#include "exoid/ident/closed_loop.hpp"
+#include "exoid/ident/methods.hpp"
+#include "exoid/ident/preprocess.hpp"
+#include "exoid/ident/segmental.hpp"
+
+#include <functional>
+#include <vector>
+
+namespace exoid::ident {
+
+/// x = (Z^T H)^{-1} Z^T y by column-pivoted QR of the column-scaled Z^T H. Status kRankDeficient
+/// when Z^T H is singular at LsOptions::rank_tolerance (instruments that do not excite a column).
+/// Throws std::invalid_argument on size mismatch or non-finite input.
+Estimate instrumentalVariables(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::MatrixXd& Z,
+                               const LsOptions& options = {});
+
+struct IvOptions {
+  /// Stop when every parameter moved by less than step_tolerance of its standard error (IV
+  /// covariance from the residual). Range (0, 1). Default 0.01: further steps change nothing the
+  /// data can resolve.
+  double step_tolerance = 0.01;
+  /// Iteration limit, >= 1. Default 10 (the method's authors report 2-5).
+  int max_iterations = 10;
+  LsOptions ls;  ///< rank tolerance for the starting LS and every IV solve
+  void validate() const;  ///< throws std::invalid_argument naming the field
+};
+
+/// The instruments' regressor (same rows and columns as H) for parameters x; ok = false with a
+/// message when the model x cannot produce them (e.g. it cannot be simulated).
+struct Instruments {
+  bool ok = false;
+  std::string message;
+  Eigen::MatrixXd Z;
+};
+using InstrumentFn = std::function<Instruments(const Eigen::VectorXd& x)>;
+
+/// The iteration on y = H x: x0 = LS, x_{k+1} = IV(H, y, Z(x_k)). Estimate::summary.iterations
+/// counts IV solves; cost_history holds max_i |step_i| / se_i per iteration. Status kFailed (with
+/// the instruments' message) if an iterate cannot be simulated, kMaxIterations if the steps did
+/// not settle.
+Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const InstrumentFn& instruments,
+                                      const IvOptions& options = {});
+
+/// One record as IDIM-IV needs it: its measured rows and what reproduces its motion.
+struct ClosedLoopRecord {
+  ProcessedRecord measured;  ///< parallelProcess of the measured record (processRecord, kParallel)
+  Reference reference;       ///< the controller's reference, full length at the record's rate
+  ControllerModel controller;
+};
+
+/// The instrument rows of a record for parameters x: the closed-loop simulation of x, processed
+/// by parallelProcess with the measured record's options (so rows align with `measured`).
+Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
+                             const SignalOptions& signals, ProcessedRecord& out);
+
+/// IDIM-IV with the segmental strategy: knee parameters from the knee record (its instruments from
+/// the simulated knee record), then hip parameters from the two-joint record with the knee part
+/// subtracted. Requires signals.processing == kParallel (instruments and measurements must be
+/// processed alike). `x_start` supplies the parameters a stage does not estimate when it
+/// simulates (the hip's, in the knee stage; irrelevant when the hip is locked).
+SegmentalResult identifySegmentalIv(const ClosedLoopRecord& knee_record, const ClosedLoopRecord& both_record,
+                                    const LegConstants& c, const SignalOptions& signals, const IvOptions& options,
+                                    const ParamVector& x_start = ParamVector::Zero());
+/// IDIM-IV on both equations of one record, all 10 parameters.
+Estimate identifyAllIv(const ClosedLoopRecord& record, const LegConstants& c, const SignalOptions& signals,
+                       const IvOptions& options);
+
+}  // namespace exoid::ident
