@@ -107,6 +107,32 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
   return identifySegmented(m, ident::regressorRecord(knee_record, c), ident::regressorRecord(both_record, c), o);
 }
 
+MethodOutcome identifySegmentedIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+                                  const ident::LegConstants& c, const ident::SignalOptions& signals,
+                                  const ident::IvOptions& options) {
+  MethodOutcome out;
+  out.method = ident::Method::kIdimIv;
+  const ident::SegmentalResult r = ident::identifySegmentalIv(knee_record, both_record, c, signals, options);
+  out.x = r.x;
+  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
+  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
+  for (Stage& st : out.stages) nameColumns(st);
+  checkPlausibility(out);
+  return out;
+}
+
+MethodOutcome identifyAllIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+                            const ident::SignalOptions& signals, const ident::IvOptions& options) {
+  MethodOutcome out;
+  out.method = ident::Method::kIdimIv;
+  Stage st{"all", range(0, kNumParams), ident::identifyAllIv(record, c, signals, options)};
+  nameColumns(st);
+  out.x = st.estimate.x;
+  out.stages.push_back(std::move(st));
+  checkPlausibility(out);
+  return out;
+}
+
 Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x) {
   return {ident::torqueError(r.tau_Nm.col(0), r.hip * x), ident::torqueError(r.tau_Nm.col(1), r.knee * x)};
 }

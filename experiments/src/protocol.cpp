@@ -1,5 +1,6 @@
 #include "exoid/experiments/protocol.hpp"
 
+#include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/ident/noise_covariance.hpp"
 #include "exoid/ident/random.hpp"
@@ -19,13 +20,16 @@ const char* toString(Variant v) {
     case Variant::kLad: return "lad";
     case Variant::kLsExact: return "ls-exact";
     case Variant::kLsStacked: return "ls-stacked";
+    case Variant::kLsParallel: return "ls-parallel";
+    case Variant::kIdimIv: return "idim-iv";
   }
   return "unknown";
 }
 
 const std::vector<Variant>& allVariants() {
   static const std::vector<Variant> all = {Variant::kLs,  Variant::kRls,     Variant::kPso,      Variant::kRlsPso,
-                                           Variant::kLad, Variant::kLsExact, Variant::kLsStacked};
+                                           Variant::kLad, Variant::kLsExact, Variant::kLsStacked,
+                                           Variant::kLsParallel, Variant::kIdimIv};
   return all;
 }
 
@@ -33,7 +37,7 @@ Variant parseVariant(const std::string& name) {
   for (Variant v : allVariants()) {
     if (name == toString(v)) return v;
   }
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact or ls-stacked)");
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel or idim-iv)");
 }
 
 void ProtocolConfig::validate() const {
@@ -44,7 +48,14 @@ void ProtocolConfig::validate() const {
                                 "a parallel-processing arm is not part of it yet");
   }
   methods.validate();
+  iv.validate();
   if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
+}
+
+ident::SignalOptions parallelSignals(const ident::SignalOptions& paper) {
+  ident::SignalOptions o = paper;
+  o.processing = ident::Processing::kParallel;
+  return o;
 }
 
 std::uint64_t recordSeed(std::uint64_t seed, int trajectory) {
@@ -79,6 +90,10 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     const Eigen::Index trim = c.signals.edgeTrimSamples(1.0 / r.data.sampleInterval_s());
     r.exact_q.tau_Nm = r.data.tau_Nm.middleRows(trim, r.exact_q.size());
     r.ideal = alignedExact(r.data, "ideal", c.signals);
+    const ident::LegConstants lc = constantsOf(r.sim.truth);
+    r.closed_loop.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals));
+    r.closed_loop.reference = referenceOf(r.data, "record " + std::to_string(k + 1));
+    r.closed_loop.controller = controllerOf(sc, k < 2);
   }
   return out;
 }
@@ -102,8 +117,12 @@ Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc) {
 namespace {
 
 MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
-                         const ident::MethodOptions& o) {
+                         const ProtocolConfig& c, const ident::MethodOptions& o) {
   switch (v) {
+    case Variant::kLsParallel:
+      return identifySegmented(ident::Method::kLs, r[0].closed_loop.measured, r[2].closed_loop.measured, o);
+    case Variant::kIdimIv:
+      return identifySegmentedIv(r[0].closed_loop, r[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
     case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
     case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
     case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);
@@ -135,19 +154,25 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
 Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
                          const ident::SignalOptions& signals, double sigma_Nm) {
   const bool exact = v == Variant::kLsExact;
+  const bool parallel = v == Variant::kLsParallel || v == Variant::kIdimIv;
+  const ident::SignalOptions path_signals = parallel ? parallelSignals(signals) : signals;
   // The torque noise path of record k: the variant's processing of a raw record of its length.
   const auto path = [&](int k) {
     const ident::Dataset& d = r[static_cast<std::size_t>(k)].data;
     const double fs = 1.0 / d.sampleInterval_s();
     return exact ? ident::rawTorquePath(d.size(), signals.edgeTrimSamples(fs))
-                 : ident::torqueNoisePath(signals, fs, d.size());
+                 : ident::torqueNoisePath(path_signals, fs, d.size());
   };
-  const ident::JointSignals& s1 = exact ? r[0].exact_q : r[0].processed;
-  const ident::JointSignals& s3 = exact ? r[2].exact_q : r[2].processed;
-  const Eigen::MatrixXd K1 = ident::jointRegressor(s1, ident::Joint::kKnee, lc);
-  const Eigen::MatrixXd H3 = ident::jointRegressor(s3, ident::Joint::kHip, lc);
+  // The fitted rows: the parallel arms fit the filtered, decimated columns themselves.
+  const auto rows = [&](int k, ident::Joint joint) -> Eigen::MatrixXd {
+    const Record& rec = r[static_cast<std::size_t>(k)];
+    if (parallel) return joint == ident::Joint::kHip ? rec.closed_loop.measured.hip : rec.closed_loop.measured.knee;
+    return ident::jointRegressor(exact ? rec.exact_q : rec.processed, joint, lc);
+  };
+  const Eigen::MatrixXd K1 = rows(0, ident::Joint::kKnee);
+  const Eigen::MatrixXd H3 = rows(2, ident::Joint::kHip);
   if (v == Variant::kLsStacked) {
-    const Eigen::MatrixXd K3 = ident::jointRegressor(s3, ident::Joint::kKnee, lc);
+    const Eigen::MatrixXd K3 = rows(2, ident::Joint::kKnee);
     return ident::stdOf(ident::lsNoiseCovariance({{K1, path(0), sigma_Nm}, {H3, path(2), sigma_Nm}, {K3, path(2), sigma_Nm}}));
   }
   const ident::NoiseChannel knee{K1.middleCols(ident::kShankFirst, ident::kGroupSize), path(0), sigma_Nm};
@@ -168,7 +193,7 @@ ProtocolResult runProtocol(const ProtocolConfig& c) {
   for (Variant v : c.variants) {
     VariantScore s;
     s.variant = v;
-    s.outcome = runVariant(v, res.records, lc, o);
+    s.outcome = runVariant(v, res.records, lc, c, o);
     const Eigen::MatrixX2d knee_pred = ident::predictTorque(res.records[1].processed, s.outcome.x, lc);
     const Eigen::MatrixX2d hip_pred = ident::predictTorque(res.records[3].processed, s.outcome.x, lc);
     s.knee_validation = ident::torqueError(res.records[1].processed.tau_Nm.col(1), knee_pred.col(1));

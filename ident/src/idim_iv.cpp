@@ -111,8 +111,8 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
     }
     const Eigen::VectorXd se = ivStandardErrors(H, y, z.Z, iv.x);
     // Each step in units of the parameter's standard error; the floor keeps noise-free data
-    // (se = 0) from demanding steps below roundoff.
-    const Eigen::VectorXd floor = Eigen::VectorXd::Constant(se.size(), 1e-12 * iv.x.cwiseAbs().maxCoeff());
+    // (se = 0) from demanding steps below roundoff times the conditioning of Z^T H (~1e-10).
+    const Eigen::VectorXd floor = Eigen::VectorXd::Constant(se.size(), 1e-8 * iv.x.cwiseAbs().maxCoeff());
     const double step = ((iv.x - e.x).cwiseAbs().array() / (se + floor).array()).maxCoeff();
     e.x = iv.x;
     e.condition_number = iv.condition_number;
@@ -134,7 +134,8 @@ Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const 
     z.message = "the model cannot be simulated under the controller: " + run.message;
     return z;
   }
-  const double fs = static_cast<double>(r.reference.size() - 1) / (r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]);
+  // The rate exactly as processRecord computes it from the record's timestamps.
+  const double fs = 1.0 / ((r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]) / static_cast<double>(r.reference.size() - 1));
   out = parallelProcess(run.states, c, signals, fs);
   if (out.size() != r.measured.size()) {
     throw std::invalid_argument("IDIM-IV: the reference has " + std::to_string(r.reference.size()) +

@@ -12,7 +12,8 @@ const char* toString(Processing p) { return p == Processing::kParallel ? "parall
 int SignalOptions::decimationFactor(double sample_rate_hz) const {
   if (decimation > 0) return decimation;
   if (!filter) return 1;  // no anti-aliasing filter: keep every row
-  return std::max(1, static_cast<int>(std::floor(sample_rate_hz / (5.0 * cutoff_hz))));
+  // The relative 1e-9 keeps a rate computed as 999.9999999 Hz from 1 kHz timestamps at factor 20.
+  return std::max(1, static_cast<int>(std::floor(sample_rate_hz / (5.0 * cutoff_hz) * (1.0 + 1e-9))));
 }
 
 void SignalOptions::validate() const {

@@ -366,6 +366,13 @@ struct Simulator::Impl {
     meta("vibration_level", num(cfg.variant.vibration_level));
     meta("cylinder_mass_scale", num(cfg.variant.cylinder_mass_scale));
     meta("feedforward", cfg.feedforward ? "true" : "false");
+    // The tracking law, so that methods that simulate the closed loop (IDIM-IV) can rebuild it.
+    const auto pair = [](const Eigen::Vector2d& v) { return num(v[0]) + "," + num(v[1]); };
+    meta("controller_kp_Nm_per_rad", pair(cfg.gains.kp_Nm_per_rad));
+    meta("controller_ki_Nm_per_rad_s", pair(cfg.gains.ki_Nm_per_rad_s));
+    meta("controller_kd_Nms_per_rad", pair(cfg.gains.kd_Nms_per_rad));
+    meta("controller_derivative_cutoff_Hz", num(cfg.gains.derivative_cutoff_Hz));
+    meta("controller_integral_limit_Nm", num(cfg.gains.integral_limit_Nm));
     meta("hip_actuator_bandwidth_Hz", num(cfg.actuators.hip_bandwidth_Hz));
     meta("knee_actuator_bandwidth_Hz", num(cfg.actuators.knee_bandwidth_Hz));
     meta("torque_sensor_bandwidth_Hz", num(cfg.sensors.tau_bandwidth_Hz));

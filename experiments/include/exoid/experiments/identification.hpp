@@ -1,6 +1,7 @@
 #pragma once
 // Identification runs as the CLI and the experiments use them: one method on one record (all
 // 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
+#include "exoid/ident/idim_iv.hpp"
 #include "exoid/ident/methods.hpp"
 #include "exoid/ident/metrics.hpp"
 #include "exoid/ident/preprocess.hpp"
@@ -43,6 +44,13 @@ MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& k
 MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
                                 const ident::JointSignals& both_record, const ident::LegConstants& c,
                                 const ident::MethodOptions& o);
+/// IDIM-IV with the segmental strategy (ident::identifySegmentalIv): stages "knee" and "hip".
+MethodOutcome identifySegmentedIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+                                  const ident::LegConstants& c, const ident::SignalOptions& signals,
+                                  const ident::IvOptions& options);
+/// IDIM-IV on both equations of one record, all 10 parameters (stage "all").
+MethodOutcome identifyAllIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+                            const ident::SignalOptions& signals, const ident::IvOptions& options);
 
 /// Per-joint validation torque errors of X on a record.
 struct Validation {

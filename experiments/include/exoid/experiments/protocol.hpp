@@ -4,6 +4,7 @@
 // from 3), validate (knee on 2, hip on 4), and score against the truths. `exoid reproduce` runs
 // it once and reports; `exoid sweep` runs it over a grid of conditions and seeds.
 #include "exoid/experiments/identification.hpp"
+#include "exoid/ident/idim_iv.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/sim/simulate.hpp"
 
@@ -24,8 +25,11 @@ enum class Variant {
   kLad,        ///< exact minimum of the paper's L1 cost (segmental)
   kLsExact,    ///< LS with the exact q, qd, qdd columns and the raw measured torque (segmental)
   kLsStacked,  ///< LS on record 1's knee equation and both of record 3's, all 10 at once
+  kLsParallel,  ///< LS, parallel filtering and decimation (Gautier; exoid identify's default), segmental
+  kIdimIv,      ///< IDIM-IV on the parallel-processed records, segmental
 };
-const char* toString(Variant v);  ///< "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked"
+/// "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv"
+const char* toString(Variant v);
 Variant parseVariant(const std::string& name);
 const std::vector<Variant>& allVariants();
 
@@ -34,6 +38,7 @@ struct ProtocolConfig {
   std::uint64_t seed = 1;          ///< sim seeds and PSO seeds derive from it
   ident::SignalOptions signals;    ///< paper defaults: forward differences, 10 Hz zero-phase filter
   ident::MethodOptions methods;    ///< paper defaults: G = 10000, cost < 1e-2
+  ident::IvOptions iv;             ///< IDIM-IV's stopping rule
   std::vector<Variant> variants = allVariants();
   void validate() const;
 };
@@ -46,7 +51,13 @@ struct Record {
   ident::JointSignals processed;  ///< measured signals after the paper's processing
   ident::JointSignals exact_q;    ///< exact q, qd, qdd with the raw measured torque (same trim)
   ident::JointSignals ideal;      ///< exact states with the ideal (vibration-free) torques
+  /// Parallel-processed rows (parallelSignals) with the reference and controller of the run.
+  ident::ClosedLoopRecord closed_loop;
 };
+
+/// The parallel arms' processing: the paper's filter (order, cutoff, edge trim) applied in
+/// parallel to the torque and every regressor column, then decimated (ident::Processing::kParallel).
+ident::SignalOptions parallelSignals(const ident::SignalOptions& paper);
 
 struct Truths {
   ident::ParamVector rigid;     ///< bare rigid links
