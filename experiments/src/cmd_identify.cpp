@@ -1,11 +1,13 @@
 // `exoid identify`: identify the 10 parameters from CSV logs with one or more methods.
 #include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/preprocess.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -21,8 +23,21 @@ struct IdentifyArgs {
   ConstantsFlags constants;
   ident::SignalOptions signals = defaultIdentifySignals();
   ident::MethodOptions methods_options;
+  ident::IvOptions iv;
+  std::string controller;  ///< JSON of the rig's controller (IDIM-IV); default: the records' metadata
   bool history = false;
 };
+
+// What IDIM-IV needs of a record besides its rows: the reference and the controller it tracked.
+ident::ClosedLoopRecord closedLoop(const IdentifyArgs& a, const std::string& file, const ident::Dataset& d,
+                                   const ident::ProcessedRecord& rows, bool knee_only_record) {
+  ident::ClosedLoopRecord r;
+  r.measured = rows;
+  r.controller = a.controller.empty() ? controllerFromMetadata(d, file) : readControllerJson(a.controller);
+  r.reference = referenceOf(d, file);
+  if (knee_only_record) r.controller.locked = {true, false};  // the segmental strategy's knee record: hip fixed
+  return r;
+}
 
 std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names) {
   std::vector<ident::Method> out;
@@ -119,6 +134,11 @@ void run(const IdentifyArgs& a) {
   }
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   a.methods_options.validate();
+  a.iv.validate();
+  const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
+  if (iv && a.signals.processing != ident::Processing::kParallel) {
+    throw CLI::ValidationError("--method idim-iv", "needs '--processing parallel' (the default): its instruments are processed like the measured rows");
+  }
   std::map<std::string, ident::ParamVector> truths;
   if (!a.truth.empty()) truths = readTruthFile(a.truth);
 
@@ -127,10 +147,25 @@ void run(const IdentifyArgs& a) {
   const ident::LegConstants c = resolveConstants(a.constants, primary, &constants_origin);
   const ident::ProcessedRecord r_primary = ident::processRecord(primary, c, a.signals);
   ident::ProcessedRecord r_knee;
-  if (segmental) r_knee = ident::processRecord(ident::readDatasetCsv(a.knee_data), c, a.signals);
+  ident::Dataset knee_data;
+  if (segmental) {
+    knee_data = ident::readDatasetCsv(a.knee_data);
+    r_knee = ident::processRecord(knee_data, c, a.signals);
+  }
+  // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
+  ident::ClosedLoopRecord cl_primary, cl_knee;
+  if (iv) {
+    cl_primary = closedLoop(a, single ? a.data : a.both_data, primary, r_primary, false);
+    if (segmental) cl_knee = closedLoop(a, a.knee_data, knee_data, r_knee, true);
+  }
 
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) {
+    if (m == ident::Method::kIdimIv) {
+      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv)
+                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
+      continue;
+    }
     outcomes.push_back(single ? identifyAll(m, r_primary, a.methods_options)
                               : identifySegmented(m, r_knee, r_primary, a.methods_options));
   }
@@ -198,8 +233,20 @@ void addIdentifyCommand(CLI::App& app) {
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing")
       ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--method", args->methods, "ls, rls, pso, rls-pso, lad, or all (repeatable)")
+  cmd->add_option("--method", args->methods,
+                  "ls, rls, pso, rls-pso, lad, idim-iv, or all (= all but idim-iv) (repeatable). idim-iv needs the\n"
+                  "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
+                  "'# controller_*' metadata exoid simulate writes)")
       ->capture_default_str()->delimiter(',')->group("Input");
+  cmd->add_option("--controller", args->controller,
+                  "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
+                  "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
+                  "\"hip_locked\": false}; default: the records' metadata")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--iv-tolerance", args->iv.step_tolerance, "IDIM-IV: stop when every step < this many standard errors, (0, 1)")
+      ->capture_default_str()->group("Identification");
+  cmd->add_option("--iv-max-iterations", args->iv.max_iterations, "IDIM-IV: iteration limit, >= 1")
+      ->capture_default_str()->group("Identification");
   cmd->add_option("--validate", args->validate, "Validation record(s): torque error per joint (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--truth", args->truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")

@@ -107,7 +107,7 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
   return identifySegmented(m, ident::regressorRecord(knee_record, c), ident::regressorRecord(both_record, c), o);
 }
 
-MethodOutcome identifySegmentedIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
                                   const ident::LegConstants& c, const ident::SignalOptions& signals,
                                   const ident::IvOptions& options) {
   MethodOutcome out;
@@ -121,7 +121,7 @@ MethodOutcome identifySegmentedIv(const ident::ClosedLoopRecord& knee_record, co
   return out;
 }
 
-MethodOutcome identifyAllIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
                             const ident::SignalOptions& signals, const ident::IvOptions& options) {
   MethodOutcome out;
   out.method = ident::Method::kIdimIv;
@@ -205,7 +205,10 @@ nlohmann::json toJson(const Stage& s, bool with_history) {
     j["optimum_box_l1_cost"] = *e.optimum_box_l1_cost;
     j["optimality_gap_box_rel"] = *e.optimality_gap_box_rel;
   }
-  if (!e.cost_history.empty()) {
+  if (e.method == ident::Method::kIdimIv) {
+    // IDIM-IV's history is its steps, in standard errors of each parameter (largest over them).
+    j["iv_steps_in_standard_errors"] = e.cost_history;
+  } else if (!e.cost_history.empty()) {
     j["initial_cost"] = e.summary.initial_cost;
     if (with_history) j["best_cost_history"] = e.cost_history;
   }

@@ -122,7 +122,7 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
     case Variant::kLsParallel:
       return identifySegmented(ident::Method::kLs, r[0].closed_loop.measured, r[2].closed_loop.measured, o);
     case Variant::kIdimIv:
-      return identifySegmentedIv(r[0].closed_loop, r[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
+      return identifySegmentedIdimIv(r[0].closed_loop, r[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
     case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
     case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
     case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);

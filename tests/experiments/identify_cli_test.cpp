@@ -1,5 +1,6 @@
 // `exoid identify` end to end on CSV logs written from an independent 2-link dynamics.
 #include "cli_test_support.hpp"
+#include "exoid/ident/closed_loop.hpp"
 #include "exoid/ident/dataset.hpp"
 
 #include "../ident/test_support.hpp"
@@ -166,6 +167,90 @@ TEST(IdentifiabilityCli, ReportsRankDeficientHipOnTrajectory1) {
   EXPECT_LT(j["blocks"][1]["rank"].get<int>(), 5);  // hip equation, params 1-5
   EXPECT_FALSE(j["blocks"][1]["unidentifiable"].empty());
   EXPECT_EQ(j["blocks"][2]["rank"], 5);  // knee equation
+}
+
+}  // namespace
+}  // namespace exoid::experiments
+
+namespace exoid::experiments {
+namespace {
+
+// A closed-loop log as a real rig would write it: angles, torques, derivatives, the reference,
+// from the rigid leg simulated under a PD + model feedforward controller (ident::simulateClosedLoop).
+std::string writeClosedLoopRecord(const std::string& name, const ident::ControllerModel& ctl) {
+  const Eigen::Index n = 6001;
+  Eigen::VectorXd t(n);
+  Eigen::MatrixX2d q_ref(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double s = 1e-3 * static_cast<double>(i);
+    t[i] = s;
+    q_ref.row(i) << -0.5 + 0.4 * std::sin(2 * M_PI * 0.5 * s) + 0.1 * std::sin(2 * M_PI * 1.3 * s),
+        1.0 + 0.5 * std::sin(2 * M_PI * 0.7 * s + 0.4) + 0.1 * std::sin(2 * M_PI * 1.9 * s);
+  }
+  const ident::ClosedLoopRun run = ident::simulateClosedLoop(ident::toParamVector(ident::defaultLeg()), {0.45, 9.81}, ctl,
+                                                             ident::referenceFromAngles(t, q_ref));
+  EXPECT_TRUE(run.ok) << run.message;
+  ident::Dataset d;
+  d.comments = {" thigh_length_m: 0.45", " gravity_mps2: 9.81"};
+  d.t_s = t;
+  d.q_rad = run.states.q_rad;
+  d.tau_Nm = run.states.tau_Nm;
+  d.qd_radps = run.states.qd_radps;
+  d.qdd_radps2 = run.states.qdd_radps2;
+  d.extra_names = {"q_hip_ref", "q_knee_ref"};
+  d.extra = q_ref;
+  const std::string path = ::testing::TempDir() + "/" + name;
+  ident::writeDatasetCsv(d, path);
+  return path;
+}
+
+TEST(IdentifyCli, IdimIvOnAClosedLoopLogWithADescribedController) {
+  ident::ControllerModel ctl;
+  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
+  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
+  ctl.pid.derivative_cutoff_hz = 100.0;
+  const std::string csv = writeClosedLoopRecord("closed_loop.csv", ctl);
+  const std::string controller = ::testing::TempDir() + "/controller.json";
+  std::ofstream(controller) << R"({"kp": [2200, 380], "kd": [176, 30], "derivative_cutoff_hz": 100, "feedforward": "model"})";
+  const std::string out = ::testing::TempDir() + "/closed_loop.json";
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "idim-iv", "--controller", controller, "--json", out}), 0);
+  const nlohmann::json j = readJson(out);
+  // tau = Y x exactly at the recorded states: exact whatever the instruments (1e-6 promised).
+  const ident::ParamVector truth = ident::toParamVector(ident::defaultLeg());
+  for (int i = 0; i < ident::kNumParams; ++i) {
+    const std::string n(ident::paramName(i));
+    EXPECT_NEAR(j["parameters"][n].get<double>(), truth[i], 1e-6 * std::abs(truth[i])) << n;
+  }
+  EXPECT_LE(j["methods"]["idim-iv"]["stages"][0]["iterations"].get<int>(), 2);
+  EXPECT_TRUE(j["methods"]["idim-iv"]["stages"][0].contains("iv_steps_in_standard_errors"));
+}
+
+TEST(IdentifyCli, IdimIvSaysWhatItNeeds) {
+  ident::ControllerModel ctl;
+  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
+  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
+  const std::string csv = writeClosedLoopRecord("closed_loop_b.csv", ctl);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", "idim-iv"}), 1);  // no controller anywhere
+  std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("controller_kp_Nm_per_rad"), std::string::npos) << err;
+  EXPECT_NE(err.find("--controller"), std::string::npos) << err;
+  const std::string no_ref = writeRecord(3, true, "traj3_no_ref.csv");
+  const std::string controller = ::testing::TempDir() + "/controller_b.json";
+  std::ofstream(controller) << R"({"kp": [2200, 380], "kd": [176, 30], "gain": 1})";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", no_ref, "--method", "idim-iv", "--controller", controller}), 1);
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("unknown field 'gain'"), std::string::npos) << err;
+  std::ofstream(controller) << R"({"kp": [2200, 380], "kd": [176, 30]})";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", no_ref, "--method", "idim-iv", "--controller", controller}), 1);
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("q_hip_ref"), std::string::npos) << err;
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"identify", "--data", csv, "--method", "idim-iv", "--processing", "paper", "--controller", controller}), 0);
+  err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("--processing parallel"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 // The protocol's parallel-processing arms (ls-parallel, idim-iv) against the simulator's truth:
 // exact on noise-free records of the rigid leg, and on noisy records scattered as the bound says.
+#include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/protocol.hpp"
 #include "exoid/ident/noise_covariance.hpp"
 
@@ -52,7 +53,7 @@ TEST(ParallelArms, ExactOnNoiseFreeSimulatorRecordsWithTheirDerivatives) {
   ident::MethodOptions mo;
   mo.report_optimality_gap = false;
   const MethodOutcome ls = identifySegmented(ident::Method::kLs, r.records[0].closed_loop.measured, r.records[2].closed_loop.measured, mo);
-  const MethodOutcome iv = identifySegmentedIv(r.records[0].closed_loop, r.records[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
+  const MethodOutcome iv = identifySegmentedIdimIv(r.records[0].closed_loop, r.records[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
   for (const MethodOutcome* m : {&ls, &iv}) {
     ASSERT_TRUE(m->usable()) << m->problems();
     for (int i = 0; i < ident::kNumParams; ++i) {
@@ -145,6 +146,25 @@ TEST(ParallelArms, IdimIvRemovesTheBiasEncoderNoiseGivesLeastSquaresInClosedLoop
   // The finding IV answers: LS's knee inertial parameters are off by more than their band.
   for (int i : {ident::kMxs, ident::kMys, ident::kJs}) {
     EXPECT_GT(std::abs(ls.mean[i]), kZ99 * ls.sd[i] / std::sqrt(double(kSeeds))) << ident::paramName(i);
+  }
+}
+
+TEST(ParallelArms, SimulatedRecordsCarryTheirControllerForIdimIv) {
+  // What exoid simulate writes is what the protocol uses: the metadata rebuild the same law.
+  ProtocolConfig c = rigidLeg(1.0);
+  c.variants = {Variant::kLsParallel};
+  const ProtocolResult r = runProtocol(c);
+  for (int k : {0, 2}) {
+    const ident::ControllerModel m = controllerFromMetadata(r.records[static_cast<std::size_t>(k)].data, "record");
+    const ident::ControllerModel& p = r.records[static_cast<std::size_t>(k)].closed_loop.controller;
+    EXPECT_EQ(m.pid.kp_Nm_per_rad, p.pid.kp_Nm_per_rad);
+    EXPECT_EQ(m.pid.ki_Nm_per_rad_s, p.pid.ki_Nm_per_rad_s);
+    EXPECT_EQ(m.pid.kd_Nms_per_rad, p.pid.kd_Nms_per_rad);
+    EXPECT_EQ(m.pid.derivative_cutoff_hz, p.pid.derivative_cutoff_hz);
+    EXPECT_EQ(m.pid.integral_limit_Nm, p.pid.integral_limit_Nm);
+    EXPECT_EQ(m.feedforward, ident::Feedforward::kModel);
+    EXPECT_EQ(m.locked[0], k == 0);  // trajectory 1 holds the hip, 3 swings it
+    EXPECT_EQ(p.locked[0], k == 0);
   }
 }
 

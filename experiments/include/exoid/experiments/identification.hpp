@@ -45,11 +45,11 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
                                 const ident::JointSignals& both_record, const ident::LegConstants& c,
                                 const ident::MethodOptions& o);
 /// IDIM-IV with the segmental strategy (ident::identifySegmentalIv): stages "knee" and "hip".
-MethodOutcome identifySegmentedIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
                                   const ident::LegConstants& c, const ident::SignalOptions& signals,
                                   const ident::IvOptions& options);
 /// IDIM-IV on both equations of one record, all 10 parameters (stage "all").
-MethodOutcome identifyAllIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
                             const ident::SignalOptions& signals, const ident::IvOptions& options);
 
 /// Per-joint validation torque errors of X on a record.
