@@ -56,7 +56,7 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_option("--out", args->out.dir, "Results folder")->capture_default_str();
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
-  cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv")->delimiter(',');
+  cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base")->delimiter(',');
   addSimOptions(*cmd, args->config.sim, /*choose_trajectory=*/false);  // the protocol runs 1-4
   addSignalOptions(*cmd, args->config.signals);
   addMethodOptions(*cmd, args->config.methods);

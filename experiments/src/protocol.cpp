@@ -22,6 +22,8 @@ const char* toString(Variant v) {
     case Variant::kLsStacked: return "ls-stacked";
     case Variant::kLsParallel: return "ls-parallel";
     case Variant::kIdimIv: return "idim-iv";
+    case Variant::kLsBase: return "ls-base";
+    case Variant::kIdimIvBase: return "idim-iv-base";
   }
   return "unknown";
 }
@@ -29,7 +31,7 @@ const char* toString(Variant v) {
 const std::vector<Variant>& allVariants() {
   static const std::vector<Variant> all = {Variant::kLs,  Variant::kRls,     Variant::kPso,      Variant::kRlsPso,
                                            Variant::kLad, Variant::kLsExact, Variant::kLsStacked,
-                                           Variant::kLsParallel, Variant::kIdimIv};
+                                           Variant::kLsParallel, Variant::kIdimIv, Variant::kLsBase, Variant::kIdimIvBase};
   return all;
 }
 
@@ -37,7 +39,7 @@ Variant parseVariant(const std::string& name) {
   for (Variant v : allVariants()) {
     if (name == toString(v)) return v;
   }
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel or idim-iv)");
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base or idim-iv-base)");
 }
 
 void ProtocolConfig::validate() const {
@@ -52,9 +54,10 @@ void ProtocolConfig::validate() const {
   if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
 }
 
-ident::SignalOptions parallelSignals(const ident::SignalOptions& paper) {
+ident::SignalOptions parallelSignals(const ident::SignalOptions& paper, bool base_terms) {
   ident::SignalOptions o = paper;
   o.processing = ident::Processing::kParallel;
+  o.base_terms = base_terms ? ident::BaseTerms::kOn : ident::BaseTerms::kOff;
   return o;
 }
 
@@ -94,6 +97,8 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.closed_loop.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals));
     r.closed_loop.reference = referenceOf(r.data, "record " + std::to_string(k + 1));
     r.closed_loop.controller = controllerOf(sc, k < 2);
+    r.closed_loop_base = r.closed_loop;
+    r.closed_loop_base.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals, true));
   }
   return out;
 }
@@ -123,6 +128,10 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
       return identifySegmented(ident::Method::kLs, r[0].closed_loop.measured, r[2].closed_loop.measured, o);
     case Variant::kIdimIv:
       return identifySegmentedIdimIv(r[0].closed_loop, r[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
+    case Variant::kLsBase:
+      return identifySegmented(ident::Method::kLs, r[0].closed_loop_base.measured, r[2].closed_loop_base.measured, o);
+    case Variant::kIdimIvBase:
+      return identifySegmentedIdimIv(r[0].closed_loop_base, r[2].closed_loop_base, lc, parallelSignals(c.signals, true), c.iv);
     case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
     case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
     case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);
@@ -154,8 +163,9 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
 Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
                          const ident::SignalOptions& signals, double sigma_Nm) {
   const bool exact = v == Variant::kLsExact;
-  const bool parallel = v == Variant::kLsParallel || v == Variant::kIdimIv;
-  const ident::SignalOptions path_signals = parallel ? parallelSignals(signals) : signals;
+  const bool base = v == Variant::kLsBase || v == Variant::kIdimIvBase;
+  const bool parallel = v == Variant::kLsParallel || v == Variant::kIdimIv || base;
+  const ident::SignalOptions path_signals = parallel ? parallelSignals(signals, base) : signals;
   // The torque noise path of record k: the variant's processing of a raw record of its length.
   const auto path = [&](int k) {
     const ident::Dataset& d = r[static_cast<std::size_t>(k)].data;
@@ -166,7 +176,10 @@ Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident:
   // The fitted rows: the parallel arms fit the filtered, decimated columns themselves.
   const auto rows = [&](int k, ident::Joint joint) -> Eigen::MatrixXd {
     const Record& rec = r[static_cast<std::size_t>(k)];
-    if (parallel) return joint == ident::Joint::kHip ? rec.closed_loop.measured.hip : rec.closed_loop.measured.knee;
+    if (parallel) {
+      const ident::ProcessedRecord& p = base ? rec.closed_loop_base.measured : rec.closed_loop.measured;
+      return joint == ident::Joint::kHip ? p.hip : p.knee;
+    }
     return ident::jointRegressor(exact ? rec.exact_q : rec.processed, joint, lc);
   };
   const Eigen::MatrixXd K1 = rows(0, ident::Joint::kKnee);

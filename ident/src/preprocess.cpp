@@ -9,6 +9,26 @@ namespace exoid::ident {
 
 const char* toString(Processing p) { return p == Processing::kParallel ? "parallel" : "paper"; }
 
+const char* toString(BaseTerms b) {
+  switch (b) {
+    case BaseTerms::kOff: return "off";
+    case BaseTerms::kAuto: return "auto";
+    case BaseTerms::kOn: return "on";
+  }
+  return "unknown";
+}
+
+namespace {
+const char* const kBaseColumns[3] = {"base_acc_x", "base_acc_z", "base_gyro_y"};
+}
+
+bool hasBaseColumns(const Dataset& d) {
+  for (const char* name : kBaseColumns) {
+    if (std::find(d.extra_names.begin(), d.extra_names.end(), name) == d.extra_names.end()) return false;
+  }
+  return true;
+}
+
 int SignalOptions::decimationFactor(double sample_rate_hz) const {
   if (decimation > 0) return decimation;
   if (!filter) return 1;  // no anti-aliasing filter: keep every row
@@ -25,6 +45,9 @@ void SignalOptions::validate() const {
     throw std::invalid_argument("'filter_order' must be in 1..8, got " + std::to_string(filter_order));
   }
   if (!std::isfinite(edge_trim_s)) throw std::invalid_argument("'edge_trim_s' must be finite");
+  if (base_terms == BaseTerms::kOn && processing != Processing::kParallel) {
+    throw std::invalid_argument("'base_terms' = on needs the parallel processing (the paper's has no base-motion terms)");
+  }
   if (!(cutoff_hz > 0.0)) {
     throw std::invalid_argument("'cutoff_hz' must be > 0, got " + std::to_string(cutoff_hz));
   }
@@ -84,6 +107,7 @@ JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
   s.qd_radps = in.qd_radps.middleRows(trim, keep);
   s.qdd_radps2 = in.qdd_radps2.middleRows(trim, keep);
   s.tau_Nm = in.tau_Nm.middleRows(trim, keep);
+  if (in.base.rows() > 0) s.base = in.base.middleRows(trim, keep);
   return s;
 }
 
@@ -109,14 +133,29 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs)
   s.t_s = d.t_s;
   s.q_rad = d.q_rad;
   s.tau_Nm = d.tau_Nm;
+  const double dt = 1.0 / fs;
+  const bool prefilter = o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs;
+  const bool base = o.base_terms == BaseTerms::kOn || (o.base_terms == BaseTerms::kAuto && hasBaseColumns(d));
+  if (base) {
+    if (!hasBaseColumns(d)) {
+      throw std::invalid_argument("base-motion terms requested but the dataset lacks base_acc_x, base_acc_z or base_gyro_y");
+    }
+    s.base.resize(d.size(), 4);
+    s.base.col(0) = d.extraColumn(kBaseColumns[0]);
+    s.base.col(1) = d.extraColumn(kBaseColumns[1]);
+    s.base.col(2) = d.extraColumn(kBaseColumns[2]);
+    // Pitch acceleration: the gyro differentiated like the angles' first derivative.
+    Eigen::MatrixXd w = s.base.col(2);
+    if (prefilter) w = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), w);
+    s.base.col(3) = differentiate(w, dt, Differentiation::kCentral4);
+  }
   if (o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2) {
     s.qd_radps = *d.qd_radps;
     s.qdd_radps2 = *d.qdd_radps2;
     return s;
   }
-  const double dt = 1.0 / fs;
   Eigen::MatrixXd q = d.q_rad;
-  if (o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
+  if (prefilter) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
   s.qd_radps = differentiate(q, dt, Differentiation::kCentral4);
   s.qdd_radps2 = differentiate(s.qd_radps, dt, Differentiation::kCentral4);
   return s;
@@ -161,6 +200,7 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
   st.qd_radps = trimAndDecimate(s.qd_radps, trim, r);
   st.qdd_radps2 = trimAndDecimate(s.qdd_radps2, trim, r);
   st.tau_Nm = out.tau_Nm;
+  if (s.base.rows() > 0) st.base = trimAndDecimate(s.base, trim, r);
   return out;
 }
 

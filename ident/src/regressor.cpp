@@ -26,33 +26,48 @@ void JointSignals::validate() const {
                                 std::to_string(qdd_radps2.rows()) + ", " +
                                 std::to_string(tau_Nm.rows()));
   }
+  if (base.rows() != 0 && base.rows() != n) {
+    throw std::invalid_argument("joint signals: expected 0 or " + std::to_string(n) + " rows of base motion, got " +
+                                std::to_string(base.rows()));
+  }
   if (!t_s.allFinite() || !q_rad.allFinite() || !qd_radps.allFinite() || !qdd_radps2.allFinite() ||
-      !tau_Nm.allFinite()) {
+      !tau_Nm.allFinite() || !base.allFinite()) {
     throw std::invalid_argument("joint signals contain a NaN or Inf value");
   }
 }
 
 void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
                    const Eigen::Vector2d& qdd, RegressorRow& hip, RegressorRow& knee) {
-  const double g = c.gravity_mps2;
+  regressorRows(c, q, qd, qdd, BaseMotion::still(c.gravity_mps2), hip, knee);
+}
+
+void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd_rel,
+                   const Eigen::Vector2d& qdd_rel, const BaseMotion& base, RegressorRow& hip, RegressorRow& knee) {
   const double Lt = c.thigh_length_m;
+  // Absolute rates for the inertial terms (the thigh turns with the base).
+  const Eigen::Vector2d qd(qd_rel[0] + base.omega_radps, qd_rel[1]);
+  const Eigen::Vector2d qdd(qdd_rel[0] + base.alpha_radps2, qdd_rel[1]);
   const double s1 = std::sin(q[0]), c1 = std::cos(q[0]);
   const double s2 = std::sin(q[1]), c2 = std::cos(q[1]);
   const double s12 = std::sin(q[0] + q[1]), c12 = std::cos(q[0] + q[1]);
+  // The field's terms: g sin(th) -> f_z sin(th) - f_x cos(th), g cos(th) -> f_z cos(th) + f_x sin(th).
+  const double fx = base.f_x_mps2, fz = base.f_z_mps2;
+  const double gs1 = fz * s1 - fx * c1, gc1 = fz * c1 + fx * s1;
+  const double gs12 = fz * s12 - fx * c12, gc12 = fz * c12 + fx * s12;
   const double a = -qd[1] * (2.0 * qd[0] + qd[1]);  // qd1^2 - (qd1 + qd2)^2
   const double b = 2.0 * qdd[0] + qdd[1];
-  hip << g * s1, g * c1, qdd[0], sgn(qd[0]), qd[0],
-      Lt * (b * c2 + a * s2) + g * s12,
-      Lt * (-b * s2 + a * c2) + g * c12,
+  hip << gs1, gc1, qdd[0], sgn(qd_rel[0]), qd_rel[0],
+      Lt * (b * c2 + a * s2) + gs12,
+      Lt * (-b * s2 + a * c2) + gc12,
       qdd[1],
       // The paper prints sgn(qd1), qd1 here; knee friction does not act on the hip equation.
       0.0, 0.0;
   const double qd1sq = qd[0] * qd[0];
   // The print garbles the Mys entry; this is the Lagrange-derived form (paper.md).
   knee << 0.0, 0.0, 0.0, 0.0, 0.0,
-      Lt * (qdd[0] * c2 + qd1sq * s2) + g * s12,
-      Lt * (-qdd[0] * s2 + qd1sq * c2) + g * c12,
-      qdd[0] + qdd[1], sgn(qd[1]), qd[1];
+      Lt * (qdd[0] * c2 + qd1sq * s2) + gs12,
+      Lt * (-qdd[0] * s2 + qd1sq * c2) + gc12,
+      qdd[0] + qdd[1], sgn(qd_rel[1]), qd_rel[1];
 }
 
 namespace {
@@ -61,9 +76,12 @@ void forEachSample(const JointSignals& s, const LegConstants& c, Fn&& fn) {
   c.validate();
   s.validate();
   RegressorRow hip, knee;
+  const bool moving = s.base.rows() > 0;
   for (Eigen::Index i = 0; i < s.size(); ++i) {
-    regressorRows(c, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(),
-                  s.qdd_radps2.row(i).transpose(), hip, knee);
+    const BaseMotion b = moving ? BaseMotion{s.base(i, 0), s.base(i, 1), s.base(i, 2), s.base(i, 3)}
+                                : BaseMotion::still(c.gravity_mps2);
+    regressorRows(c, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(), b,
+                  hip, knee);
     fn(i, hip, knee);
   }
 }

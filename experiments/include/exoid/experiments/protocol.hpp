@@ -27,8 +27,11 @@ enum class Variant {
   kLsStacked,  ///< LS on record 1's knee equation and both of record 3's, all 10 at once
   kLsParallel,  ///< LS, parallel filtering and decimation (Gautier; exoid identify's default), segmental
   kIdimIv,      ///< IDIM-IV on the parallel-processed records, segmental
+  kLsBase,      ///< ls-parallel with the pedestal IMU's base-motion terms (ident::BaseMotion)
+  kIdimIvBase,  ///< idim-iv with the base-motion terms in the measured rows
 };
-/// "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv"
+/// "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv",
+/// "ls-base", "idim-iv-base"
 const char* toString(Variant v);
 Variant parseVariant(const std::string& name);
 const std::vector<Variant>& allVariants();
@@ -53,11 +56,14 @@ struct Record {
   ident::JointSignals ideal;      ///< exact states with the ideal (vibration-free) torques
   /// Parallel-processed rows (parallelSignals) with the reference and controller of the run.
   ident::ClosedLoopRecord closed_loop;
+  /// The same with the base-motion terms in the measured rows (parallelSignals(.., true)).
+  ident::ClosedLoopRecord closed_loop_base;
 };
 
 /// The parallel arms' processing: the paper's filter (order, cutoff, edge trim) applied in
 /// parallel to the torque and every regressor column, then decimated (ident::Processing::kParallel).
-ident::SignalOptions parallelSignals(const ident::SignalOptions& paper);
+/// With base_terms, the regressor includes the pedestal's motion from the records' IMU columns.
+ident::SignalOptions parallelSignals(const ident::SignalOptions& paper, bool base_terms = false);
 
 struct Truths {
   ident::ParamVector rigid;     ///< bare rigid links

@@ -22,6 +22,19 @@ enum class Processing {
 };
 const char* toString(Processing p);  ///< "paper", "parallel"
 
+/// Whether the regressor includes the pedestal's motion (BaseMotion) from the dataset's IMU
+/// columns base_acc_x, base_acc_z (specific force at the hip axis in the pedestal frame, m/s^2)
+/// and base_gyro_y (pitch rate, rad/s); the pitch acceleration is differentiated from the gyro like
+/// the angles. Parallel processing only.
+enum class BaseTerms {
+  kOff,   ///< a still base under gravity (the paper's model)
+  kAuto,  ///< when the dataset has the three columns
+  kOn,    ///< required: a dataset without them is an error
+};
+const char* toString(BaseTerms b);  ///< "off", "auto", "on"
+/// True when the dataset has base_acc_x, base_acc_z and base_gyro_y.
+bool hasBaseColumns(const Dataset& d);
+
 struct SignalOptions {
   /// Regressor-level processing (processRecord). prepareSignals is always the paper's.
   Processing processing = Processing::kPaper;
@@ -33,6 +46,9 @@ struct SignalOptions {
   /// zero-phase. Wide, so the motion passes unchanged ((f/fc)^8 = 4e-14 at f = 1 Hz, 50 Hz); the
   /// parallel filter removes the noise it lets through afterwards. 0 = no pre-filter.
   double derivative_cutoff_hz = 50.0;
+  /// Parallel processing: base-motion terms from the IMU columns. Default kOff (the paper's
+  /// model); exoid identify defaults to kAuto.
+  BaseTerms base_terms = BaseTerms::kOff;
   /// The decimation factor for a record sampled at sample_rate_hz.
   int decimationFactor(double sample_rate_hz) const;
   /// How qd and qdd are computed from the angles. Paper: forward differences.

@@ -25,6 +25,26 @@ inline double sgn(double v) { return (v > 0.0) - (v < 0.0); }
 void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
                    const Eigen::Vector2d& qdd, RegressorRow& hip, RegressorRow& knee);
 
+/// Motion of the frame the hip is mounted in (the pedestal, pitching about an axis parallel to
+/// the joints), as an IMU at the hip axis reads it in that frame.
+struct BaseMotion {
+  /// Specific force at the hip axis in the base frame (x anterior, z up): a - g, so a still base
+  /// reads (0, +g). Every link mass feels -f as a uniform field: base acceleration acts exactly
+  /// like gravity, through the same parameters.
+  double f_x_mps2 = 0.0, f_z_mps2 = 0.0;
+  /// Base pitch rate and acceleration about the joint axes (same sign as q): the links' absolute
+  /// angular rates are qd1 + omega, accelerations qdd1 + alpha. Friction sees the relative qd.
+  double omega_radps = 0.0, alpha_radps2 = 0.0;
+  static BaseMotion still(double g) { return {0.0, g, 0.0, 0.0}; }
+};
+
+/// The rows on a moving base: the same 10 parameters, no new unknowns. The gravity terms
+/// g sin(th), g cos(th) of each link (th = q1, q1 + q2) become f_z sin(th) - f_x cos(th) and
+/// f_z cos(th) + f_x sin(th); the inertial terms use the absolute rates. With
+/// BaseMotion::still(c.gravity_mps2) this is regressorRows above.
+void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
+                   const Eigen::Vector2d& qdd, const BaseMotion& base, RegressorRow& hip, RegressorRow& knee);
+
 /// Time series of the two joints (column 0 = hip, 1 = knee), SI units. Rows are samples.
 struct JointSignals {
   Eigen::VectorXd t_s;
@@ -32,6 +52,9 @@ struct JointSignals {
   Eigen::MatrixX2d qd_radps;
   Eigen::MatrixX2d qdd_radps2;
   Eigen::MatrixX2d tau_Nm;
+  /// Optional base motion per sample, columns (f_x, f_z, omega, alpha) as in BaseMotion; empty =
+  /// a still base under gravity (LegConstants::gravity_mps2).
+  Eigen::Matrix<double, Eigen::Dynamic, 4> base;
   Eigen::Index size() const { return t_s.size(); }
   /// Throws std::invalid_argument if the sizes disagree or a value is not finite.
   void validate() const;
