@@ -186,6 +186,10 @@ void run(const IdentifyArgs& a) {
     j["strategy"] = single ? "all_parameters_one_record" : "segmental";
     j["inputs"] = single ? nlohmann::json{{"data", a.data}}
                          : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
+    // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
+    j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
+                           (a.signals.base_terms == ident::BaseTerms::kOn ||
+                            (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary)));
     j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
     j["signal_options"] = toJson(a.signals);
     j["method_options"] = toJson(a.methods_options);

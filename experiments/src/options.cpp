@@ -8,6 +8,7 @@ ident::SignalOptions defaultIdentifySignals() {
   ident::SignalOptions o;
   o.processing = ident::Processing::kParallel;
   o.differentiation = ident::Differentiation::kCentral4;
+  o.base_terms = ident::BaseTerms::kAuto;
   return o;
 }
 
@@ -25,6 +26,14 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
   app.add_option("--derivative-cutoff-hz", o.derivative_cutoff_hz,
                  "Parallel processing: angles' pre-filter before differentiating, Hz (0 = none)")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
+  static const std::map<std::string, ident::BaseTerms> kBase = {
+      {"off", ident::BaseTerms::kOff}, {"auto", ident::BaseTerms::kAuto}, {"on", ident::BaseTerms::kOn}};
+  app.add_option("--base-terms", o.base_terms,
+                 "Parallel processing: pedestal-motion terms from the IMU columns base_acc_x, base_acc_z (specific force "
+                 "at the hip axis, m/s^2), base_gyro_y (rad/s): off, auto (when the columns are there) or on (required)")
+      ->transform(CLI::CheckedTransformer(kBase, CLI::ignore_case))
+      ->default_str(ident::toString(o.base_terms))
+      ->group("Signal processing");
   static const std::map<std::string, ident::Differentiation> kDiff = {
       {"forward", ident::Differentiation::kForward}, {"central", ident::Differentiation::kCentral},
       {"central4", ident::Differentiation::kCentral4}};
@@ -143,6 +152,7 @@ nlohmann::json toJson(const ident::SignalOptions& o) {
   return {{"processing", ident::toString(o.processing)},
           {"decimation", o.decimation},
           {"derivative_cutoff_hz", o.derivative_cutoff_hz},
+          {"base_terms", ident::toString(o.base_terms)},
           {"differentiation", ident::toString(o.differentiation)},
           {"use_recorded_derivatives", o.use_recorded_derivatives},
           {"filter", o.filter ? "butterworth_filtfilt" : "none"},

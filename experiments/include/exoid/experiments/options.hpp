@@ -13,7 +13,8 @@ namespace exoid::experiments {
 
 /// --diff, --no-filter, --cutoff-hz, --filter-order, --no-filter-torque, --differentiate.
 /// The signal processing `identify` and `identifiability` use by default: the parallel filtering
-/// (exact on exact data whatever the filter); the paper's is `--processing paper`.
+/// (exact on exact data whatever the filter) with the pedestal's base-motion terms when the
+/// dataset has the IMU columns; the paper's is `--processing paper`.
 ident::SignalOptions defaultIdentifySignals();
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
