@@ -172,6 +172,10 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   app.add_option("--fv-hip", c.variant.fv_hip_Nms, "Hip viscous friction, N m s/rad (default: model)")->check(CLI::NonNegativeNumber)->group(g);
   app.add_option("--fc-knee", c.variant.fc_knee_Nm, "Knee Coulomb friction, N m (default: model)")->check(CLI::NonNegativeNumber)->group(g);
   app.add_option("--fv-knee", c.variant.fv_knee_Nms, "Knee viscous friction, N m s/rad (default: model)")->check(CLI::NonNegativeNumber)->group(g);
+  app.add_option("--knee-armature", c.variant.knee_armature_kgm2,
+                 "Knee armature (reflected rotor/actuator inertia on the knee's diagonal), kg m^2 (default: model, 0); "
+                 "the truth reports it as Ia2")
+      ->check(CLI::NonNegativeNumber)->group(g);
   app.add_flag("--feedforward,!--no-feedforward", c.feedforward,
                "Model-based feedforward of the planned reference through the actuators' inverse (default on)")
       ->capture_default_str()->group(g);

@@ -459,6 +459,35 @@ void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const st
         }
         t.printMarkdown(md);
       }
+      // Every method against LS on the torque-space error: is it closer to the truth, significantly?
+      {
+        std::vector<std::string> header{"method"};
+        for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
+        TextTable t(header);
+        bool any = false;
+        for (Variant v : config.methods) {
+          std::vector<std::string> row{toString(v)};
+          bool have = false;
+          for (const nlohmann::json* c : cs) {
+            const nlohmann::json& m = c->at("methods").at(toString(v));
+            if (!m.contains("vs_ls")) {
+              row.push_back("-");
+              continue;
+            }
+            have = true;
+            const nlohmann::json& p = m.at("vs_ls").at("torque_err_mean");
+            row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_holm")), 3) + ", n = " +
+                          std::to_string(p.at("n").get<long>()));
+          }
+          if (have) t.addRow(row);
+          any = any || have;
+        }
+        if (any) {
+          md << "\nVs LS on the torque-space error (share of seeds where the method is closer to the truth, Holm-adjusted p, "
+                "seeds where both were usable)\n\n";
+          t.printMarkdown(md);
+        }
+      }
       bool have_pair = false;
       for (const nlohmann::json* c : cs) have_pair = have_pair || (c->at("methods").contains("rls-pso") && c->at("methods").at("rls-pso").contains("vs_ls"));
       if (!have_pair) continue;

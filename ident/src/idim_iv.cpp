@@ -109,6 +109,12 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
       e.unidentifiable = iv.unidentifiable;
       return finish(iv.summary.status, "iteration " + std::to_string(k) + ": " + iv.summary.message);
     }
+    if (z.fixed) {
+      e.x = iv.x;
+      e.condition_number = iv.condition_number;
+      return finish(Status::kConverged, "IDIM-IV: " + z.message + "; one solve with them after " + std::to_string(k - 1) +
+                                            " iteration(s)");
+    }
     const Eigen::VectorXd se = ivStandardErrors(H, y, z.Z, iv.x);
     // Each step in units of the parameter's standard error; the floor keeps noise-free data
     // (se = 0) from demanding steps below roundoff times the conditioning of Z^T H (~1e-10).
@@ -129,14 +135,22 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
                              const SignalOptions& signals, ProcessedRecord& out) {
   Instruments z;
-  const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference);
-  if (!run.ok) {
-    z.message = "the model cannot be simulated under the controller: " + run.message;
-    return z;
-  }
   // The rate exactly as processRecord computes it from the record's timestamps.
   const double fs = 1.0 / ((r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]) / static_cast<double>(r.reference.size() - 1));
-  out = parallelProcess(run.states, c, signals, fs);
+  const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference);
+  if (run.ok) {
+    out = parallelProcess(run.states, c, signals, fs);
+  } else {
+    JointSignals ref;
+    ref.t_s = r.reference.t_s;
+    ref.q_rad = r.reference.q_rad;
+    ref.qd_radps = r.reference.qd_radps;
+    ref.qdd_radps2 = r.reference.qdd_radps2;
+    ref.tau_Nm = Eigen::MatrixX2d::Zero(ref.size(), 2);
+    out = parallelProcess(ref, c, signals, fs);
+    z.fixed = true;
+    z.message = "instruments from the reference (the model of this iteration cannot be simulated: " + run.message + ")";
+  }
   if (out.size() != r.measured.size()) {
     throw std::invalid_argument("IDIM-IV: the reference has " + std::to_string(r.reference.size()) +
                                 " samples but the measured record's rows do not come from as many (process it with the same options)");

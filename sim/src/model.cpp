@@ -131,7 +131,7 @@ void ModelVariant::validate() const {
     bad("vibration_level", vibration_level, "in [0, 20] (0 = welded pedestal)");
   const std::pair<const char*, const std::optional<double>*> fr[] = {
       {"fc_hip_Nm", &fc_hip_Nm}, {"fv_hip_Nms", &fv_hip_Nms}, {"fc_knee_Nm", &fc_knee_Nm},
-      {"fv_knee_Nms", &fv_knee_Nms}};
+      {"fv_knee_Nms", &fv_knee_Nms}, {"knee_armature_kgm2", &knee_armature_kgm2}};
   for (const auto& [name, v] : fr) {
     if (v->has_value() && (!std::isfinite(**v) || **v < 0)) bad(name, **v, "finite and >= 0");
   }
@@ -248,6 +248,7 @@ LegModel loadLeg(const std::string& path, const ModelVariant& variant, bool forc
   if (variant.fc_knee_Nm) leg.coulomb.fc_Nm[1] = *variant.fc_knee_Nm;
   if (variant.fv_hip_Nms) m->dof_damping[x.vadr[0]] = *variant.fv_hip_Nms;
   if (variant.fv_knee_Nms) m->dof_damping[x.vadr[1]] = *variant.fv_knee_Nms;
+  if (variant.knee_armature_kgm2) m->dof_armature[x.vadr[1]] = *variant.knee_armature_kgm2;
 
   // Moving actuator mass.
   const double s = variant.cylinder_mass_scale;

@@ -44,7 +44,8 @@ nlohmann::json configJson(const SimConfig& c) {
                   {"fc_hip_Nm", opt(c.variant.fc_hip_Nm)},
                   {"fv_hip_Nms", opt(c.variant.fv_hip_Nms)},
                   {"fc_knee_Nm", opt(c.variant.fc_knee_Nm)},
-                  {"fv_knee_Nms", opt(c.variant.fv_knee_Nms)}};
+                  {"fv_knee_Nms", opt(c.variant.fv_knee_Nms)},
+                  {"knee_armature_kgm2", opt(c.variant.knee_armature_kgm2)}};
   j["floor"] = {{"force_x_amplitude_N", c.floor.force_x_amplitude_N},
                 {"force_z_amplitude_N", c.floor.force_z_amplitude_N},
                 {"frequency_Hz", c.floor.frequency_Hz},
@@ -101,6 +102,10 @@ nlohmann::json sidecar(const SimResult& r, const std::string& exoid_version) {
         {"samples", b.samples},
         {"min", paramsJson(b.min)},
         {"max", paramsJson(b.max)}}},
+      {"knee_armature",
+       {{"description", "reflected inertia on the knee's own diagonal (MuJoCo armature): the 11th parameter Ia2 of "
+                        "identify --knee-armature; the 10 parameters above exclude it"},
+        {"Ia2", r.truth.knee_armature_kgm2}}},
       {"thigh_length_m", r.truth.thigh_length_m},
       {"gravity_mps2", r.truth.gravity_mps2},
       {"friction",

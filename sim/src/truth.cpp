@@ -76,9 +76,6 @@ Frame checkLeg(const LegModel& leg) {
   if (std::abs(k[0]) > 1e-12) {
     throw std::invalid_argument("'" + src + "': the knee must lie on the thigh's -z axis (shank pos x = 0)");
   }
-  if (m->dof_armature[x.vadr[1]] != 0.0) {
-    throw std::invalid_argument("'" + src + "': knee armature must be 0: the 10-parameter model cannot represent it");
-  }
   if (m->opt.gravity[0] != 0 || m->opt.gravity[1] != 0 || !(m->opt.gravity[2] < 0)) {
     throw std::invalid_argument("'" + src + "': gravity must point along -z");
   }
@@ -119,6 +116,7 @@ Truth rigidTruth(const LegModel& leg) {
   tr.gravity_mps2 = f.g;
   tr.coulomb_v0_radps = leg.coulomb.v0_radps;
   tr.thigh_mass_kg = t.mass;
+  tr.knee_armature_kgm2 = leg.model->dof_armature[leg.idx.vadr[1]];
   tr.shank_mass_kg = s.mass;
   tr.source = leg.path;
   return tr;

@@ -174,6 +174,33 @@ TEST(IdimIv, ConvergesInAFewIterationsOnNoisyRecordsAndStaysWithinItsStandardErr
   EXPECT_LT(((r.x - truth).cwiseQuotient(truth)).cwiseAbs().maxCoeff(), 0.1) << r.x.transpose();
 }
 
+TEST(IdimIv, AModelThatCannotBeSimulatedFallsBackToReferenceInstruments) {
+  // An iterate with Js < 0 has no positive definite mass matrix: the instruments then come from
+  // the reference (perfect tracking), which are as free of measurement noise; the iteration stops
+  // there and says so. On exact data the answer is still exact.
+  const ClosedLoopRecord both = closedLoopRecord(false, 0, 0, 2, true);
+  ParamVector bad = toParamVector(defaultLeg());
+  bad[kJs] = -0.2;
+  ProcessedRecord instr;
+  const Instruments z = instrumentRecord(bad, kC, both, parallel(), instr);
+  ASSERT_TRUE(z.ok);
+  EXPECT_TRUE(z.fixed);
+  EXPECT_NE(z.message.find("instruments from the reference"), std::string::npos) << z.message;
+  EXPECT_NE(z.message.find("not positive definite"), std::string::npos) << z.message;
+  EXPECT_EQ(instr.size(), both.measured.size());
+  const SegmentalProblem all = bothEquations(both.measured);
+  const Estimate e = iterateInstrumentalVariables(all.H, all.y, [&](const Eigen::VectorXd&) {
+    Instruments zz = z;
+    zz.Z = bothEquations(instr).H;
+    return zz;
+  });
+  ASSERT_EQ(e.summary.status, Status::kConverged) << e.summary.message;
+  EXPECT_EQ(e.summary.iterations, 1);
+  EXPECT_NE(e.summary.message.find("instruments from the reference"), std::string::npos);
+  const ParamVector truth = toParamVector(defaultLeg());
+  EXPECT_LT(((e.x - truth).cwiseQuotient(truth)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
 TEST(IdimIv, NeedsTheParallelProcessing) {
   const ClosedLoopRecord both = closedLoopRecord(false, 0, 0, 2, true);
   test::expectInvalidArgumentMentioning([&] { identifyAllIv(both, kC, SignalOptions{}, {}); }, "parallel processing");

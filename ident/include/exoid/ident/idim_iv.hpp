@@ -38,15 +38,17 @@ struct IvOptions {
 /// message when the model x cannot produce them (e.g. it cannot be simulated).
 struct Instruments {
   bool ok = false;
-  std::string message;
+  std::string message;  ///< why not ok; or, when ok, a note on how they were made
   Eigen::MatrixXd Z;
+  /// The instruments do not depend on x (a fallback): one IV solve with them is final.
+  bool fixed = false;
 };
 using InstrumentFn = std::function<Instruments(const Eigen::VectorXd& x)>;
 
 /// The iteration on y = H x: x0 = LS, x_{k+1} = IV(H, y, Z(x_k)). Estimate::summary.iterations
-/// counts IV solves; cost_history holds max_i |step_i| / se_i per iteration. Status kFailed (with
-/// the instruments' message) if an iterate cannot be simulated, kMaxIterations if the steps did
-/// not settle.
+/// counts IV solves; cost_history holds max_i |step_i| / se_i per iteration. Stops after a solve
+/// with fixed instruments (their note in the message). Status kFailed (with the instruments'
+/// message) if no instruments can be made, kMaxIterations if the steps did not settle.
 Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const InstrumentFn& instruments,
                                       const IvOptions& options = {});
 
@@ -58,7 +60,11 @@ struct ClosedLoopRecord {
 };
 
 /// The instrument rows of a record for parameters x: the closed-loop simulation of x, processed
-/// by parallelProcess with the measured record's options (so rows align with `measured`).
+/// by parallelProcess with the measured record's options (so rows align with `measured`). When
+/// the model x cannot be simulated (an iterate with M(q) not positive definite, e.g. Jt < 0 on a
+/// poorly exciting record), the instruments come from the reference itself, the limit of perfect
+/// tracking: still free of the measurement noise, so still consistent, but fixed (the iteration
+/// stops) and said in the message.
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
                              const SignalOptions& signals, ProcessedRecord& out);
 

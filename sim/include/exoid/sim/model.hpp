@@ -59,6 +59,10 @@ struct ModelVariant {
   /// Overrides of the joint friction (N m, N m s/rad); unset = the model's values
   /// (Coulomb from the custom numerics exoid_fc_*, viscous = joint damping). Must be >= 0.
   std::optional<double> fc_hip_Nm, fv_hip_Nms, fc_knee_Nm, fv_knee_Nms;
+  /// Reflected rotor/actuator inertia on the knee's own diagonal (MuJoCo armature, kg m^2; unset
+  /// = the model's, 0): what a geared motor or a hydraulic piston adds to M22 but not to M12. The
+  /// 10-parameter model cannot hold it (identify --knee-armature estimates it). Must be >= 0.
+  std::optional<double> knee_armature_kgm2;
   /// Throws std::invalid_argument naming the field.
   void validate() const;
 };

@@ -30,13 +30,15 @@ struct Truth {
   double gravity_mps2 = 0.0;      ///< |g|
   double coulomb_v0_radps = 0.0;  ///< smoothing of the simulated Coulomb term (0 for a URDF)
   double shank_mass_kg = 0.0, thigh_mass_kg = 0.0;
+  /// Knee armature (kg m^2): the 11th parameter Ia2 of identify --knee-armature; not in x.
+  double knee_armature_kgm2 = 0.0;
   std::string source;             ///< file it came from
 };
 
 /// X of the bare rigid links of a compiled leg: thigh = the `thigh` body alone; shank = `shank`
 /// and every body welded below it (no dofs). Cylinder and rod are excluded. Requires hip/knee
-/// axes along y, the knee on the thigh's -z axis, and knee armature 0 (the 10-parameter model
-/// cannot hold it); throws std::invalid_argument otherwise.
+/// axes along y and the knee on the thigh's -z axis; throws std::invalid_argument otherwise. A
+/// knee armature is reported in knee_armature_kgm2 (the 10-parameter model cannot hold it).
 Truth rigidTruth(const LegModel& leg);
 
 /// Truth of an MJCF file (default variant).
