@@ -25,6 +25,7 @@ struct IdentifyArgs {
   ident::MethodOptions methods_options;
   ident::IvOptions iv;
   std::string controller;  ///< JSON of the rig's controller (IDIM-IV); default: the records' metadata
+  bool knee_armature = false;  ///< estimate Ia2 too
   bool history = false;
 };
 
@@ -97,6 +98,12 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
     status.push_back(s);
     time.push_back(fmt(m.wallTime_s(), 3));
   }
+  if (!outcomes.empty() && outcomes.front().knee_armature) {
+    std::vector<std::string> row{"Ia2", ident::kneeArmatureInfo().unit};
+    for (std::size_t k = 0; k < truths.size(); ++k) row.push_back("");
+    for (const MethodOutcome& m : outcomes) row.push_back(m.knee_armature ? fmt(*m.knee_armature) : "-");
+    t.addRow(row);
+  }
   t.addRow(status);
   t.addRow(time);
   t.print(std::cout);
@@ -132,6 +139,10 @@ void run(const IdentifyArgs& a) {
   if (segmental && (a.knee_data.empty() || a.both_data.empty())) {
     throw CLI::ValidationError("identify", "the segmental strategy needs both --knee-data and --both-data");
   }
+  if (segmental && a.knee_armature) {
+    throw CLI::ValidationError("--knee-armature", "needs --data: a record where the hip moves, fitted with both equations (with "
+                               "the hip fixed the armature's column is Js's, and Js enters the hip equation without it)");
+  }
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   a.methods_options.validate();
   a.iv.validate();
@@ -162,18 +173,18 @@ void run(const IdentifyArgs& a) {
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) {
     if (m == ident::Method::kIdimIv) {
-      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv)
+      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv, a.knee_armature)
                                 : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
       continue;
     }
-    outcomes.push_back(single ? identifyAll(m, r_primary, a.methods_options)
+    outcomes.push_back(single ? identifyAll(m, r_primary, a.methods_options, a.knee_armature)
                               : identifySegmented(m, r_knee, r_primary, a.methods_options));
   }
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
     const ident::ProcessedRecord rv = ident::processRecord(ident::readDatasetCsv(file), c, a.signals);
     std::vector<Validation> v;
-    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x));
+    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
     validations.emplace_back(file, std::move(v));
   }
 
@@ -247,6 +258,10 @@ void addIdentifyCommand(CLI::App& app) {
                   "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
                   "\"hip_locked\": false}; default: the records' metadata")
       ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_flag("--knee-armature", args->knee_armature,
+               "Also estimate Ia2, the knee's armature (reflected rotor/actuator inertia on its own diagonal, kg m^2): "
+               "Ia2 qdd2 joins the knee equation only; needs --data (both equations of a record where the hip moves)")
+      ->group("Identification");
   cmd->add_option("--iv-tolerance", args->iv.step_tolerance, "IDIM-IV: stop when every step < this many standard errors, (0, 1)")
       ->capture_default_str()->group("Identification");
   cmd->add_option("--iv-max-iterations", args->iv.max_iterations, "IDIM-IV: iteration limit, >= 1")

@@ -66,18 +66,22 @@ void checkPlausibility(MethodOutcome& out) {
     for (Eigen::Index c : st.estimate.unidentifiable) not_estimated.push_back(st.indices[static_cast<std::size_t>(c)]);
   }
   out.implausible = ident::implausibilities(out.x, not_estimated);
+  if (out.knee_armature && !(*out.knee_armature >= 0.0)) {
+    out.implausible.push_back("Ia2 = " + std::to_string(*out.knee_armature) + " kg m^2 must be >= 0 (an inertia)");
+  }
 }
 }  // namespace
 
-MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o) {
-  const ident::SegmentalProblem all = ident::bothEquations(r);
-  const Eigen::MatrixXd& H = all.H;
-  const Eigen::VectorXd& y = all.y;
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
+                          bool knee_armature) {
+  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
+  const ident::SegmentalProblem all = ident::bothEquations(r, knee_armature);
   MethodOutcome out;
   out.method = m;
-  Stage st{"all", range(0, kNumParams), ident::estimate(m, H, y, o)};
+  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), ident::estimate(m, all.H, all.y, o)};
   nameColumns(st);
-  out.x = st.estimate.x;
+  out.x = st.estimate.x.head(kNumParams);
+  if (knee_armature) out.knee_armature = st.estimate.x[ident::kKneeArmature];
   out.stages.push_back(std::move(st));
   checkPlausibility(out);
   return out;
@@ -122,19 +126,22 @@ MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record
 }
 
 MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
-                            const ident::SignalOptions& signals, const ident::IvOptions& options) {
+                            const ident::SignalOptions& signals, const ident::IvOptions& options,
+                            bool knee_armature) {
   MethodOutcome out;
   out.method = ident::Method::kIdimIv;
-  Stage st{"all", range(0, kNumParams), ident::identifyAllIv(record, c, signals, options)};
+  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), ident::identifyAllIv(record, c, signals, options, knee_armature)};
   nameColumns(st);
-  out.x = st.estimate.x;
+  out.x = st.estimate.x.head(kNumParams);
+  if (knee_armature) out.knee_armature = st.estimate.x[ident::kKneeArmature];
   out.stages.push_back(std::move(st));
   checkPlausibility(out);
   return out;
 }
 
-Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x) {
-  return {ident::torqueError(r.tau_Nm.col(0), r.hip * x), ident::torqueError(r.tau_Nm.col(1), r.knee * x)};
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature) {
+  return {ident::torqueError(r.tau_Nm.col(0), r.hip * x),
+          ident::torqueError(r.tau_Nm.col(1), r.knee * x + knee_armature * r.knee_armature)};
 }
 
 Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c) {
@@ -218,13 +225,15 @@ nlohmann::json toJson(const Stage& s, bool with_history) {
 nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
   nlohmann::json stages = nlohmann::json::array();
   for (const Stage& s : m.stages) stages.push_back(toJson(s, with_history));
-  return {{"method", ident::toString(m.method)},
-          {"parameters", paramsJson(m.x)},
-          {"usable", m.usable()},
-          {"physically_plausible", m.implausible.empty()},
-          {"implausible", m.implausible},
-          {"wall_time_s", m.wallTime_s()},
-          {"stages", stages}};
+  nlohmann::json j = {{"method", ident::toString(m.method)},
+                      {"parameters", paramsJson(m.x)},
+                      {"usable", m.usable()},
+                      {"physically_plausible", m.implausible.empty()},
+                      {"implausible", m.implausible},
+                      {"wall_time_s", m.wallTime_s()},
+                      {"stages", stages}};
+  if (m.knee_armature) j["knee_armature"] = {{"Ia2", *m.knee_armature}, {"unit", "kg m^2"}};
+  return j;
 }
 
 std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path) {

@@ -82,10 +82,10 @@ namespace {
 // The model's dynamics from its regressor: tau = M(q) qdd + h(q, qd).
 class RigidModel {
  public:
-  RigidModel(const ParamVector& x, const LegConstants& c) : x_(x), c_(c) {}
+  RigidModel(const ParamVector& x, const LegConstants& c, double knee_armature) : x_(x), c_(c), ia2_(knee_armature) {}
   Eigen::Vector2d torque(const Eigen::Vector2d& q, const Eigen::Vector2d& qd, const Eigen::Vector2d& qdd) const {
     regressorRows(c_, q, qd, qdd, hip_, knee_);
-    return {hip_.dot(x_), knee_.dot(x_)};
+    return {hip_.dot(x_), knee_.dot(x_) + ia2_ * qdd[1]};
   }
   Eigen::Matrix2d mass(const Eigen::Vector2d& q) const {
     const Eigen::Vector2d g = torque(q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
@@ -98,6 +98,7 @@ class RigidModel {
  private:
   ParamVector x_;
   LegConstants c_;
+  double ia2_;
   mutable RegressorRow hip_, knee_;
 };
 
@@ -111,12 +112,13 @@ std::string at(double t) {
 }  // namespace
 
 ClosedLoopRun simulateClosedLoop(const ParamVector& x, const LegConstants& c, const ControllerModel& ctl,
-                                 const Reference& ref) {
+                                 const Reference& ref, double knee_armature_kgm2) {
   c.validate();
   ctl.validate();
   ref.validate();
   if (!x.allFinite()) throw std::invalid_argument("closed loop: the parameters contain a NaN or Inf value");
-  const RigidModel model(x, c);
+  if (!std::isfinite(knee_armature_kgm2)) throw std::invalid_argument("closed loop: the knee armature is not finite");
+  const RigidModel model(x, c, knee_armature_kgm2);
   const Eigen::Index n = ref.size();
   const double dt = (ref.t_s[n - 1] - ref.t_s[0]) / static_cast<double>(n - 1);
   const double alpha = ctl.pid.derivative_cutoff_hz > 0 ? dt / (dt + 1.0 / (2 * M_PI * ctl.pid.derivative_cutoff_hz)) : 1.0;

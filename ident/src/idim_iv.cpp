@@ -133,11 +133,11 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
 }
 
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
-                             const SignalOptions& signals, ProcessedRecord& out) {
+                             const SignalOptions& signals, ProcessedRecord& out, double knee_armature_kgm2) {
   Instruments z;
   // The rate exactly as processRecord computes it from the record's timestamps.
   const double fs = 1.0 / ((r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]) / static_cast<double>(r.reference.size() - 1));
-  const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference);
+  const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference, knee_armature_kgm2);
   if (run.ok) {
     out = parallelProcess(run.states, c, signals, fs);
   } else {
@@ -196,13 +196,13 @@ SegmentalResult identifySegmentalIv(const ClosedLoopRecord& knee_record, const C
 }
 
 Estimate identifyAllIv(const ClosedLoopRecord& record, const LegConstants& c, const SignalOptions& signals,
-                       const IvOptions& options) {
+                       const IvOptions& options, bool knee_armature) {
   requireParallel(signals);
-  const SegmentalProblem all = bothEquations(record.measured);
+  const SegmentalProblem all = bothEquations(record.measured, knee_armature);
   return iterateInstrumentalVariables(all.H, all.y, [&](const Eigen::VectorXd& x) {
     ProcessedRecord instr;
-    Instruments z = instrumentRecord(x, c, record, signals, instr);
-    if (z.ok) z.Z = bothEquations(instr).H;
+    Instruments z = instrumentRecord(x.head<kNumParams>(), c, record, signals, instr, knee_armature ? x[kKneeArmature] : 0.0);
+    if (z.ok) z.Z = bothEquations(instr, knee_armature).H;
     return z;
   }, options);
 }

@@ -21,9 +21,15 @@ const std::array<ParamInfo, kNumParams>& paramInfo() {
   return info;
 }
 
+const ParamInfo& kneeArmatureInfo() {
+  static const ParamInfo info{"Ia2", "kg m^2", "knee armature: reflected rotor/actuator inertia on the knee's diagonal"};
+  return info;
+}
+
 std::string_view paramName(int index) {
+  if (index == kKneeArmature) return kneeArmatureInfo().name;
   if (index < 0 || index >= kNumParams) {
-    throw std::invalid_argument("parameter index must be in [0, 9], got " + std::to_string(index));
+    throw std::invalid_argument("parameter index must be in [0, 10], got " + std::to_string(index));
   }
   return paramInfo()[static_cast<std::size_t>(index)].name;
 }

@@ -112,7 +112,7 @@ JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
 }
 
 ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
-  return {jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s};
+  return {jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1), s};
 }
 
 namespace {
@@ -174,9 +174,9 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
                                 double sample_rate_hz) {
   o.validate();
   const double fs = sample_rate_hz;
-  // Hip rows, knee rows and torques side by side: one filter pass over all 22 columns.
-  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 2);
-  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm;
+  // Hip rows, knee rows, torques and the armature column side by side: one filter pass over all.
+  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
+  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1);
   if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   const Eigen::Index trim = o.edgeTrimSamples(fs);
   if (s.size() - 2 * trim < 20) {
@@ -193,7 +193,8 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
   ProcessedRecord out;
   out.hip = kept.leftCols(kNumParams);
   out.knee = kept.middleCols(kNumParams, kNumParams);
-  out.tau_Nm = kept.rightCols(2);
+  out.tau_Nm = kept.middleCols(2 * kNumParams, 2);
+  out.knee_armature = kept.col(2 * kNumParams + 2);
   JointSignals& st = out.states;
   st.t_s = trimAndDecimate(s.t_s, trim, r).col(0);
   st.q_rad = trimAndDecimate(s.q_rad, trim, r);

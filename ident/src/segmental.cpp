@@ -5,12 +5,14 @@
 
 namespace exoid::ident {
 
-SegmentalProblem bothEquations(const ProcessedRecord& r) {
+SegmentalProblem bothEquations(const ProcessedRecord& r, bool knee_armature) {
   const Eigen::Index n = r.size();
-  SegmentalProblem p{Eigen::MatrixXd(2 * n, kNumParams), Eigen::VectorXd(2 * n)};
+  const Eigen::Index cols = kNumParams + (knee_armature ? 1 : 0);
+  SegmentalProblem p{Eigen::MatrixXd::Zero(2 * n, cols), Eigen::VectorXd(2 * n)};
   for (Eigen::Index i = 0; i < n; ++i) {
-    p.H.row(2 * i) = r.hip.row(i);
-    p.H.row(2 * i + 1) = r.knee.row(i);
+    p.H.row(2 * i).head(kNumParams) = r.hip.row(i);
+    p.H.row(2 * i + 1).head(kNumParams) = r.knee.row(i);
+    if (knee_armature) p.H(2 * i + 1, kKneeArmature) = r.knee_armature[i];
     p.y[2 * i] = r.tau_Nm(i, 0);
     p.y[2 * i + 1] = r.tau_Nm(i, 1);
   }

@@ -81,6 +81,12 @@ TEST(ClosedLoop, ForwardDynamicsInvertTheRegressorsInverseDynamics) {
   // At every sample the torque that drove the model is its inverse dynamics at the state reached.
   const Eigen::MatrixX2d tau = predictTorque(run.states, x, kC);
   EXPECT_LT((tau - run.states.tau_Nm).cwiseAbs().maxCoeff(), 1e-9 * run.states.tau_Nm.cwiseAbs().maxCoeff());
+  // The same with a knee armature: the knee torque carries Ia2 qdd2 on top.
+  const ClosedLoopRun geared = simulateClosedLoop(x, kC, ctl, ref, 0.1);
+  ASSERT_TRUE(geared.ok) << geared.message;
+  Eigen::MatrixX2d tau_geared = predictTorque(geared.states, x, kC);
+  tau_geared.col(1) += 0.1 * geared.states.qdd_radps2.col(1);
+  EXPECT_LT((tau_geared - geared.states.tau_Nm).cwiseAbs().maxCoeff(), 1e-9 * geared.states.tau_Nm.cwiseAbs().maxCoeff());
   // With the model's own feedforward only the integration error separates motion and reference:
   // second derivative * dt^2 per step, accumulated over a few samples (a few mrad at most).
   EXPECT_LT((run.states.q_rad - ref.q_rad).cwiseAbs().maxCoeff(), 2e-3);

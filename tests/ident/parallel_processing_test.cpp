@@ -5,6 +5,7 @@
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/noise_covariance.hpp"
 #include "exoid/ident/preprocess.hpp"
+#include "exoid/ident/segmental.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -161,6 +162,45 @@ TEST(BaseTerms, RequiredTermsWithoutImuColumnsAreAnError) {
   test::expectInvalidArgumentMentioning([&] { processRecord(test::multisineRecord(2.0), kC, o); }, "base_acc_x");
   o.processing = Processing::kPaper;
   test::expectInvalidArgumentMentioning([&] { o.validate(); }, "needs the parallel processing");
+}
+
+}  // namespace
+}  // namespace exoid::ident
+
+namespace exoid::ident {
+namespace {
+
+// The multisine record with a knee armature: its torque Ia2 qdd2 on the knee equation only.
+Dataset armatureRecord(double ia2) {
+  Dataset d = test::multisineRecord(10.0, true, true);
+  d.tau_Nm.col(1) += ia2 * d.qdd_radps2->col(1);
+  return d;
+}
+
+TEST(KneeArmature, BothEquationsSeparateItFromJs) {
+  // M22 = Js + Ia2 but M12 = Js: the hip equation holds Js alone, so both equations of a record
+  // where the hip moves give each. Exact data, parallel processing: exact to rounding.
+  const double ia2 = 0.08;
+  const ProcessedRecord r = processRecord(armatureRecord(ia2), kC, parallel());
+  const SegmentalProblem with = bothEquations(r, true);
+  ASSERT_EQ(with.H.cols(), kNumParams + 1);
+  const LsResult ls = solveLeastSquares(with.H, with.y);
+  ASSERT_EQ(ls.rank, kNumParams + 1);
+  const ParamVector truth = toParamVector(defaultLeg());
+  EXPECT_LT(maxRelError(ls.x.head(kNumParams), truth), 1e-8);
+  EXPECT_NEAR(ls.x[kKneeArmature], ia2, 1e-8 * ia2);
+  // Without the column, Js absorbs it and the rest follows.
+  const SegmentalProblem without = bothEquations(r, false);
+  EXPECT_GT(maxRelError(solveLeastSquares(without.H, without.y).x, truth), 1e-2);
+}
+
+TEST(KneeArmature, WithTheHipFixedOnlyJsPlusIa2IsIdentifiable) {
+  // The knee-only record: Js's knee column is qdd1 + qdd2 = qdd2, the armature's too.
+  Dataset d = test::multisineRecord(10.0, false, true);
+  const ProcessedRecord r = processRecord(d, kC, parallel());
+  Eigen::MatrixXd H(r.size(), 6);
+  H << r.knee.middleCols(kShankFirst, kGroupSize), r.knee_armature;
+  EXPECT_EQ(solveLeastSquares(H, r.tau_Nm.col(1)).rank, 5);
 }
 
 }  // namespace

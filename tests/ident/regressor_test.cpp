@@ -80,7 +80,9 @@ TEST(Params, DefaultLegIsPaperSetB) {
 TEST(Params, NamesRoundTrip) {
   for (int i = 0; i < kNumParams; ++i) EXPECT_EQ(paramIndex(paramName(i)), i);
   EXPECT_EQ(paramIndex("nope"), -1);
-  EXPECT_THROW(paramName(10), std::invalid_argument);
+  EXPECT_EQ(paramName(kKneeArmature), "Ia2");  // the optional 11th parameter
+  EXPECT_THROW(paramName(11), std::invalid_argument);
+  EXPECT_THROW(paramName(-1), std::invalid_argument);
 }
 
 }  // namespace

@@ -44,3 +44,35 @@ TEST(RegressorVsMujoco, RigidVariantAtRandomStates) {
 }
 
 }  // namespace
+
+namespace {
+TEST(RegressorVsMujoco, KneeArmatureIsIa2OnTheKneeDiagonal) {
+  // MuJoCo's armature on the knee dof: mj_inverse = Y X + Ia2 qdd2 (knee row only), with X the
+  // rigid truth unchanged and Ia2 what the truth reports.
+  using namespace exoid;
+  sim::ModelVariant v;
+  v.cylinder_mass_scale = 0.0;
+  v.vibration_level = 0.0;
+  v.fc_hip_Nm = 0.0;
+  v.fc_knee_Nm = 0.0;
+  v.knee_armature_kgm2 = 0.08;
+  sim::LegModel leg = sim::loadLeg(sim::defaultModelPath(), v);
+  const sim::Truth truth = sim::rigidTruth(leg);
+  EXPECT_EQ(truth.knee_armature_kgm2, 0.08);
+  sim::IdealInverseDynamics inv(std::move(leg));
+  ident::ParamVector X;
+  for (int i = 0; i < 10; ++i) X[i] = truth.x[static_cast<std::size_t>(i)];
+  const ident::LegConstants c{truth.thigh_length_m, truth.gravity_mps2};
+  std::mt19937_64 gen(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Vector2d q(2 * u(gen), 2 * u(gen)), qd(4 * u(gen), 4 * u(gen)), qdd(40 * u(gen), 40 * u(gen));
+    ident::RegressorRow hip, knee;
+    ident::regressorRows(c, q, qd, qdd, hip, knee);
+    const Eigen::Vector2d tau = inv.torque(q, qd, qdd);
+    worst = std::max({worst, std::abs(hip.dot(X) - tau[0]), std::abs(knee.dot(X) + 0.08 * qdd[1] - tau[1])});
+  }
+  EXPECT_LT(worst, 1e-8);  // roundoff on O(100 N m) torques
+}
+}  // namespace

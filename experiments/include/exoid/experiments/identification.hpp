@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,13 +19,15 @@ namespace exoid::experiments {
 /// One estimator call and which entries of X it estimated.
 struct Stage {
   std::string name;          ///< "all", "knee", "hip"
-  std::vector<int> indices;  ///< into the 10-vector X
+  std::vector<int> indices;  ///< into the 10-vector X; ident::kKneeArmature for Ia2
   ident::Estimate estimate;
 };
 
 struct MethodOutcome {
   ident::Method method = ident::Method::kLs;
   ident::ParamVector x = ident::ParamVector::Zero();
+  /// Ia2 (ident::kKneeArmature), when the knee armature was estimated.
+  std::optional<double> knee_armature;
   std::vector<Stage> stages;
   /// Violated physical conditions of x (ident::implausibilities; parameters a stage could not
   /// identify are not checked). Non-empty: the estimate cannot be the leg's.
@@ -34,8 +37,10 @@ struct MethodOutcome {
   double wallTime_s() const;
 };
 
-/// All 10 parameters from both joint equations of one record (rows in time order).
-MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o);
+/// All 10 parameters from both joint equations of one record (rows in time order); with
+/// knee_armature also Ia2.
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
+                          bool knee_armature = false);
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
                           const ident::MethodOptions& o);
 /// The paper's segmental strategy.
@@ -50,14 +55,16 @@ MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record
                                   const ident::IvOptions& options);
 /// IDIM-IV on both equations of one record, all 10 parameters (stage "all").
 MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
-                            const ident::SignalOptions& signals, const ident::IvOptions& options);
+                            const ident::SignalOptions& signals, const ident::IvOptions& options,
+                            bool knee_armature = false);
 
 /// Per-joint validation torque errors of X on a record.
 struct Validation {
   ident::TorqueErrorStats hip;
   ident::TorqueErrorStats knee;
 };
-Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x);
+/// knee_armature: Ia2 (its term Ia2 qdd2 joins the knee prediction).
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature = 0.0);
 Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c);
 
 /// {"Mxt": ..., ...} and back (all 10 names required; unknown names rejected with the name).

@@ -67,7 +67,8 @@ struct ClosedLoopRun {
 /// enough substeps per sample for the stiffest loop (omega dt <= 0.05). Forward dynamics from the
 /// regressor itself: M(q) e_j = Y(q, 0, e_j) x - Y(q, 0, 0) x, h = Y(q, qd, 0) x. Not ok (never
 /// NaN) when M(q) is not positive definite or the tracking error exceeds 1 rad.
+/// knee_armature_kgm2: the optional 11th parameter Ia2 (adds Ia2 qdd2 to the knee torque).
 ClosedLoopRun simulateClosedLoop(const ParamVector& x, const LegConstants& c, const ControllerModel& ctl,
-                                 const Reference& ref);
+                                 const Reference& ref, double knee_armature_kgm2 = 0.0);
 
 }  // namespace exoid::ident

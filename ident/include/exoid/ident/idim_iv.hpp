@@ -66,7 +66,7 @@ struct ClosedLoopRecord {
 /// tracking: still free of the measurement noise, so still consistent, but fixed (the iteration
 /// stops) and said in the message.
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
-                             const SignalOptions& signals, ProcessedRecord& out);
+                             const SignalOptions& signals, ProcessedRecord& out, double knee_armature_kgm2 = 0.0);
 
 /// IDIM-IV with the segmental strategy: knee parameters from the knee record (its instruments from
 /// the simulated knee record), then hip parameters from the two-joint record with the knee part
@@ -76,8 +76,8 @@ Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const 
 SegmentalResult identifySegmentalIv(const ClosedLoopRecord& knee_record, const ClosedLoopRecord& both_record,
                                     const LegConstants& c, const SignalOptions& signals, const IvOptions& options,
                                     const ParamVector& x_start = ParamVector::Zero());
-/// IDIM-IV on both equations of one record, all 10 parameters.
+/// IDIM-IV on both equations of one record, all 10 parameters (11 with knee_armature: Ia2 last).
 Estimate identifyAllIv(const ClosedLoopRecord& record, const LegConstants& c, const SignalOptions& signals,
-                       const IvOptions& options);
+                       const IvOptions& options, bool knee_armature = false);
 
 }  // namespace exoid::ident

@@ -27,7 +27,15 @@ struct ParamInfo {
 
 /// Name, unit and meaning of each parameter, in the paper's order.
 const std::array<ParamInfo, kNumParams>& paramInfo();
-/// "Mxt" ... "fv2".
+/// The optional 11th parameter: the knee's armature Ia2 (kg m^2), the reflected rotor/actuator
+/// inertia on the knee's own diagonal (Khalil's Ia, MuJoCo's armature). It enters the knee
+/// equation only, as Ia2 qdd2 (qdd2 = the knee's relative acceleration), so M22 = Js + Ia2 while
+/// M12 keeps Js: a geared motor or a hydraulic piston's moving mass. Its index in estimates that
+/// carry it (after the 10 of X).
+inline constexpr int kKneeArmature = 10;
+const ParamInfo& kneeArmatureInfo();  ///< {"Ia2", "kg m^2", ...}
+
+/// "Mxt" ... "fv2"; "Ia2" for kKneeArmature.
 std::string_view paramName(int index);
 /// Index of a parameter name (case-sensitive), or -1 if unknown.
 int paramIndex(std::string_view name);

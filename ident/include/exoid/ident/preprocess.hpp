@@ -93,6 +93,9 @@ struct ProcessedRecord {
   Eigen::MatrixXd hip;     ///< hip equation rows
   Eigen::MatrixXd knee;    ///< knee equation rows
   Eigen::MatrixX2d tau_Nm;  ///< measured torques, processed like the rows
+  /// The knee rows' column of the optional knee armature Ia2 (kKneeArmature): qdd2, processed like
+  /// the rows. The hip rows' column is 0.
+  Eigen::VectorXd knee_armature;
   JointSignals states;     ///< states at the rows (for the parallel processing: unfiltered)
   Eigen::Index size() const { return tau_Nm.rows(); }
 };

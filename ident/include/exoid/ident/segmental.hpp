@@ -15,10 +15,14 @@ struct SegmentalProblem {
 };
 /// Both equations of a record, all 10 columns, in time order: row 2i is sample i's hip equation,
 /// 2i+1 its knee equation (so RLS sees the record in order).
-SegmentalProblem bothEquations(const ProcessedRecord& record);
-/// Stage 1: knee equation of the knee record, columns 6-10.
+/// With knee_armature, an 11th column (kKneeArmature): 0 in hip rows, knee_armature in knee rows.
+SegmentalProblem bothEquations(const ProcessedRecord& record, bool knee_armature = false);
+/// Stage 1: knee equation of the knee record, columns 6-10. (No knee armature here: with the hip
+/// fixed, its column qdd2 is Js's, so only Js + Ia2 is identifiable; bothEquations separates them
+/// on a record where the hip moves, since Js also enters the hip equation.)
 SegmentalProblem kneeStage(const ProcessedRecord& knee_record);
-/// Stage 2: hip equation of the two-joint record, columns 1-5, with the knee part subtracted.
+/// Stage 2: hip equation of the two-joint record, columns 1-5, with the knee part subtracted
+/// (x_knee: Mxs..fv2; the armature does not act on the hip equation).
 SegmentalProblem hipStage(const ProcessedRecord& both_record, const Eigen::Ref<const Eigen::VectorXd>& x_knee);
 /// The same on signals as they are (regressorRecord).
 SegmentalProblem kneeStage(const JointSignals& knee_record, const LegConstants& c);
