@@ -388,7 +388,9 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
   md << "\n## Errors in units of each method's Cramer-Rao bound\n\n"
         "(x - x*) / sigma, sigma = the noise-limited std of the parameter for the regressor the method fits, after its "
         "own processing and for its own structure (segmental or stacked; `experiments::noiseStd`), at the records' "
-        "torque noise. |z| <= 2-3 means noise-limited; larger means bias (model, processing, vibration).\n\n";
+        "torque noise. |z| <= 2-3 means noise-limited; larger means bias (model, processing, vibration). IDIM-IV is "
+        "scored against the LS bound of the rows it fits: the least-squares bound, which an instrumental-variable "
+        "estimate cannot beat (its own covariance is larger), so its |z| overstates its error in its own units.\n\n";
   std::vector<std::string> zh{"method"};
   for (int i = 0; i < kNumParams; ++i) zh.emplace_back(ident::paramName(i));
   TextTable zt(zh), ct(zh);

@@ -42,9 +42,9 @@ TEST(ParallelArms, ExactOnNoiseFreeSimulatorRecordsWithTheirDerivatives) {
   // tau = Y(q, qd, qdd) x holds at every sample of the simulator's state (MuJoCo's inverse
   // dynamics is the regressor's: RegressorVsMujoco), and the parallel filter keeps it: both arms
   // must return the rigid truth to rounding times conditioning (~1e3), 1e-6 relative promised.
-  // Angles alone do not allow this on simulated records: MuJoCo's semi-implicit Euler makes the
-  // sampled angles' centred difference qd_k + dt qdd_k / 2, not qd_k (relative error w dt / 2,
-  // 1e-2 on the friction and Coriolis columns here); real, continuous motion has no such offset.
+  // Angles alone do not allow this on simulated records (measured: up to 1e-2 relative, friction
+  // and Coriolis terms): the controller's sample-and-hold torque makes the acceleration jump at
+  // every sample, and difference formulas of the sampled angles average across the jumps.
   ProtocolConfig c = rigidLeg(6.0);
   ProtocolResult r = runProtocol(c);
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
@@ -80,15 +80,20 @@ ZStats zStats(const Eigen::MatrixXd& z) {
 }
 
 constexpr int kSeeds = 50;
-// Two-sided 99 % point of the normal, and chi-square(49)'s 0.5 % and 99.5 % points as sd ratios:
-// sqrt(27.25 / 49) and sqrt(78.23 / 49) (Wilson-Hilferty).
-constexpr double kZ99 = 2.576, kSdLow = 0.746, kSdHigh = 1.264;
+constexpr double kZ99 = 2.576;  // two-sided 99 % point of the normal
+// The two-sided 99 % band of a sample std over its true value for n draws: sqrt(chi2_{n-1} / (n-1))
+// at the 0.5 % and 99.5 % points (Wilson-Hilferty).
+double sdBand(int n, double z) {
+  const double v = 2.0 / (9.0 * (n - 1));
+  return std::sqrt(std::pow(1.0 - v + z * std::sqrt(v), 3));
+}
 
 TEST(ParallelArms, DefaultProcessingIsUnbiasedAndAsPreciseAsItsBoundUnderTorqueNoise) {
-  // exoid identify's default (parallel processing, LS) on 50 seeds of white torque-sensor noise
+  // exoid identify's default (parallel processing, LS) on 200 seeds of white torque-sensor noise
   // (0.5 N m) added to the records of the rigid leg: every parameter's mean error from the
-  // noise-free estimate lies within the 99 % band of a mean of 50, and its spread within
-  // chi-square's 99 % band of the bound the protocol reports (noiseStd).
+  // noise-free estimate lies within the 99 % band of a mean, and its spread within chi-square's
+  // 99 % band around the bound the protocol reports (noiseStd). Measured: sd / bound 1.00-1.02 over
+  // 400 seeds (0.80-0.86 over the first 50: the band of 50 seeds is 0.75-1.26).
   ProtocolConfig c = rigidLeg(4.0);
   c.variants = {Variant::kLsParallel};
   const ProtocolResult r = runProtocol(c);
@@ -96,12 +101,13 @@ TEST(ParallelArms, DefaultProcessingIsUnbiasedAndAsPreciseAsItsBoundUnderTorqueN
   const ident::ParamVector x0 = r.scores[0].outcome.x;
   const double sigma = 0.5;
   const Eigen::VectorXd bound = noiseStd(Variant::kLsParallel, r.records, lc, c.signals, sigma);
+  const int seeds = 200;  // cheap (no simulation per seed): a sharper band than the required 50
   std::mt19937_64 gen(20261201);
   std::normal_distribution<double> noise(0.0, sigma);
   ident::MethodOptions mo;
   mo.report_optimality_gap = false;
-  Eigen::MatrixXd z(ident::kNumParams, kSeeds);
-  for (int k = 0; k < kSeeds; ++k) {
+  Eigen::MatrixXd z(ident::kNumParams, seeds);
+  for (int k = 0; k < seeds; ++k) {
     ident::Dataset d1 = r.records[0].data, d3 = r.records[2].data;
     d1.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d1.size(), 2, [&] { return noise(gen); });
     d3.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d3.size(), 2, [&] { return noise(gen); });
@@ -110,10 +116,11 @@ TEST(ParallelArms, DefaultProcessingIsUnbiasedAndAsPreciseAsItsBoundUnderTorqueN
     z.col(k) = (m.x - x0).cwiseQuotient(bound);
   }
   const ZStats s = zStats(z);
+  std::printf("[ info ] sd / bound: min %.3f max %.3f; |mean z| max %.3f\n", s.sd.minCoeff(), s.sd.maxCoeff(), s.mean.cwiseAbs().maxCoeff());
   for (int i = 0; i < ident::kNumParams; ++i) {
-    EXPECT_LT(std::abs(s.mean[i]), kZ99 * s.sd[i] / std::sqrt(double(kSeeds))) << ident::paramName(i) << " mean z " << s.mean[i];
-    EXPECT_GT(s.sd[i], kSdLow) << ident::paramName(i);
-    EXPECT_LT(s.sd[i], kSdHigh) << ident::paramName(i);
+    EXPECT_LT(std::abs(s.mean[i]), kZ99 * s.sd[i] / std::sqrt(double(seeds))) << ident::paramName(i) << " mean z " << s.mean[i];
+    EXPECT_GT(s.sd[i], sdBand(seeds, -kZ99)) << ident::paramName(i);
+    EXPECT_LT(s.sd[i], sdBand(seeds, kZ99)) << ident::paramName(i);
   }
 }
 
@@ -139,6 +146,8 @@ TEST(ParallelArms, IdimIvRemovesTheBiasEncoderNoiseGivesLeastSquaresInClosedLoop
     for (const Stage& st : r.scores[1].outcome.stages) EXPECT_LE(st.estimate.summary.iterations, 5) << st.name;
   }
   const ZStats ls = zStats(z_ls), iv = zStats(z_iv);
+  std::printf("[ info ] LS mean z %.2f..%.2f; IDIM-IV |mean z| max %.3f, sd %.2f..%.2f\n", ls.mean.minCoeff(), ls.mean.maxCoeff(),
+              iv.mean.cwiseAbs().maxCoeff(), iv.sd.minCoeff(), iv.sd.maxCoeff());
   for (int i = 0; i < ident::kNumParams; ++i) {
     EXPECT_LT(std::abs(iv.mean[i]), kZ99 * iv.sd[i] / std::sqrt(double(kSeeds))) << ident::paramName(i) << " mean z " << iv.mean[i];
     EXPECT_LT(iv.sd[i], 2.0) << ident::paramName(i);
