@@ -103,7 +103,9 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
                               {"description", "LS fit of the 2-link model to the exact, noise-free, vibration-free "
                                           "(ideal) torques at the exact states of this record: the best any "
                                           "estimator of this model can do on it. Blocks this record cannot "
-                                          "identify are copied from the rigid truth (from_rigid)."}};
+                                          "identify are copied from the rigid truth (from_rigid). The 10-parameter "
+                                          "model's: with a knee armature (knee_armature.Ia2 > 0) its Js absorbs "
+                                          "the armature; compare identify --knee-armature with rigid and Ia2."}};
   }
   j["torque_variance_above_10Hz"] = torqueVarianceAbove(d);
   j["torque_variance_above_10Hz"]["method"] =
