@@ -1,0 +1,88 @@
+#pragma once
+// Excitation design (Swevers, Ganseman, Tukel, de Schutter, Van Brussel 1997): periodic finite
+// Fourier series trajectories, rated by the conditioning of the regressor they produce, under the
+// rig's limits. Pure Eigen, so a user can design for their own rig from its nominal parameters.
+//
+// Per joint: q(t) = offset + sum_{k=1..N} a_k cos(k w t) + b_k sin(k w t), w = 2 pi f0. Zero
+// velocity and acceleration at t = 0 (and so at every period's end) are built in: the first
+// harmonic's coefficients follow from the others (b_1 = -sum_{k>=2} k b_k, a_1 = -sum_{k>=2} k^2 a_k),
+// so every trajectory the optimiser sees starts and ends at rest.
+#include "exoid/ident/params.hpp"
+#include "exoid/ident/regressor.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <string>
+
+namespace exoid::ident {
+
+struct FourierTrajectory {
+  double f0_hz = 0.1;                  ///< base frequency; the period is 1 / f0
+  Eigen::Vector2d offset_rad = Eigen::Vector2d::Zero();  ///< hip, knee
+  Eigen::MatrixX2d a_rad;              ///< N x 2 cosine coefficients, harmonic k in row k - 1
+  Eigen::MatrixX2d b_rad;              ///< N x 2 sine coefficients
+  bool hip_locked = false;             ///< the hip held at its offset (its harmonics are 0)
+  int harmonics() const { return static_cast<int>(a_rad.rows()); }
+  double period_s() const { return 1.0 / f0_hz; }
+  /// q, qd, qdd at time t (rad, rad/s, rad/s^2).
+  void at(double t_s, Eigen::Vector2d& q, Eigen::Vector2d& qd, Eigen::Vector2d& qdd) const;
+  /// Throws std::invalid_argument naming the field (f0 <= 0, sizes, non-finite, a locked hip that moves).
+  void validate() const;
+};
+
+/// The rig's limits the design must respect (SI). Torques from the nominal model's inverse dynamics.
+struct ExcitationLimits {
+  Eigen::Vector2d q_min_rad{-1.4, 0.05}, q_max_rad{0.5, 1.9};
+  Eigen::Vector2d qd_max_radps{3.0, 3.0};
+  Eigen::Vector2d qdd_max_radps2{30.0, 30.0};
+  Eigen::Vector2d tau_max_Nm{120.0, 60.0};
+  void validate() const;  ///< throws std::invalid_argument naming the field
+};
+
+/// How good a trajectory is, evaluated on `samples` points of one period.
+struct ExcitationScore {
+  /// Condition number of the column-scaled regressor the design is for (both equations, all 10
+  /// columns; knee-only designs: the knee equation's 5 shank columns).
+  double condition_number = 0.0;
+  /// Largest excess over the limits, relative to each limit (0 = feasible).
+  double worst_violation = 0.0;
+  std::string worst_violation_name;    ///< e.g. "qd[knee]"; empty when feasible
+  Eigen::Vector2d q_min_rad, q_max_rad, qd_max_radps, qdd_max_radps2, tau_max_Nm;  ///< reached
+};
+
+/// Scores a trajectory for the nominal parameters x_nominal (torques) and constants c.
+ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstants& c, const ParamVector& x_nominal,
+                                const ExcitationLimits& limits, int samples = 1000);
+
+/// The regressor the design is for, on `samples` points of one period (rows: both equations in
+/// time order, or the knee equation's shank columns for a locked hip).
+Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples);
+
+struct ExcitationOptions {
+  int harmonics = 5;          ///< N, >= 2 (the first harmonic is fixed by the rest-at-the-ends rule)
+  double f0_hz = 0.1;         ///< base frequency, > 0: a 10 s period
+  bool hip_locked = false;    ///< design the knee-only record (the segmental strategy's first stage)
+  double hip_locked_at_rad = -0.17;  ///< where the locked hip is held
+  int restarts = 8;           ///< random starting points, >= 1
+  long max_evaluations = 6000;  ///< per restart, >= 100
+  int samples = 200;          ///< points per period while optimising (the result is rescored on 1000)
+  std::uint64_t seed = 1;     ///< all randomness; same seed, same design
+  void validate() const;      ///< throws std::invalid_argument naming the field
+};
+
+struct ExcitationDesign {
+  FourierTrajectory trajectory;
+  ExcitationScore score;      ///< on 1000 samples
+  long evaluations = 0;
+  int feasible_restarts = 0;  ///< restarts that ended inside the limits
+  double wall_time_s = 0.0;
+};
+
+/// Minimises log(condition number) + a penalty on the limits' violations by Nelder-Mead from
+/// `restarts` random starts (all from options.seed), keeps the best feasible end point, and if
+/// none is feasible shrinks the harmonics of the best until it is. Deterministic.
+ExcitationDesign designExcitation(const ExcitationOptions& options, const LegConstants& c, const ParamVector& x_nominal,
+                                  const ExcitationLimits& limits);
+
+}  // namespace exoid::ident
