@@ -21,6 +21,7 @@ int runCli(int argc, char** argv) {
   addReproduceCommand(app);
   addSweepCommand(app);
   addMergeCommand(app);
+  addExciteCommand(app);
 #endif
 #ifdef EXOID_WITH_RENDER
   addRenderCommand(app);

@@ -9,18 +9,6 @@
 
 namespace exoid::experiments {
 
-ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked) {
-  ident::ControllerModel c;
-  c.pid.kp_Nm_per_rad = cfg.gains.kp_Nm_per_rad;
-  c.pid.ki_Nm_per_rad_s = cfg.gains.ki_Nm_per_rad_s;
-  c.pid.kd_Nms_per_rad = cfg.gains.kd_Nms_per_rad;
-  c.pid.derivative_cutoff_hz = cfg.gains.derivative_cutoff_Hz;
-  c.pid.integral_limit_Nm = cfg.gains.integral_limit_Nm;
-  c.feedforward = cfg.feedforward ? ident::Feedforward::kModel : ident::Feedforward::kNone;
-  c.locked = {hip_locked, false};
-  return c;
-}
-
 namespace {
 
 double parseNumber(const std::string& text, const std::string& where) {

@@ -1,5 +1,7 @@
 #include "exoid/experiments/sim_bridge.hpp"
 
+#include "exoid/experiments/excitation_io.hpp"
+
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/version.hpp"
 #include "exoid/ident/least_squares.hpp"
@@ -144,11 +146,30 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
                        ->delimiter(',')->group(g);
   app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
   app.add_flag("--lock-hip", c.fourier.lock_hip, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
+  CLI::Option* ex = app.add_option_function<std::string>(
+                           "--excitation", [&c](const std::string& path) { c.fourier = toFourierSpec(readExcitationFile(path)); c.trajectory = 0; },
+                           "Excitation design JSON from `exoid excite` (replaces --trajectory)")
+                       ->check(CLI::ExistingFile)->group(g);
   traj->excludes(fh);
   traj->excludes(fk);
+  traj->excludes(ex);
+  ex->excludes(fh);
+  ex->excludes(fk);
 }
 
 }  // namespace
+
+ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked) {
+  ident::ControllerModel c;
+  c.pid.kp_Nm_per_rad = cfg.gains.kp_Nm_per_rad;
+  c.pid.ki_Nm_per_rad_s = cfg.gains.ki_Nm_per_rad_s;
+  c.pid.kd_Nms_per_rad = cfg.gains.kd_Nms_per_rad;
+  c.pid.derivative_cutoff_hz = cfg.gains.derivative_cutoff_Hz;
+  c.pid.integral_limit_Nm = cfg.gains.integral_limit_Nm;
+  c.feedforward = cfg.feedforward ? ident::Feedforward::kModel : ident::Feedforward::kNone;
+  c.locked = {hip_locked, false};
+  return c;
+}
 
 void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   const char* g = "Simulation";

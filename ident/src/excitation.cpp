@@ -85,8 +85,22 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
   ExcitationScore s;
   const Eigen::MatrixXd H = excitationRegressor(traj, c, samples);
   const Eigen::VectorXd scale = columnScales(H);
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(H * scale.asDiagonal()).singularValues();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(H * scale.asDiagonal(), Eigen::ComputeThinV);
+  const Eigen::VectorXd sv = svd.singularValues();
   s.condition_number = sv[sv.size() - 1] > 0 ? sv[0] / sv[sv.size() - 1] : std::numeric_limits<double>::infinity();
+  // (H^T H)^{-1} = S V diag(1 / sv^2) V^T S for H S = U diag(sv) V^T.
+  const int first = traj.hip_locked ? kShankFirst : 0;
+  for (Eigen::Index i = 0; i < H.cols(); ++i) {
+    double var = 0.0;
+    for (Eigen::Index k = 0; k < sv.size(); ++k) {
+      var += sv[k] > 0 ? svd.matrixV()(i, k) * svd.matrixV()(i, k) / (sv[k] * sv[k]) : std::numeric_limits<double>::infinity();
+    }
+    const double rel = scale[i] * std::sqrt(var) / std::max(std::abs(x_nominal[first + i]), 1e-12);
+    if (!(rel <= s.worst_relative_std)) {
+      s.worst_relative_std = rel;
+      s.worst_relative_std_name = std::string(paramName(static_cast<int>(first + i)));
+    }
+  }
 
   s.q_min_rad.setConstant(std::numeric_limits<double>::infinity());
   s.q_max_rad.setConstant(-std::numeric_limits<double>::infinity());
@@ -188,7 +202,7 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants
     const ExcitationScore s = scoreExcitation(fromFree(o, p), c, x_nominal, limits, o.samples);
     // log keeps the criterion's scale comparable with the penalty; the penalty dominates any
     // violation beyond a few percent.
-    return std::log(s.condition_number) + 1e3 * s.worst_violation * s.worst_violation;
+    return std::log(s.condition_number) + std::log(s.worst_relative_std) + 1e5 * s.worst_violation * s.worst_violation;
   };
   Rng rng(o.seed);
   double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;

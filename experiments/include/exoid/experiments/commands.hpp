@@ -22,6 +22,7 @@ void addTruthCommand(CLI::App& app);
 void addReproduceCommand(CLI::App& app);
 void addSweepCommand(CLI::App& app);
 void addMergeCommand(CLI::App& app);
+void addExciteCommand(CLI::App& app);
 #endif
 #ifdef EXOID_WITH_RENDER
 void addRenderCommand(CLI::App& app);

@@ -1,18 +1,12 @@
 #pragma once
-// The controller and reference a log was recorded under, as IDIM-IV needs them: from exoid's own
-// simulation settings, from a dataset's "# controller_*" metadata (exoid simulate writes them), or
+// The controller and reference a log was recorded under, as IDIM-IV needs them: from a dataset's "# controller_*" metadata (exoid simulate writes them), or
 // from a JSON file describing a real rig's controller.
 #include "exoid/ident/closed_loop.hpp"
 #include "exoid/ident/dataset.hpp"
-#include "exoid/sim/simulate.hpp"
 
 #include <string>
 
 namespace exoid::experiments {
-
-/// exoid's simulated controller: its PID gains, model feedforward when cfg.feedforward, the hip
-/// locked on the knee-only trajectories.
-ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked);
 
 /// From metadata lines controller_kp_Nm_per_rad, controller_ki_Nm_per_rad_s,
 /// controller_kd_Nms_per_rad ("hip,knee"), controller_derivative_cutoff_Hz,

@@ -1,5 +1,6 @@
 #pragma once
 // Where sim meets ident: simulated tables as datasets, exact signals, and the best-fit truth.
+#include "exoid/ident/closed_loop.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/regressor.hpp"
 #include "exoid/sim/simulate.hpp"
@@ -37,6 +38,10 @@ std::map<std::string, double> torqueVarianceAbove(const ident::Dataset& d, doubl
 /// The full sidecar: sim's (settings, rigid truth, band, stats) plus the best-fit truth and the
 /// torques' variance share above 10 Hz.
 nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& d);
+
+/// exoid's simulated controller as IDIM-IV models it: its PID gains, model feedforward when
+/// cfg.feedforward, the hip locked on the knee-only trajectories.
+ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked);
 
 /// Flags of `exoid simulate` (shared with render and the experiments that simulate). With
 /// choose_trajectory, also --trajectory and the Fourier-series flags (the protocol runs 1-4).

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -45,6 +46,11 @@ struct ExcitationScore {
   /// Condition number of the column-scaled regressor the design is for (both equations, all 10
   /// columns; knee-only designs: the knee equation's 5 shank columns).
   double condition_number = 0.0;
+  /// Largest relative noise-limited std over the design's parameters, std_i / |x_nominal_i|, for
+  /// LS on one period of `samples` rows with unit white noise per row: how poorly the worst
+  /// parameter is determined (the absolute counterpart the scale-free condition number misses).
+  double worst_relative_std = 0.0;
+  std::string worst_relative_std_name;
   /// Largest excess over the limits, relative to each limit (0 = feasible).
   double worst_violation = 0.0;
   std::string worst_violation_name;    ///< e.g. "qd[knee]"; empty when feasible
@@ -63,7 +69,7 @@ struct ExcitationOptions {
   int harmonics = 5;          ///< N, >= 2 (the first harmonic is fixed by the rest-at-the-ends rule)
   double f0_hz = 0.1;         ///< base frequency, > 0: a 10 s period
   bool hip_locked = false;    ///< design the knee-only record (the segmental strategy's first stage)
-  double hip_locked_at_rad = -0.17;  ///< where the locked hip is held
+  double hip_locked_at_rad = -10.0 * M_PI / 180.0;  ///< where the locked hip is held (the paper's -10 deg)
   int restarts = 8;           ///< random starting points, >= 1
   long max_evaluations = 6000;  ///< per restart, >= 100
   int samples = 200;          ///< points per period while optimising (the result is rescored on 1000)
@@ -79,7 +85,10 @@ struct ExcitationDesign {
   double wall_time_s = 0.0;
 };
 
-/// Minimises log(condition number) + a penalty on the limits' violations by Nelder-Mead from
+/// Minimises log(condition number) + log(worst relative std) + a penalty on the limits' violations
+/// (a well-conditioned regressor whose every parameter is also well determined in absolute
+/// terms: the condition number alone is scale-free and can be met with small, uninformative
+/// motions) by Nelder-Mead from
 /// `restarts` random starts (all from options.seed), keeps the best feasible end point, and if
 /// none is feasible shrinks the harmonics of the best until it is. Deterministic.
 ExcitationDesign designExcitation(const ExcitationOptions& options, const LegConstants& c, const ParamVector& x_nominal,

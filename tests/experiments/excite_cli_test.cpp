@@ -1,0 +1,62 @@
+// `exoid excite` end to end: the design file, and the simulated record of it inside the limits
+// (checked on what the simulator recorded, not only on the design).
+#include "cli_test_support.hpp"
+#include "exoid/experiments/excitation_io.hpp"
+#include "exoid/ident/dataset.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace exoid::experiments {
+namespace {
+
+using test::runExoid;
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(ExciteCli, DesignFileSimulatesInsideItsLimits) {
+  const std::string dir = ::testing::TempDir();
+  const std::string design = dir + "/excite_design.json", csv = dir + "/excite_record.csv";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"excite", "--out", design, "--restarts", "2", "--max-evaluations", "600", "--seed", "3"}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json j = readJson(design);
+  EXPECT_EQ(j["seed"], 3);
+  EXPECT_LT(j["score"]["condition_number"].get<double>(), j["comparison"]["paper_condition_number"].get<double>());
+  // One period (10 s) simulated without noise; the recorded true angles and velocities inside the
+  // limits up to the tracking error (0.01 deg RMS on this rig; 1e-3 rad and 1e-2 rad/s allowed).
+  ASSERT_EQ(runExoid({"simulate", "--excitation", design, "--duration", "10", "--noise-q-deg", "0", "--quantisation-deg", "0",
+                      "--noise-tau", "0", "--out", csv}),
+            0);
+  const ident::Dataset d = ident::readDatasetCsv(csv);
+  const nlohmann::json& lim = j["limits"];
+  const char* q_cols[2] = {"q_hip_true", "q_knee_true"};
+  const char* qd_cols[2] = {"qd_hip_true", "qd_knee_true"};
+  for (int k = 0; k < 2; ++k) {
+    const Eigen::VectorXd q = d.extraColumn(q_cols[k]), qd = d.extraColumn(qd_cols[k]);
+    EXPECT_GE(q.minCoeff(), lim["q_min_rad"][k].get<double>() - 1e-3) << q_cols[k];
+    EXPECT_LE(q.maxCoeff(), lim["q_max_rad"][k].get<double>() + 1e-3) << q_cols[k];
+    EXPECT_LE(qd.cwiseAbs().maxCoeff(), lim["qd_max_radps"][k].get<double>() + 1e-2) << qd_cols[k];
+  }
+  // The design round-trips through the file.
+  const ident::FourierTrajectory t = readExcitationFile(design);
+  EXPECT_EQ(t.a_rad(0, 0), j["trajectory"]["a_rad"]["hip"][0].get<double>());
+}
+
+TEST(ExciteCli, BadExcitationFileIsNamed) {
+  const std::string bad = ::testing::TempDir() + "/bad_excitation.json";
+  std::ofstream(bad) << R"({"trajectory": {"f0_hz": 0.1, "hip_locked": false}})";
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"simulate", "--excitation", bad, "--out", ::testing::TempDir() + "/never.csv"}), 0);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("bad_excitation.json"), std::string::npos) << err;
+  EXPECT_NE(err.find("offset_rad"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace exoid::experiments
