@@ -21,7 +21,16 @@ struct ExciteArgs {
   ident::ExcitationOptions options;
   double duration_s = 10.0, rate_hz = 1000.0, sigma_Nm = 0.5;  // the CRB comparison's footing
   double hip_locked_at_deg = -10.0;
+  // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
+  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
 };
+
+// A "hip,knee" override of one limit pair; `scale` converts to SI.
+void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double scale, const char* flag) {
+  if (v.empty()) return;
+  if (v.size() != 2) throw CLI::ValidationError(flag, "expected hip,knee (two numbers)");
+  limit << v[0] * scale, v[1] * scale;
+}
 
 void runExcite(const ExciteArgs& args) {
   ExciteArgs a = args;
@@ -30,7 +39,14 @@ void runExcite(const ExciteArgs& args) {
   const sim::Truth truth = sim::truthFromModel(a.model);
   const ident::ParamVector nominal = toParamVector(truth.x);
   const ident::LegConstants c = constantsOf(truth);
-  const ident::ExcitationLimits limits = paperEnvelope(c, nominal);
+  ident::ExcitationLimits limits = paperEnvelope(c, nominal);
+  const bool overridden = !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
+  overrideLimit(limits.q_min_rad, a.q_min_deg, M_PI / 180.0, "--q-min-deg");
+  overrideLimit(limits.q_max_rad, a.q_max_deg, M_PI / 180.0, "--q-max-deg");
+  overrideLimit(limits.qd_max_radps, a.qd_max, 1.0, "--qd-max");
+  overrideLimit(limits.qdd_max_radps2, a.qdd_max, 1.0, "--qdd-max");
+  overrideLimit(limits.tau_max_Nm, a.tau_max, 1.0, "--tau-max");
+  limits.validate();
   const ident::ExcitationDesign d = ident::designExcitation(a.options, c, nominal, limits);
   // The paper's counterpart: trajectory 1 for a knee-only design, 3 for both joints.
   const int paper_id = a.options.hip_locked ? 1 : 3;
@@ -41,7 +57,8 @@ void runExcite(const ExciteArgs& args) {
   std::vector<int> indices;
   for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) indices.push_back(i);
 
-  nlohmann::json lim = {{"source", "envelope of the paper's trajectories 1-4 on the nominal model"},
+  nlohmann::json lim = {{"source", overridden ? "envelope of the paper's trajectories 1-4 on the nominal model, with overrides"
+                                              : "envelope of the paper's trajectories 1-4 on the nominal model"},
                         {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
                         {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
                         {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
@@ -112,6 +129,11 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_option("--restarts", a->options.restarts, "Random starts of the optimiser, >= 1")->capture_default_str();
   cmd->add_option("--max-evaluations", a->options.max_evaluations, "Criterion evaluations per restart, >= 100")->capture_default_str();
   cmd->add_option("--seed", a->options.seed, "Seed of the random starts")->capture_default_str();
+  cmd->add_option("--q-min-deg", a->q_min_deg, "Override the lower joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--q-max-deg", a->q_max_deg, "Override the upper joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--qd-max", a->qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');
+  cmd->add_option("--qdd-max", a->qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
+  cmd->add_option("--tau-max", a->tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->callback([a] { runExcite(*a); });
