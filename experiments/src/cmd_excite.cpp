@@ -23,6 +23,8 @@ struct ExciteArgs {
   double hip_locked_at_deg = -10.0;
   // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
+  std::string urdf = EXOID_SOURCE_DIR "/models/apal_leg.urdf";
 };
 
 // A "hip,knee" override of one limit pair; `scale` converts to SI.
@@ -40,6 +42,19 @@ void runExcite(const ExciteArgs& args) {
   const ident::ParamVector nominal = toParamVector(truth.x);
   const ident::LegConstants c = constantsOf(truth);
   ident::ExcitationLimits limits = paperEnvelope(c, nominal);
+  if (a.limits == "urdf") {
+    // The rig's own limits: joint range, speed and motor effort from the URDF; acceleration is
+    // bounded through the effort by the nominal model, not separately.
+    const sim::UrdfJointLimits u = sim::urdfJointLimits(a.urdf);
+    for (int j = 0; j < 2; ++j) {
+      const auto J = static_cast<std::size_t>(j);
+      limits.q_min_rad[j] = u.lower_rad[J];
+      limits.q_max_rad[j] = u.upper_rad[J];
+      limits.qd_max_radps[j] = u.velocity_radps[J];
+      limits.tau_max_Nm[j] = u.effort_Nm[J];
+      limits.qdd_max_radps2[j] = 1e6;
+    }
+  }
   const bool overridden = !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
   overrideLimit(limits.q_min_rad, a.q_min_deg, M_PI / 180.0, "--q-min-deg");
   overrideLimit(limits.q_max_rad, a.q_max_deg, M_PI / 180.0, "--q-max-deg");
@@ -57,8 +72,9 @@ void runExcite(const ExciteArgs& args) {
   std::vector<int> indices;
   for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) indices.push_back(i);
 
-  nlohmann::json lim = {{"source", overridden ? "envelope of the paper's trajectories 1-4 on the nominal model, with overrides"
-                                              : "envelope of the paper's trajectories 1-4 on the nominal model"},
+  const std::string source = a.limits == "urdf" ? "the URDF's joint limits (" + a.urdf + "), acceleration bounded by the effort"
+                                                : "envelope of the paper's trajectories 1-4 on the nominal model";
+  nlohmann::json lim = {{"source", overridden ? source + ", with overrides" : source},
                         {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
                         {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
                         {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
@@ -129,6 +145,11 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_option("--restarts", a->options.restarts, "Random starts of the optimiser, >= 1")->capture_default_str();
   cmd->add_option("--max-evaluations", a->options.max_evaluations, "Criterion evaluations per restart, >= 100")->capture_default_str();
   cmd->add_option("--seed", a->options.seed, "Seed of the random starts")->capture_default_str();
+  cmd->add_option("--limits", a->limits,
+                  "paper: the envelope of the paper's trajectories (asks no more of the rig than the paper did); urdf: the "
+                  "rig's joint range, speed and effort from --urdf")
+      ->check(CLI::IsMember({"paper", "urdf"}))->capture_default_str();
+  cmd->add_option("--urdf", a->urdf, "URDF with the hip and knee <limit>s (--limits urdf)")->check(CLI::ExistingFile)->capture_default_str();
   cmd->add_option("--q-min-deg", a->q_min_deg, "Override the lower joint limits, hip,knee in deg")->delimiter(',');
   cmd->add_option("--q-max-deg", a->q_max_deg, "Override the upper joint limits, hip,knee in deg")->delimiter(',');
   cmd->add_option("--qd-max", a->qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');

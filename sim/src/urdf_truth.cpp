@@ -103,4 +103,28 @@ Truth truthFromUrdf(const std::string& path) {
   return tr;
 }
 
+UrdfJointLimits urdfJointLimits(const std::string& path) {
+  {
+    std::ifstream probe(path);
+    if (!probe) throw std::invalid_argument("cannot read URDF file '" + path + "'");
+  }
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(path);
+  if (!model) throw std::invalid_argument("'" + path + "': urdfdom could not parse the URDF (see its message above)");
+  UrdfJointLimits out;
+  const char* names[2] = {"hip", "knee"};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const urdf::JointConstSharedPtr j = model->getJoint(names[k]);
+    if (!j) throw std::invalid_argument("'" + path + "': no joint named '" + names[k] + "'");
+    if (!j->limits || !(j->limits->upper > j->limits->lower) || !(j->limits->effort > 0) || !(j->limits->velocity > 0)) {
+      throw std::invalid_argument("'" + path + "': joint '" + names[k] +
+                                  "' needs <limit lower upper effort velocity> with upper > lower and positive effort and velocity");
+    }
+    out.lower_rad[k] = j->limits->lower;
+    out.upper_rad[k] = j->limits->upper;
+    out.effort_Nm[k] = j->limits->effort;
+    out.velocity_radps[k] = j->limits->velocity;
+  }
+  return out;
+}
+
 }  // namespace exoid::sim

@@ -154,3 +154,17 @@ TEST_F(TruthTest, LumpedCylinderMassAddsToTheLinks) {
 
 }  // namespace
 }  // namespace exoid::sim
+
+namespace exoid::sim {
+namespace {
+TEST(UrdfJointLimits, ReadsTheRigsLimits) {
+  const UrdfJointLimits l = urdfJointLimits(std::string(EXOID_SOURCE_DIR) + "/models/apal_leg.urdf");
+  EXPECT_EQ(l.lower_rad[0], -2.0);
+  EXPECT_EQ(l.upper_rad[0], 1.0);
+  EXPECT_EQ(l.effort_Nm[0], 300.0);
+  EXPECT_EQ(l.velocity_radps[1], 10.0);
+  EXPECT_EQ(l.upper_rad[1], 2.2);
+  EXPECT_THROW(urdfJointLimits("/no/such/leg.urdf"), std::invalid_argument);
+}
+}  // namespace
+}  // namespace exoid::sim

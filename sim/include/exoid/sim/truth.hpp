@@ -49,6 +49,13 @@ Truth truthFromModel(const std::string& path);
 /// gravity 9.81. Throws std::invalid_argument naming the file on parse errors or missing items.
 Truth truthFromUrdf(const std::string& path);
 
+/// The <limit> of the URDF's hip and knee joints (index 0 hip, 1 knee): the rig's own limits.
+struct UrdfJointLimits {
+  std::array<double, 2> lower_rad{}, upper_rad{}, effort_Nm{}, velocity_radps{};
+};
+/// Throws std::invalid_argument naming the file and joint when a <limit> is missing or empty.
+UrdfJointLimits urdfJointLimits(const std::string& path);
+
 /// Effective X at knee angle q2 with the passive bodies lumped: the cylinder rigidly into the
 /// thigh and the rod rigidly into the shank, both frozen in the pose the closure gives at q2.
 /// This keeps their mass, COM and rotational inertia and neglects the terms from their motion
