@@ -5,6 +5,7 @@
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/identifiability.hpp"
+#include "exoid/ident/identifiability_advice.hpp"
 #include "exoid/ident/preprocess.hpp"
 
 #include <iostream>
@@ -90,6 +91,17 @@ void run(const Args& a) {
       bj["collinearity_r2"][n] = r.collinearity_r2[i];
     }
     t.print(std::cout);
+    // The same in words: what is missing and what motion would supply it.
+    Eigen::Index rows = 0;
+    for (const ident::NoiseChannel& ch : b.channels) rows += ch.H.rows();
+    Eigen::MatrixXd H(rows, static_cast<Eigen::Index>(b.columns.size()));
+    rows = 0;
+    for (const ident::NoiseChannel& ch : b.channels) {
+      H.middleRows(rows, ch.H.rows()) = ch.H;  // the block's columns already
+      rows += ch.H.rows();
+    }
+    bj["advice"] = ident::identifiabilityAdvice(H, r, b.columns);
+    for (const std::string& line : bj["advice"].get<std::vector<std::string>>()) std::cout << "- " << line << '\n';
     j["blocks"].push_back(bj);
   }
   if (!a.json_out.empty()) writeJsonFile(a.json_out, j);

@@ -167,6 +167,11 @@ TEST(IdentifiabilityCli, ReportsRankDeficientHipOnTrajectory1) {
   EXPECT_LT(j["blocks"][1]["rank"].get<int>(), 5);  // hip equation, params 1-5
   EXPECT_FALSE(j["blocks"][1]["unidentifiable"].empty());
   EXPECT_EQ(j["blocks"][2]["rank"], 5);  // knee equation
+  // And in words: the hip block says what cannot be identified and what motion it needs.
+  std::string advice;
+  for (const auto& line : j["blocks"][1]["advice"]) advice += line.get<std::string>() + "\n";
+  EXPECT_NE(advice.find("cannot be identified from this record"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("It needs"), std::string::npos) << advice;
 }
 
 }  // namespace

@@ -1,0 +1,53 @@
+// The identifiability report in words: each case names the parameter, its confusion partner and
+// the motion that would help.
+#include "exoid/ident/identifiability_advice.hpp"
+#include "exoid/ident/regressor.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace exoid::ident {
+namespace {
+
+const LegConstants kC{0.45, 9.81};
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& l : v) s += l + "\n";
+  return s;
+}
+
+TEST(IdentifiabilityAdvice, AFixedHipLeavesTheThighUnidentifiable) {
+  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2, 4.0);
+  const Eigen::MatrixXd H = stackedRegressor(s, kC);
+  const IdentifiabilityReport r = analyzeIdentifiability(H, stackedTorque(s), 0.5);
+  const std::string a = joined(identifiabilityAdvice(H, r, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+  EXPECT_NE(a.find("cannot be identified from this record"), std::string::npos) << a;
+  EXPECT_NE(a.find("fc1 cannot be identified"), std::string::npos) << a;  // the hip never moves
+  EXPECT_NE(a.find("reverse direction"), std::string::npos) << a;
+}
+
+TEST(IdentifiabilityAdvice, ThePapersSineIsPoorlyConditionedAndSaysWhatToDo) {
+  // Trajectory 3's hip equation: one 1 Hz sine, scaled condition number ~250.
+  const JointSignals s = test::exactRecord(3, defaultLeg(), kC.gravity_mps2, 4.0);
+  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, kC).leftCols(5);
+  const IdentifiabilityReport r = analyzeIdentifiability(H, s.tau_Nm.col(0), 0.5);
+  ASSERT_GT(r.condition_number, 100.0);
+  const std::string a = joined(identifiabilityAdvice(H, r, {0, 1, 2, 3, 4}));
+  EXPECT_NE(a.find("The excitation is poor: condition number"), std::string::npos) << a;
+  EXPECT_NE(a.find("exoid excite"), std::string::npos) << a;
+}
+
+TEST(IdentifiabilityAdvice, AWellConditionedRecordSaysSo) {
+  // Orthogonal columns: condition 1, tiny stds.
+  Eigen::MatrixXd H(400, 2);
+  for (Eigen::Index i = 0; i < 400; ++i) H.row(i) << std::sin(0.05 * double(i)), std::cos(0.05 * double(i));
+  const IdentifiabilityReport r = analyzeIdentifiability(H, H * Eigen::Vector2d(5, 5), 0.01);
+  const auto a = identifiabilityAdvice(H, r, {kJt, kJs});
+  ASSERT_EQ(a.size(), 1u);
+  EXPECT_NE(a[0].find("Well excited"), std::string::npos) << a[0];
+  test::expectInvalidArgumentMentioning([&] { identifiabilityAdvice(H, r, {kJt}); }, "disagree in size");
+}
+
+}  // namespace
+}  // namespace exoid::ident
