@@ -10,8 +10,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+# One distinct colour per method (matplotlib's default cycle has 10, the protocol 11 arms).
 COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
-          "ls-exact": "#17becf", "ls-stacked": "#8c564b"}
+          "ls-exact": "#17becf", "ls-stacked": "#8c564b", "ls-parallel": "#d62728", "idim-iv": "#e377c2",
+          "ls-base": "#bcbd22", "idim-iv-base": "#393b79"}
 
 
 def read_columns(path):

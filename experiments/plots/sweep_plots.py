@@ -9,6 +9,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+# One distinct colour per method, as in reproduce_plots.py (the default cycle has 10).
+COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
+          "ls-exact": "#17becf", "ls-stacked": "#8c564b", "ls-parallel": "#d62728", "idim-iv": "#e377c2",
+          "ls-base": "#bcbd22", "idim-iv-base": "#393b79"}
+
 
 def main(summary_path, out_dir):
     with open(summary_path) as f:
@@ -32,7 +37,7 @@ def main(summary_path, out_dir):
             y = [100 * (v["mean"] if v["mean"] is not None else float("nan")) for v in st]
             lo = [100 * (v["mean"] - v["ci95_low"]) if v["ci95_low"] is not None else 0 for v in st]
             hi = [100 * (v["ci95_high"] - v["mean"]) if v["ci95_high"] is not None else 0 for v in st]
-            ax.errorbar(x, y, yerr=[lo, hi], marker="o", ms=3, capsize=3, label=m)
+            ax.errorbar(x, y, yerr=[lo, hi], marker="o", ms=3, capsize=3, label=m, color=COLORS.get(m))
         ax.set_title("cyl %g, vib %g, q noise %g deg" % key[:3], fontsize=9)
         ax.set_xlabel("torque noise std (N m)")
         ax.set_ylabel("torque-space error vs best fit (%)")
