@@ -38,26 +38,25 @@ def validation(out_dir, joint, trajectory):
     errors = {name: [p - m for p, m in zip(pred, measured)] for name, pred in cols.items()}
     rms = {name: (sum(e * e for e in err) / len(err)) ** 0.5 for name, err in errors.items()}
     # Methods far off (more than 5x the best RMS) would flatten everything else: keep the axes
-    # on the others and name the off-scale ones in the title.
+    # on the others and mark the off-scale ones in the legend, where every RMS error is given.
     best = min(rms.values())
     shown = [n for n in cols if rms[n] <= 5 * best + 1e-12]
     off = [n for n in cols if n not in shown]
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     ax1.plot(t, measured, color="black", lw=2.0, label="measured (processed)")
     for name in cols:
-        ax1.plot(t, cols[name], lw=1.0, color=COLORS.get(name), label=name)
-        ax2.plot(t, errors[name], lw=1.0, color=COLORS.get(name), label=name)
+        label = f"{name} (RMS {rms[name]:.3g}{', off scale' if name in off else ''})"
+        ax1.plot(t, cols[name], lw=1.0, color=COLORS.get(name), label=label)
+        ax2.plot(t, errors[name], lw=1.0, color=COLORS.get(name), label=label)
     lo, hi = min(measured), max(measured)
     pad = 0.3 * (hi - lo)
     ax1.set_ylim(lo - pad, hi + pad)
     emax = max(max(abs(e) for e in errors[n]) for n in shown)
     ax2.set_ylim(-1.2 * emax, 1.2 * emax)
     ax1.set_ylabel(f"{joint} torque (N m)")
-    title = f"Validation on trajectory {trajectory}: measured vs identified {joint} torque"
-    if off:
-        title += "\n(off scale: " + ", ".join(f"{n}, RMS error {rms[n]:.3g} N m" for n in off) + ")"
+    title = f"Validation on trajectory {trajectory}: measured vs identified {joint} torque (RMS errors in N m)"
     ax1.set_title(title, fontsize=10)
-    ax1.legend(ncol=4, fontsize=8)
+    ax1.legend(ncol=3, fontsize=7)
     ax2.set_ylabel("predicted - measured (N m)")
     ax2.set_xlabel("t (s)")
     save(fig, out_dir, f"fig_validation_{joint}.png")
