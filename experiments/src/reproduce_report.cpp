@@ -304,7 +304,16 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
      << " s, recorded after a " << c.sim.ramp_s << " s start ramp.\n";
   md << "- Signals: " << ident::toString(c.signals.differentiation)
      << " differences; " << (c.signals.filter ? "zero-phase Butterworth order " + std::to_string(c.signals.filter_order) + " at " + fmt(c.signals.cutoff_hz) + " Hz" : std::string("no filter"))
-     << "; " << c.signals.edgeTrimSamples(1000.0) << " samples trimmed at each end.\n";
+     << "; " << c.signals.edgeTrimSamples(1000.0) << " samples trimmed at each end (the paper's arms: ls, rls, pso, "
+        "rls-pso, lad, ls-stacked).\n";
+  {
+    const ident::SignalOptions p = parallelSignals(c.signals);
+    md << "- Parallel arms (ls-parallel, idim-iv, ls-base, idim-iv-base): regressor from five-point differences of the angles "
+          "after a " << fmt(p.derivative_cutoff_hz) << " Hz pre-filter, then the same zero-phase filter on the torque and every "
+          "column, decimated by " << p.decimationFactor(1000.0) << "; *-base with the pedestal IMU's base-motion terms; IDIM-IV's "
+          "instruments from the identified model simulated under the records' PID" << (c.sim.feedforward ? " and model feedforward" : "")
+       << ", until every step < " << fmt(c.iv.step_tolerance) << " standard errors.\n";
+  }
   md << "- PSO: " << c.methods.rls_pso.pso.swarm_size << " particles, G = " << c.methods.rls_pso.pso.max_iterations
      << ", stop at cost < " << c.methods.rls_pso.pso.cost_tolerance << ", w " << c.methods.rls_pso.pso.w_max << " -> "
      << c.methods.rls_pso.pso.w_min << ", c1 = " << c.methods.rls_pso.pso.c1 << ", c2 = " << c.methods.rls_pso.pso.c2
