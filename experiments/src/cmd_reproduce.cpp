@@ -1,5 +1,6 @@
 // `exoid reproduce`: the README's main job.
 #include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/reproduce.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
@@ -16,6 +17,7 @@ struct Args {
   ProtocolConfig config = defaultReproduceConfig();
   ReproduceOutputs out{true, true, "results/reproduce"};
   std::vector<std::string> variants;
+  std::string knee_excitation, both_excitation;
 };
 
 void run(Args a) {
@@ -23,6 +25,8 @@ void run(Args a) {
     a.config.variants.clear();
     for (const std::string& v : a.variants) a.config.variants.push_back(parseVariant(v));
   }
+  if (!a.knee_excitation.empty()) a.config.knee_excitation = toFourierSpec(readExcitationFile(a.knee_excitation));
+  if (!a.both_excitation.empty()) a.config.both_excitation = toFourierSpec(readExcitationFile(a.both_excitation));
   std::cout << "exoid reproduce: simulating trajectories 1-4 (" << a.config.sim.duration_s
             << " s each), identifying with " << a.config.variants.size() << " methods (G = "
             << a.config.methods.rls_pso.pso.max_iterations << ")...\n"
@@ -57,6 +61,12 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base")->delimiter(',');
+  cmd->add_option("--excitation-knee", args->knee_excitation,
+                  "Identify the knee on this designed record instead of trajectory 1 (exoid excite --knee-only)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--excitation-both", args->both_excitation,
+                  "Identify the hip on this designed record instead of trajectory 3 (exoid excite); validation stays on 2 and 4")
+      ->check(CLI::ExistingFile);
   addSimOptions(*cmd, args->config.sim, /*choose_trajectory=*/false);  // the protocol runs 1-4
   addSignalOptions(*cmd, args->config.signals);
   addMethodOptions(*cmd, args->config.methods);

@@ -51,6 +51,14 @@ void ProtocolConfig::validate() const {
   }
   methods.validate();
   iv.validate();
+  if (knee_excitation) {
+    knee_excitation->validate();
+    if (!knee_excitation->lock_hip) throw std::invalid_argument("the knee excitation must hold the hip (design it with exoid excite --knee-only)");
+  }
+  if (both_excitation) {
+    both_excitation->validate();
+    if (both_excitation->lock_hip) throw std::invalid_argument("the both-joint excitation must move the hip (design it without --knee-only)");
+  }
   if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
 }
 
@@ -82,6 +90,11 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.trajectory = k + 1;
     sim::SimConfig sc = c.sim;
     sc.trajectory = k + 1;
+    const std::optional<sim::FourierSpec>& designed = k == 0 ? c.knee_excitation : k == 2 ? c.both_excitation : std::nullopt;
+    if (designed) {
+      sc.trajectory = 0;
+      sc.fourier = *designed;
+    }
     sc.seed = recordSeed(c.seed, k + 1);
     sc.exact_columns = true;
     r.sim = sim::simulate(sc);

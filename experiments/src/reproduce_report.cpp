@@ -320,6 +320,12 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out)
      << ", boundary " << ident::toString(c.methods.rls_pso.pso.boundary) << ", wide box +-" << c.methods.wide_box_half_width
      << "; RLS lambda = " << c.methods.rls_pso.rls.forgetting << ", P0 = " << fmt(c.methods.rls_pso.rls.initial_covariance)
      << ", burn-in " << pct(c.methods.rls_pso.range.burn_in_fraction) << ".\n";
+  if (c.knee_excitation || c.both_excitation) {
+    md << "- Identification records: " << (c.knee_excitation ? "a designed knee-only excitation" : std::string("trajectory 1"))
+       << " (knee), " << (c.both_excitation ? "a designed both-joint excitation" : std::string("trajectory 3"))
+       << " (hip) (`exoid excite`, `--excitation-knee/--excitation-both`); the paper's tables below compare with the "
+          "paper's own trajectories; validation stays on trajectories 2 and 4.\n";
+  }
   md << "- Records: ";
   for (const Record& rec : r.records) {
     md << "trajectory " << rec.trajectory << " (tracking RMS hip " << fmt(rec.sim.stats.tracking_hip.rms_deg, 3) << " deg, knee "

@@ -1,5 +1,7 @@
 #include "exoid/experiments/sweep_config.hpp"
 
+#include "exoid/experiments/excitation_io.hpp"
+
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/reproduce.hpp"
 #include "exoid/ident/random.hpp"
@@ -8,6 +10,8 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -167,6 +171,9 @@ nlohmann::json SweepConfig::toJson() const {
                 {"design", "full factorial of the grid lists; torque noise varies fastest"}};
   nlohmann::json simj = sim::configJson(base.sim);
   for (const char* k : {"seed", "trajectory"}) simj.erase(k);  // set per job / per record
+  // Designed identification records change every result: their coefficients are part of the config.
+  if (base.knee_excitation) simj["excitation_knee"] = experiments::toJson(toFourierTrajectory(*base.knee_excitation));
+  if (base.both_excitation) simj["excitation_both"] = experiments::toJson(toFourierTrajectory(*base.both_excitation));
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
   j["method_options"] = experiments::toJson(base.methods);
@@ -185,7 +192,7 @@ SweepConfig loadSweepConfig(const std::string& path) {
   static const std::map<std::string, std::set<std::string>> kKnown = {
       {"sweep", {"seeds", "master_seed", "methods"}},
       {"grid", {"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale"}},
-      {"simulation", {"duration_s", "ramp_s", "dt_s", "feedforward"}},
+      {"simulation", {"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}},
       {"identification", {"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}}};
   for (const auto& [section, node] : t) {
     const std::string s(section.str());
@@ -240,6 +247,18 @@ SweepConfig loadSweepConfig(const std::string& path) {
         c.base.sim.dt_s = r.number(v, full);
       } else if (full == "simulation.feedforward") {
         c.base.sim.feedforward = r.boolean(v, full);
+      } else if (full == "simulation.excitation_knee" || full == "simulation.excitation_both") {
+        // A design file of `exoid excite`, relative to the config file's folder unless absolute.
+        const std::optional<std::string> file = v.value<std::string>();
+        if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
+        const std::filesystem::path fp(*file);
+        const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(path).parent_path() / fp).string();
+        try {
+          const sim::FourierSpec spec = toFourierSpec(readExcitationFile(resolved));
+          (full == "simulation.excitation_knee" ? c.base.knee_excitation : c.base.both_excitation) = spec;
+        } catch (const std::invalid_argument& e) {
+          throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+        }
       } else if (full == "identification.pso_iterations") {
         const std::int64_t n = r.integer(v, full);
         if (n < 1) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 1");

@@ -1,6 +1,7 @@
 // The protocol's parallel-processing arms (ls-parallel, idim-iv) against the simulator's truth:
 // exact on noise-free records of the rigid leg, and on noisy records scattered as the bound says.
 #include "exoid/experiments/controller_io.hpp"
+#include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/protocol.hpp"
 #include "exoid/ident/noise_covariance.hpp"
 
@@ -175,6 +176,36 @@ TEST(ParallelArms, SimulatedRecordsCarryTheirControllerForIdimIv) {
     EXPECT_EQ(m.locked[0], k == 0);  // trajectory 1 holds the hip, 3 swings it
     EXPECT_EQ(p.locked[0], k == 0);
   }
+}
+
+}  // namespace
+}  // namespace exoid::experiments
+
+namespace exoid::experiments {
+namespace {
+
+TEST(DesignedExcitation, ReplacesTheIdentificationRecordsOnly) {
+  ident::ExcitationOptions o;
+  o.restarts = 1;
+  o.max_evaluations = 300;
+  const ident::LegConstants lc{0.45, 9.81};
+  const ident::ParamVector nominal = ident::toParamVector(ident::defaultLeg());
+  ProtocolConfig c = rigidLeg(3.0);
+  c.variants = {Variant::kLs};
+  c.both_excitation = toFourierSpec(ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
+  o.hip_locked = true;
+  c.knee_excitation = toFourierSpec(ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
+  const ProtocolResult r = runProtocol(c);
+  EXPECT_EQ(r.records[0].data.metadata("trajectory").value_or(""), "fourier");
+  EXPECT_EQ(r.records[0].data.metadata("hip_locked").value_or(""), "true");
+  EXPECT_EQ(r.records[2].data.metadata("trajectory").value_or(""), "fourier");
+  EXPECT_EQ(r.records[1].data.metadata("trajectory").value_or(""), "2");  // validation stays the paper's
+  EXPECT_EQ(r.records[3].data.metadata("trajectory").value_or(""), "4");
+  ASSERT_TRUE(r.scores[0].outcome.usable()) << r.scores[0].outcome.problems();
+  // A knee excitation that moves the hip is refused before any work.
+  ProtocolConfig bad = c;
+  bad.knee_excitation = c.both_excitation;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,9 @@ struct ProtocolConfig {
   ident::MethodOptions methods;    ///< paper defaults: G = 10000, cost < 1e-2
   ident::IvOptions iv;             ///< IDIM-IV's stopping rule
   std::vector<Variant> variants = allVariants();
+  /// Designed excitations (exoid excite) replacing the identification records: trajectory 1 (knee
+  /// only, the hip locked) and trajectory 3 (both joints). Validation stays on the paper's 2 and 4.
+  std::optional<sim::FourierSpec> knee_excitation, both_excitation;
   void validate() const;
 };
 
