@@ -72,19 +72,38 @@ void checkPlausibility(MethodOutcome& out) {
 }
 }  // namespace
 
-MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
-                          bool knee_armature) {
-  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
-  const ident::SegmentalProblem all = ident::bothEquations(r, knee_armature);
+namespace {
+// The outcome of one estimate of all parameters (10, or 11 with the knee armature last).
+MethodOutcome allOutcome(ident::Method m, ident::Estimate e, bool knee_armature) {
   MethodOutcome out;
   out.method = m;
-  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), ident::estimate(m, all.H, all.y, o)};
+  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), std::move(e)};
   nameColumns(st);
   out.x = st.estimate.x.head(kNumParams);
   if (knee_armature) out.knee_armature = st.estimate.x[ident::kKneeArmature];
   out.stages.push_back(std::move(st));
   checkPlausibility(out);
   return out;
+}
+
+// The outcome of the segmental strategy's two stages.
+MethodOutcome segmentalOutcome(ident::Method m, const ident::SegmentalResult& r) {
+  MethodOutcome out;
+  out.method = m;
+  out.x = r.x;
+  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
+  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
+  for (Stage& st : out.stages) nameColumns(st);
+  checkPlausibility(out);
+  return out;
+}
+}  // namespace
+
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
+                          bool knee_armature) {
+  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
+  const ident::SegmentalProblem all = ident::bothEquations(r, knee_armature);
+  return allOutcome(m, ident::estimate(m, all.H, all.y, o), knee_armature);
 }
 
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
@@ -94,15 +113,7 @@ MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const i
 
 MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
                                 const ident::ProcessedRecord& both_record, const ident::MethodOptions& o) {
-  MethodOutcome out;
-  out.method = m;
-  const ident::SegmentalResult r = ident::identifySegmental(m, knee_record, both_record, o);
-  out.x = r.x;
-  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
-  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
-  for (Stage& st : out.stages) nameColumns(st);
-  checkPlausibility(out);
-  return out;
+  return segmentalOutcome(m, ident::identifySegmental(m, knee_record, both_record, o));
 }
 
 MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
@@ -112,31 +123,15 @@ MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee
 }
 
 MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
-                                  const ident::LegConstants& c, const ident::SignalOptions& signals,
-                                  const ident::IvOptions& options) {
-  MethodOutcome out;
-  out.method = ident::Method::kIdimIv;
-  const ident::SegmentalResult r = ident::identifySegmentalIv(knee_record, both_record, c, signals, options);
-  out.x = r.x;
-  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
-  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
-  for (Stage& st : out.stages) nameColumns(st);
-  checkPlausibility(out);
-  return out;
+                                      const ident::LegConstants& c, const ident::SignalOptions& signals,
+                                      const ident::IvOptions& options) {
+  return segmentalOutcome(ident::Method::kIdimIv, ident::identifySegmentalIv(knee_record, both_record, c, signals, options));
 }
 
 MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
-                            const ident::SignalOptions& signals, const ident::IvOptions& options,
-                            bool knee_armature) {
-  MethodOutcome out;
-  out.method = ident::Method::kIdimIv;
-  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), ident::identifyAllIv(record, c, signals, options, knee_armature)};
-  nameColumns(st);
-  out.x = st.estimate.x.head(kNumParams);
-  if (knee_armature) out.knee_armature = st.estimate.x[ident::kKneeArmature];
-  out.stages.push_back(std::move(st));
-  checkPlausibility(out);
-  return out;
+                                const ident::SignalOptions& signals, const ident::IvOptions& options,
+                                bool knee_armature) {
+  return allOutcome(ident::Method::kIdimIv, ident::identifyAllIv(record, c, signals, options, knee_armature), knee_armature);
 }
 
 Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature) {
