@@ -1,6 +1,6 @@
 #pragma once
 // The paper's 10-parameter vector X, defined once: order, names, units, and the
-// physical link parameters -> X conversion (paper Eq. 1, corrected; see ../shared/docs/paper.md).
+// physical link parameters -> X conversion (paper Eq. 1, corrected; see docs/paper.md).
 #include <Eigen/Core>
 
 #include <array>
