@@ -58,7 +58,8 @@ struct Record {
   ident::JointSignals processed;  ///< measured signals after the paper's processing
   ident::JointSignals exact_q;    ///< exact q, qd, qdd with the raw measured torque (same trim)
   ident::JointSignals ideal;      ///< exact states with the ideal (vibration-free) torques
-  /// Parallel-processed rows (parallelSignals) with the reference and controller of the run.
+  /// Parallel-processed rows (parallelSignals) with the reference and controller of the run;
+  /// filled for the identification records (trajectories 1 and 3) only.
   ident::ClosedLoopRecord closed_loop;
   /// The same with the base-motion terms in the measured rows (parallelSignals(.., true)).
   ident::ClosedLoopRecord closed_loop_base;
