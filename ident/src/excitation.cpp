@@ -58,7 +58,12 @@ void ExcitationLimits::validate() const {
   }
 }
 
-Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples) {
+namespace {
+// Walks `samples` points of one period: the state and both regressor rows at each, and fills the
+// design's regressor H (rows as excitationRegressor documents). One regressor evaluation per
+// sample serves both the criterion and the limits.
+template <typename Fn>
+Eigen::MatrixXd sampleRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples, Fn&& fn) {
   const double dt = traj.period_s() / samples;
   const bool knee_only = traj.hip_locked;
   Eigen::MatrixXd H(knee_only ? samples : 2 * samples, knee_only ? kGroupSize : kNumParams);
@@ -73,8 +78,14 @@ Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegCons
       H.row(2 * i) = hip;
       H.row(2 * i + 1) = knee;
     }
+    fn(q, qd, qdd, hip, knee);
   }
   return H;
+}
+}  // namespace
+
+Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples) {
+  return sampleRegressor(traj, c, samples, [](const auto&...) {});
 }
 
 ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstants& c, const ParamVector& x_nominal,
@@ -83,7 +94,22 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
   limits.validate();
   if (samples < 20) throw std::invalid_argument("excitation: need >= 20 samples per period");
   ExcitationScore s;
-  const Eigen::MatrixXd H = excitationRegressor(traj, c, samples);
+  s.q_min_rad.setConstant(std::numeric_limits<double>::infinity());
+  s.q_max_rad.setConstant(-std::numeric_limits<double>::infinity());
+  s.qd_max_radps.setZero();
+  s.qdd_max_radps2.setZero();
+  s.tau_max_Nm.setZero();
+  const Eigen::MatrixXd H = sampleRegressor(
+      traj, c, samples,
+      [&](const Eigen::Vector2d& q, const Eigen::Vector2d& qd, const Eigen::Vector2d& qdd, const RegressorRow& hip,
+          const RegressorRow& knee) {
+        const Eigen::Vector2d tau(hip.dot(x_nominal), knee.dot(x_nominal));
+        s.q_min_rad = s.q_min_rad.cwiseMin(q);
+        s.q_max_rad = s.q_max_rad.cwiseMax(q);
+        s.qd_max_radps = s.qd_max_radps.cwiseMax(qd.cwiseAbs());
+        s.qdd_max_radps2 = s.qdd_max_radps2.cwiseMax(qdd.cwiseAbs());
+        s.tau_max_Nm = s.tau_max_Nm.cwiseMax(tau.cwiseAbs());
+      });
   const Eigen::VectorXd scale = columnScales(H);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(H * scale.asDiagonal(), Eigen::ComputeThinV);
   const Eigen::VectorXd sv = svd.singularValues();
@@ -102,24 +128,6 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
     }
   }
 
-  s.q_min_rad.setConstant(std::numeric_limits<double>::infinity());
-  s.q_max_rad.setConstant(-std::numeric_limits<double>::infinity());
-  s.qd_max_radps.setZero();
-  s.qdd_max_radps2.setZero();
-  s.tau_max_Nm.setZero();
-  const double dt = traj.period_s() / samples;
-  RegressorRow hip, knee;
-  Eigen::Vector2d q, qd, qdd;
-  for (int i = 0; i < samples; ++i) {
-    traj.at(dt * i, q, qd, qdd);
-    regressorRows(c, q, qd, qdd, hip, knee);
-    const Eigen::Vector2d tau(hip.dot(x_nominal), knee.dot(x_nominal));
-    s.q_min_rad = s.q_min_rad.cwiseMin(q);
-    s.q_max_rad = s.q_max_rad.cwiseMax(q);
-    s.qd_max_radps = s.qd_max_radps.cwiseMax(qd.cwiseAbs());
-    s.qdd_max_radps2 = s.qdd_max_radps2.cwiseMax(qdd.cwiseAbs());
-    s.tau_max_Nm = s.tau_max_Nm.cwiseMax(tau.cwiseAbs());
-  }
   const auto check = [&](double excess, const std::string& name) {
     if (excess > s.worst_violation) {
       s.worst_violation = excess;
