@@ -69,6 +69,8 @@ void runExcite(const ExciteArgs& args) {
   const ident::ExcitationScore paper_score = ident::scoreExcitation(paper, c, nominal, limits, 1000);
   const Eigen::VectorXd crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
   const Eigen::VectorXd crb_paper = excitationCrb(paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);
+  const Eigen::VectorXd floor = ident::crbFloor(limits, c, a.options.hip_locked, a.options.hip_locked_at_rad,
+                                                a.duration_s * a.rate_hz, a.sigma_Nm);
   std::vector<int> indices;
   for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) indices.push_back(i);
 
@@ -92,11 +94,15 @@ void runExcite(const ExciteArgs& args) {
   j["command"] = "excite";
   j["seed"] = a.options.seed;
   j["model"] = a.model;
-  j["options"] = {{"harmonics", a.options.harmonics}, {"f0_hz", a.options.f0_hz}, {"hip_locked", a.options.hip_locked},
+  j["options"] = {{"criterion", ident::toString(a.options.criterion)}, {"harmonics", a.options.harmonics}, {"f0_hz", a.options.f0_hz}, {"hip_locked", a.options.hip_locked},
                   {"hip_locked_at_rad", a.options.hip_locked_at_rad}, {"restarts", a.options.restarts},
                   {"max_evaluations", a.options.max_evaluations}, {"samples", a.options.samples}};
-  j["criterion"] = "condition number of the column-scaled regressor over one period (both equations, 10 columns; "
-                   "knee-only: the knee equation's 5 shank columns), minimised";
+  j["criterion"] =
+      std::string(a.options.criterion == ident::ExcitationCriterion::kCrb
+                      ? "sum of log Cramer-Rao standard deviations of the LS estimates (D-optimality plus a penalty on their "
+                        "correlations), minimised"
+                      : "log condition number of the column-scaled regressor, minimised") +
+      " over one period (both equations, 10 columns; knee-only: the knee equation's 5 shank columns)";
   j["limits"] = lim;
   j["trajectory"] = toJson(d.trajectory);
   j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reached(d.score)},
@@ -106,23 +112,29 @@ void runExcite(const ExciteArgs& args) {
                      {"paper_trajectory", paper_id},
                      {"paper_condition_number", paper_score.condition_number},
                      {"crb_std", paramsJson(crb, indices)},
-                     {"paper_crb_std", paramsJson(crb_paper, indices)}};
+                     {"paper_crb_std", paramsJson(crb_paper, indices)},
+                     {"crb_floor_std", paramsJson(floor, indices)},
+                     {"crb_floor_note", "no trajectory inside the limits can do better (single-parameter Cauchy-Schwarz "
+                                        "bound from the joint ranges, |qd| and |qdd| limits)"}};
   writeJsonFile(a.out, j);
 
   std::cout << "excitation design (" << (a.options.hip_locked ? "knee only, hip locked" : "both joints") << ", N = "
             << a.options.harmonics << ", f0 = " << fmt(a.options.f0_hz) << " Hz, seed " << a.options.seed << "): "
             << d.evaluations << " evaluations, " << d.feasible_restarts << "/" << a.options.restarts
             << " restarts feasible, " << fmt(d.wall_time_s, 3) << " s\n"
-            << "condition number " << fmt(d.score.condition_number, 4) << " (paper's trajectory " << paper_id << ": "
-            << fmt(paper_score.condition_number, 4) << ")\n";
-  TextTable t({"param", "CRB std, design", "CRB std, paper's " + std::to_string(paper_id), "ratio"});
+            << "criterion " << ident::toString(a.options.criterion) << "; condition number " << fmt(d.score.condition_number, 4)
+            << " (paper's trajectory " << paper_id << ": " << fmt(paper_score.condition_number, 4) << ")\n";
+  TextTable t({"param", "CRB std, design", "CRB std, paper's " + std::to_string(paper_id), "gain", "floor", "max gain"});
   for (std::size_t k = 0; k < indices.size(); ++k) {
     const auto K = static_cast<Eigen::Index>(k);
-    t.addRow({std::string(ident::paramName(indices[k])), fmt(crb[K], 3), fmt(crb_paper[K], 3), fmt(crb_paper[K] / crb[K], 3)});
+    t.addRow({std::string(ident::paramName(indices[k])), fmt(crb[K], 3), fmt(crb_paper[K], 3), fmt(crb_paper[K] / crb[K], 3),
+              fmt(floor[K], 3), fmt(crb_paper[K] / floor[K], 3)});
   }
   t.print(std::cout);
   std::cout << "(" << fmt(a.duration_s) << " s at " << fmt(a.rate_hz) << " Hz, " << fmt(a.sigma_Nm)
-            << " N m white torque noise; LS on raw torques)\nwrote " << a.out << "\n";
+            << " N m white torque noise; LS on raw torques. gain = paper's std / design's; floor = the least std any\n"
+               "trajectory inside these limits can reach, max gain = paper's std / floor)\nwrote "
+            << a.out << "\n";
 }
 
 }  // namespace
@@ -132,14 +144,21 @@ void addExciteCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "excite",
       "Design a periodic excitation trajectory (finite Fourier series, at rest at the period's ends) that\n"
-      "minimises the condition number of the column-scaled regressor, within the envelope of the paper's\n"
-      "trajectories (joint ranges, |qd|, |qdd|, nominal |tau|), and compare it with the paper's trajectory.\n"
-      "`exoid simulate --excitation FILE` runs it.");
+      "minimises the parameters' Cramer-Rao bounds (--criterion crb, default) or the column-scaled condition\n"
+      "number (cond), within the envelope of the paper's trajectories (joint ranges, |qd|, |qdd|, nominal |tau|)\n"
+      "or the URDF's limits, and compare it with the paper's trajectory and with the floor no trajectory inside\n"
+      "the limits can beat. `exoid simulate --excitation FILE` runs it.");
   cmd->add_option("--out", a->out, "Design JSON to write")->required();
   cmd->add_option("--model", a->model, "MJCF model (nominal parameters, thigh length)")->check(CLI::ExistingFile)->capture_default_str();
   cmd->add_flag("--knee-only", a->options.hip_locked, "Design the knee-only record (hip locked), the segmental strategy's first stage");
   cmd->add_option("--hip-locked-at-deg", a->hip_locked_at_deg, "Knee-only: where the hip is held, deg (the paper's -10)")
       ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--criterion", [a](const std::string& v) { a->options.criterion = ident::parseExcitationCriterion(v); },
+         "crb: sum of log Cramer-Rao stds (D-optimality + decorrelation; rewards amplitude); cond: log condition number of "
+         "the column-scaled regressor (scale free)")
+      ->check(CLI::IsMember({"crb", "cond"}))
+      ->default_str("crb");
   cmd->add_option("--harmonics", a->options.harmonics, "Harmonics per joint, >= 2")->capture_default_str();
   cmd->add_option("--f0", a->options.f0_hz, "Base frequency, Hz (the period is 1/f0)")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--restarts", a->options.restarts, "Random starts of the optimiser, >= 1")->capture_default_str();

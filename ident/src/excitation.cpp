@@ -121,7 +121,9 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
     for (Eigen::Index k = 0; k < sv.size(); ++k) {
       var += sv[k] > 0 ? svd.matrixV()(i, k) * svd.matrixV()(i, k) / (sv[k] * sv[k]) : std::numeric_limits<double>::infinity();
     }
-    const double rel = scale[i] * std::sqrt(var) / std::max(std::abs(x_nominal[first + i]), 1e-12);
+    const double std_i = scale[i] * std::sqrt(var);
+    s.sum_log_std += std::log(std_i);
+    const double rel = std_i / std::max(std::abs(x_nominal[first + i]), 1e-12);
     if (!(rel <= s.worst_relative_std)) {
       s.worst_relative_std = rel;
       s.worst_relative_std_name = std::string(paramName(static_cast<int>(first + i)));
@@ -145,6 +147,54 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
     check(s.tau_max_Nm[j] / limits.tau_max_Nm[j] - 1.0, "tau" + J);
   }
   return s;
+}
+
+const char* toString(ExcitationCriterion c) { return c == ExcitationCriterion::kCrb ? "crb" : "cond"; }
+
+ExcitationCriterion parseExcitationCriterion(const std::string& name) {
+  if (name == "crb") return ExcitationCriterion::kCrb;
+  if (name == "cond") return ExcitationCriterion::kConditionNumber;
+  throw std::invalid_argument("unknown excitation criterion '" + name + "'; expected crb or cond");
+}
+
+namespace {
+// max |sin| and |cos| over [lo, hi].
+double maxAbsSin(double lo, double hi) {
+  if (hi - lo >= M_PI) return 1.0;
+  const double k = std::ceil((lo - M_PI / 2) / M_PI);  // first pi/2 + k pi >= lo
+  if (M_PI / 2 + k * M_PI <= hi) return 1.0;
+  return std::max(std::abs(std::sin(lo)), std::abs(std::sin(hi)));
+}
+double maxAbsCos(double lo, double hi) { return maxAbsSin(lo + M_PI / 2, hi + M_PI / 2); }
+}  // namespace
+
+Eigen::VectorXd crbFloor(const ExcitationLimits& lim, const LegConstants& c, bool hip_locked, double hip_locked_at_rad,
+                         double rows, double sigma) {
+  lim.validate();
+  c.validate();
+  if (!(rows > 0) || !(sigma > 0)) throw std::invalid_argument("crbFloor: rows and sigma must be > 0");
+  const double L = c.thigh_length_m, g = c.gravity_mps2;
+  const double q1lo = hip_locked ? hip_locked_at_rad : lim.q_min_rad[0], q1hi = hip_locked ? hip_locked_at_rad : lim.q_max_rad[0];
+  const double V1 = hip_locked ? 0.0 : lim.qd_max_radps[0], A1 = hip_locked ? 0.0 : lim.qdd_max_radps2[0];
+  const double V2 = lim.qd_max_radps[1], A2 = lim.qdd_max_radps2[1];
+  const double S1 = maxAbsSin(q1lo, q1hi), C1 = maxAbsCos(q1lo, q1hi);
+  const double S2 = maxAbsSin(lim.q_min_rad[1], lim.q_max_rad[1]), C2 = maxAbsCos(lim.q_min_rad[1], lim.q_max_rad[1]);
+  const double S12 = maxAbsSin(q1lo + lim.q_min_rad[1], q1hi + lim.q_max_rad[1]);
+  const double C12 = maxAbsCos(q1lo + lim.q_min_rad[1], q1hi + lim.q_max_rad[1]);
+  const double a = V2 * (2 * V1 + V2);  // |qd1^2 - (qd1 + qd2)^2|
+  // Bounds on |column| in the hip and the knee row (paper.md's regressor, term by term).
+  ParamVector hip, knee;
+  hip << g * S1, g * C1, A1, 1.0, V1, L * ((2 * A1 + A2) * C2 + a * S2) + g * S12, L * ((2 * A1 + A2) * S2 + a * C2) + g * C12, A2,
+      0.0, 0.0;
+  knee << 0.0, 0.0, 0.0, 0.0, 0.0, L * (A1 * C2 + V1 * V1 * S2) + g * S12, L * (A1 * S2 + V1 * V1 * C2) + g * C12, A1 + A2, 1.0,
+      V2;
+  if (hip_locked) hip.setZero();  // a knee-only design uses the knee equation alone
+  const int first = hip_locked ? kShankFirst : 0;
+  Eigen::VectorXd floor(kNumParams - first);
+  for (int i = first; i < kNumParams; ++i) {
+    floor[i - first] = sigma / std::sqrt(rows * (hip[i] * hip[i] + knee[i] * knee[i]));
+  }
+  return floor;
 }
 
 void ExcitationOptions::validate() const {
@@ -208,9 +258,9 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants
   ExcitationDesign d;
   const auto objective = [&](const Eigen::VectorXd& p) {
     const ExcitationScore s = scoreExcitation(fromFree(o, p), c, x_nominal, limits, o.samples);
-    // log keeps the criterion's scale comparable with the penalty; the penalty dominates any
-    // violation beyond a few percent.
-    return std::log(s.condition_number) + std::log(s.worst_relative_std) + 1e5 * s.worst_violation * s.worst_violation;
+    // Both criteria are logarithms, so the penalty dominates any violation beyond a few percent.
+    const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
+    return f + 1e5 * s.worst_violation * s.worst_violation;
   };
   Rng rng(o.seed);
   double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;

@@ -1,7 +1,7 @@
 #pragma once
 // Excitation design (Swevers, Ganseman, Tukel, de Schutter, Van Brussel 1997): periodic finite
-// Fourier series trajectories, rated by the conditioning of the regressor they produce, under the
-// rig's limits. Pure Eigen, so a user can design for their own rig from its nominal parameters.
+// Fourier series trajectories, rated by how well the regressor they produce determines the
+// parameters, under the rig's limits. Pure Eigen, so a user can design for their own rig from its nominal parameters.
 //
 // Per joint: q(t) = offset + sum_{k=1..N} a_k cos(k w t) + b_k sin(k w t), w = 2 pi f0. Zero
 // velocity and acceleration at t = 0 (and so at every period's end) are built in: the first
@@ -41,6 +41,22 @@ struct ExcitationLimits {
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
+/// What a design minimises.
+enum class ExcitationCriterion {
+  /// sum_i log std_i: the noise-limited standard deviations of the LS estimates of the design's
+  /// parameters (unit white noise per row). It equals -1/2 log det(information) (D-optimality,
+  /// Swevers et al. 1997) plus -1/2 log det(correlation matrix of the estimates) >= 0, which is 0
+  /// only when the estimates are uncorrelated: every parameter counts equally in relative terms,
+  /// it needs no nominal values, and a parameter's units only add a constant. Rewards amplitude.
+  kCrb,
+  /// log of the condition number of the column-scaled regressor (Gautier & Khalil 1992). Scale
+  /// free: met as well by small, slow motions that determine every parameter poorly.
+  kConditionNumber,
+};
+const char* toString(ExcitationCriterion c);
+/// "crb" or "cond"; throws std::invalid_argument listing both.
+ExcitationCriterion parseExcitationCriterion(const std::string& name);
+
 /// How good a trajectory is, evaluated on `samples` points of one period.
 struct ExcitationScore {
   /// Condition number of the column-scaled regressor the design is for (both equations, all 10
@@ -51,6 +67,8 @@ struct ExcitationScore {
   /// parameter is determined (the absolute counterpart the scale-free condition number misses).
   double worst_relative_std = 0.0;
   std::string worst_relative_std_name;
+  /// sum_i log std_i of the design's parameters (the kCrb criterion; same footing).
+  double sum_log_std = 0.0;
   /// Largest excess over the limits, relative to each limit (0 = feasible).
   double worst_violation = 0.0;
   std::string worst_violation_name;    ///< e.g. "qd[knee]"; empty when feasible
@@ -65,9 +83,21 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
 /// time order, or the knee equation's shank columns for a locked hip).
 Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples);
 
+/// A floor no trajectory inside `limits` can beat: for each of the design's parameters, the
+/// std of its LS estimate from `rows` samples per equation with white noise sigma is at least
+/// sigma / sqrt(rows * (b_hip^2 + b_knee^2)), where b is a bound on |its regressor column| over
+/// every state inside the limits (Cauchy-Schwarz: correlations with other columns only raise the
+/// std). Coulomb friction's column is sgn(qd): its floor is sigma / sqrt(rows) whatever the limits.
+/// Bounds use the joint ranges, |qd| and |qdd| limits (not the torque limit).
+Eigen::VectorXd crbFloor(const ExcitationLimits& limits, const LegConstants& c, bool hip_locked, double hip_locked_at_rad,
+                         double rows, double sigma);
+
 struct ExcitationOptions {
+  ExcitationCriterion criterion = ExcitationCriterion::kCrb;
   int harmonics = 5;          ///< N, >= 2 (the first harmonic is fixed by the rest-at-the-ends rule)
-  double f0_hz = 0.1;         ///< base frequency, > 0: a 10 s period
+  /// Base frequency, > 0: a 5 s period whose 5th harmonic is the paper's 1 Hz, so the design asks
+  /// no faster motion of the rig than the paper's trajectories did.
+  double f0_hz = 0.2;
   bool hip_locked = false;    ///< design the knee-only record (the segmental strategy's first stage)
   double hip_locked_at_rad = -10.0 * M_PI / 180.0;  ///< where the locked hip is held (the paper's -10 deg)
   int restarts = 8;           ///< random starting points, >= 1
@@ -85,12 +115,9 @@ struct ExcitationDesign {
   double wall_time_s = 0.0;
 };
 
-/// Minimises log(condition number) + log(worst relative std) + a penalty on the limits' violations
-/// (a well-conditioned regressor whose every parameter is also well determined in absolute
-/// terms: the condition number alone is scale-free and can be met with small, uninformative
-/// motions) by Nelder-Mead from
-/// `restarts` random starts (all from options.seed), keeps the best feasible end point, and if
-/// none is feasible shrinks the harmonics of the best until it is. Deterministic.
+/// Minimises the criterion + a penalty on the limits' violations by Nelder-Mead from `restarts`
+/// random starts (all from options.seed), keeps the best feasible end point, and if none is
+/// feasible shrinks the harmonics of the best until it is. Deterministic.
 ExcitationDesign designExcitation(const ExcitationOptions& options, const LegConstants& c, const ParamVector& x_nominal,
                                   const ExcitationLimits& limits);
 
