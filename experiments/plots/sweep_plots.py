@@ -23,7 +23,8 @@ def main(summary_path, out_dir):
     panels = {}
     for c in conds:
         k = c["condition"]
-        key = (k["cylinder_mass_scale"], k["vibration_level"], k["angle_noise_deg"], k["quantisation_deg"])
+        key = (k["cylinder_mass_scale"], k["vibration_level"], k["angle_noise_deg"], k["quantisation_deg"],
+               k.get("trajectories", "paper"))
         panels.setdefault(key, []).append(c)
     keys = sorted(panels)
     cols = min(3, len(keys))
@@ -38,7 +39,7 @@ def main(summary_path, out_dir):
             lo = [100 * (v["mean"] - v["ci95_low"]) if v["ci95_low"] is not None else 0 for v in st]
             hi = [100 * (v["ci95_high"] - v["mean"]) if v["ci95_high"] is not None else 0 for v in st]
             ax.errorbar(x, y, yerr=[lo, hi], marker="o", ms=3, capsize=3, label=m, color=COLORS.get(m))
-        ax.set_title("cyl %g, vib %g, q noise %g deg" % key[:3], fontsize=9)
+        ax.set_title("cyl %g, vib %g, q noise %g deg, %s trajectories" % (key[:3] + key[4:]), fontsize=9)
         ax.set_xlabel("torque noise std (N m)")
         ax.set_ylabel("torque-space error vs best fit (%)")
         ax.set_yscale("log")
@@ -54,7 +55,8 @@ def main(summary_path, out_dir):
         groups = {}
         for c in conds:
             k = c["condition"]
-            groups.setdefault((k["cylinder_mass_scale"], k["angle_noise_deg"], k["quantisation_deg"]), []).append(c)
+            groups.setdefault((k["cylinder_mass_scale"], k["angle_noise_deg"], k["quantisation_deg"],
+                               k.get("trajectories", "paper")), []).append(c)
         gkeys = sorted(groups)
         fig, axes = plt.subplots(1, len(gkeys), figsize=(5 * len(gkeys), 4), squeeze=False)
         for ax, key in zip(axes.flat, gkeys):
@@ -74,7 +76,7 @@ def main(summary_path, out_dir):
             ax.set_yticks(range(len(vibs)), [str(v) for v in vibs])
             ax.set_xlabel("torque noise std (N m)")
             ax.set_ylabel("vibration level")
-            ax.set_title("RLS-PSO / LS torque-space error, cyl %g" % key[0], fontsize=9)
+            ax.set_title("RLS-PSO / LS torque-space error, cyl %g, %s trajectories" % (key[0], key[3]), fontsize=9)
             fig.colorbar(im, ax=ax)
         fig.tight_layout()
         fig.savefig(out_dir + "/ratio_map.png", dpi=110)

@@ -18,6 +18,7 @@ struct SweepArgs {
   std::optional<std::uint64_t> master_seed;
   std::vector<std::string> methods;
   std::vector<double> noise_tau, noise_q, quantisation, vibration, cylinder;
+  std::vector<std::string> trajectories;
   std::optional<double> duration_s;
   std::optional<long> pso_iterations;
   std::string shard;
@@ -35,6 +36,10 @@ void runSweepCommand(const SweepArgs& a) {
   list(a.quantisation, c.quantisation_deg, "grid.quantisation_deg", "--quantisation-deg");
   list(a.vibration, c.vibration_level, "grid.vibration_level", "--vibration");
   list(a.cylinder, c.cylinder_mass_scale, "grid.cylinder_mass_scale", "--cylinder-mass-scale");
+  if (!a.trajectories.empty()) {
+    c.trajectories = a.trajectories;
+    c.origin["grid.trajectories"] = "--trajectories";
+  }
   if (a.seeds) {
     c.seeds = *a.seeds;
     c.origin["sweep.seeds"] = "--seeds";
@@ -96,6 +101,8 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--quantisation-deg", a->quantisation, "[grid] quantisation_deg levels")->delimiter(',')->group(o);
   cmd->add_option("--vibration", a->vibration, "[grid] vibration_level levels")->delimiter(',')->group(o);
   cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
+  cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs)")
+      ->delimiter(',')->group(o);
   cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(CLI::PositiveNumber)->group(o);
   cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(CLI::PositiveNumber)->group(o);
   cmd->callback([a] { runSweepCommand(*a); });

@@ -9,6 +9,7 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -111,6 +112,22 @@ void SweepConfig::validate() const {
   checkList(*this, "grid.quantisation_deg", quantisation_deg, 0.0, 90.0);
   checkList(*this, "grid.vibration_level", vibration_level, 0.0, 20.0);
   checkList(*this, "grid.cylinder_mass_scale", cylinder_mass_scale, 0.0, 10.0);
+  if (trajectories.empty()) throw SweepConfigError(where(*this, "grid.trajectories") + ": the grid list is empty (\"paper\", \"optimised\")");
+  for (const std::string& t : trajectories) {
+    if (t != "paper" && t != "optimised") {
+      throw SweepConfigError(where(*this, "grid.trajectories") + ": expected \"paper\" or \"optimised\", got \"" + t + "\"");
+    }
+  }
+  if (std::set<std::string>(trajectories.begin(), trajectories.end()).size() != trajectories.size()) {
+    throw SweepConfigError(where(*this, "grid.trajectories") + ": levels must be distinct");
+  }
+  const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
+  if (optimised && !(optimised_knee && optimised_both)) {
+    throw SweepConfigError(where(*this, "grid.trajectories") +
+                           ": \"optimised\" needs both designs: set [simulation] excitation_knee and excitation_both "
+                           "(exoid excite files; exoid ships experiments/configs/excitation_knee.json and excitation_both.json)");
+  }
+
   if (seeds < 1) throw SweepConfigError(where(*this, "sweep.seeds") + ": must be >= 1, got " + std::to_string(seeds));
   if (methods.empty()) throw SweepConfigError(where(*this, "sweep.methods") + ": name at least one method");
   if (std::set<Variant>(methods.begin(), methods.end()).size() != methods.size()) {
@@ -125,16 +142,20 @@ void SweepConfig::validate() const {
 
 std::vector<SweepCondition> SweepConfig::conditions() const {
   std::vector<SweepCondition> out;
-  for (double cyl : cylinder_mass_scale)
-    for (double vib : vibration_level)
-      for (double qn : angle_noise_deg)
-        for (double qq : quantisation_deg)
-          for (double tn : torque_noise_Nm) out.push_back({tn, qn, qq, vib, cyl});
+  for (const std::string& traj : trajectories)
+    for (double cyl : cylinder_mass_scale)
+      for (double vib : vibration_level)
+        for (double qn : angle_noise_deg)
+          for (double qq : quantisation_deg)
+            for (double tn : torque_noise_Nm) out.push_back({tn, qn, qq, vib, cyl, traj});
   return out;
 }
 
 std::uint64_t SweepConfig::jobSeed(int cell, int replicate) const {
-  return ident::Rng::derive(ident::Rng::derive(master_seed, static_cast<std::uint64_t>(cell)),
+  // Trajectories vary slowest: cells of one level are a contiguous block, and the same position
+  // in every block is the same noise condition.
+  const int per_level = numCells() / static_cast<int>(std::max<std::size_t>(trajectories.size(), 1));
+  return ident::Rng::derive(ident::Rng::derive(master_seed, static_cast<std::uint64_t>(cell % per_level)),
                             static_cast<std::uint64_t>(replicate));
 }
 
@@ -147,6 +168,10 @@ ProtocolConfig SweepConfig::protocolFor(const SweepCondition& c, std::uint64_t s
   p.sim.variant.cylinder_mass_scale = c.cylinder_mass_scale;
   p.seed = seed;
   p.variants = methods;
+  if (c.trajectories == "optimised") {
+    p.knee_excitation = optimised_knee;
+    p.both_excitation = optimised_both;
+  }
   return p;
 }
 
@@ -155,7 +180,8 @@ nlohmann::json toJson(const SweepCondition& c) {
           {"angle_noise_deg", c.angle_noise_deg},
           {"quantisation_deg", c.quantisation_deg},
           {"vibration_level", c.vibration_level},
-          {"cylinder_mass_scale", c.cylinder_mass_scale}};
+          {"cylinder_mass_scale", c.cylinder_mass_scale},
+          {"trajectories", c.trajectories}};
 }
 
 nlohmann::json SweepConfig::toJson() const {
@@ -164,16 +190,19 @@ nlohmann::json SweepConfig::toJson() const {
                {"angle_noise_deg", angle_noise_deg},
                {"quantisation_deg", quantisation_deg},
                {"vibration_level", vibration_level},
-               {"cylinder_mass_scale", cylinder_mass_scale}};
+               {"cylinder_mass_scale", cylinder_mass_scale},
+               {"trajectories", trajectories}};
   std::vector<std::string> names;
   for (Variant v : methods) names.emplace_back(toString(v));
   j["sweep"] = {{"seeds", seeds}, {"master_seed", master_seed}, {"methods", names}, {"cells", numCells()},
-                {"design", "full factorial of the grid lists; torque noise varies fastest"}};
+                {"design", "full factorial of the grid lists; torque noise varies fastest; a paper cell and its optimised "
+                           "twin share seeds"}};
   nlohmann::json simj = sim::configJson(base.sim);
   for (const char* k : {"seed", "trajectory"}) simj.erase(k);  // set per job / per record
   // Designed identification records change every result: their coefficients are part of the config.
-  if (base.knee_excitation) simj["excitation_knee"] = experiments::toJson(toFourierTrajectory(*base.knee_excitation));
-  if (base.both_excitation) simj["excitation_both"] = experiments::toJson(toFourierTrajectory(*base.both_excitation));
+  const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
+  if (optimised && optimised_knee) simj["excitation_knee"] = experiments::toJson(toFourierTrajectory(*optimised_knee));
+  if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(toFourierTrajectory(*optimised_both));
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
   j["method_options"] = experiments::toJson(base.methods);
@@ -191,7 +220,7 @@ SweepConfig loadSweepConfig(const std::string& path) {
   Reader r{path, c};
   static const std::map<std::string, std::set<std::string>> kKnown = {
       {"sweep", {"seeds", "master_seed", "methods"}},
-      {"grid", {"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale"}},
+      {"grid", {"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}},
       {"simulation", {"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}},
       {"identification", {"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}}};
   for (const auto& [section, node] : t) {
@@ -238,6 +267,8 @@ SweepConfig loadSweepConfig(const std::string& path) {
         c.vibration_level = r.numbers(v, full);
       } else if (full == "grid.cylinder_mass_scale") {
         c.cylinder_mass_scale = r.numbers(v, full);
+      } else if (full == "grid.trajectories") {
+        c.trajectories = r.strings(v, full);
       } else if (full == "simulation.duration_s") {
         c.base.sim.duration_s = r.number(v, full);
         if (!(c.base.sim.duration_s > 0)) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be > 0");
@@ -255,7 +286,7 @@ SweepConfig loadSweepConfig(const std::string& path) {
         const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(path).parent_path() / fp).string();
         try {
           const sim::FourierSpec spec = toFourierSpec(readExcitationFile(resolved));
-          (full == "simulation.excitation_knee" ? c.base.knee_excitation : c.base.both_excitation) = spec;
+          (full == "simulation.excitation_knee" ? c.optimised_knee : c.optimised_both) = spec;
         } catch (const std::invalid_argument& e) {
           throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
         }

@@ -127,9 +127,9 @@ std::string csvQuote(const std::string& s) {
 
 std::string conditionCsv(const SweepCondition& c) {
   return num(c.torque_noise_Nm) + "," + num(c.angle_noise_deg) + "," + num(c.quantisation_deg) + "," +
-         num(c.vibration_level) + "," + num(c.cylinder_mass_scale);
+         num(c.vibration_level) + "," + num(c.cylinder_mass_scale) + "," + c.trajectories;
 }
-const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale";
+const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,trajectories";
 
 // The summary metrics: name and how to read it from a row.
 struct Metric {
@@ -198,14 +198,23 @@ struct Paired {
   double mdd = kNaN;  // minimal detectable mean difference, 80 % power, alpha 0.05
   bool exact = false;
 };
-Paired paired(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ls, const std::string& metric) {
+Paired pairedValues(const std::vector<double>& a, const std::vector<double>& b);
+// `m` against `ref` over the replicates both have, on a metric of a row.
+template <typename Get>
+Paired pairedBy(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ref, Get get) {
   std::vector<double> a, b;
   for (const auto& [rep, row] : m) {
-    const auto it = ls.find(rep);
-    if (it == ls.end()) continue;
-    a.push_back(metricOf(*row, metric));
-    b.push_back(metricOf(*it->second, metric));
+    const auto it = ref.find(rep);
+    if (it == ref.end()) continue;
+    a.push_back(get(*row));
+    b.push_back(get(*it->second));
   }
+  return pairedValues(a, b);
+}
+Paired paired(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ls, const std::string& metric) {
+  return pairedBy(m, ls, [&](const Row& r) { return metricOf(r, metric); });
+}
+Paired pairedValues(const std::vector<double>& a, const std::vector<double>& b) {
   Paired p;
   p.n = static_cast<int>(a.size());
   if (a.empty()) return p;
@@ -234,6 +243,7 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
     c.quantisation_deg = g.at("quantisation_deg").get<std::vector<double>>();
     c.vibration_level = g.at("vibration_level").get<std::vector<double>>();
     c.cylinder_mass_scale = g.at("cylinder_mass_scale").get<std::vector<double>>();
+    if (g.contains("trajectories")) c.trajectories = g.at("trajectories").get<std::vector<std::string>>();
     c.methods.clear();
     for (const auto& m : resolved.at("sweep").at("methods")) c.methods.push_back(parseVariant(m.get<std::string>()));
     return {c.conditions(), c.methods, resolved.at("sweep").at("seeds").get<int>(), resolved};
@@ -278,6 +288,79 @@ const std::map<int, const Row*>& repsOf(const Cell& c, const std::string& method
   return it == c.by_method.end() ? empty : it->second;
 }
 
+// The paper cell with the same condition as an optimised cell (-1: none in this sweep).
+int paperTwin(const std::vector<SweepCondition>& conds, std::size_t k) {
+  const SweepCondition& o = conds[k];
+  for (std::size_t i = 0; i < conds.size(); ++i) {
+    const SweepCondition& p = conds[i];
+    if (p.trajectories == "paper" && p.torque_noise_Nm == o.torque_noise_Nm && p.angle_noise_deg == o.angle_noise_deg &&
+        p.quantisation_deg == o.quantisation_deg && p.vibration_level == o.vibration_level &&
+        p.cylinder_mass_scale == o.cylinder_mass_scale) {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+nlohmann::json pairedJson(const Paired& p, double optimised_mean, double paper_mean) {
+  return {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
+          {"optimised_mean", jnum(optimised_mean)}, {"paper_mean", jnum(paper_mean)},
+          {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}};
+}
+
+// Paired metrics of the trajectory comparison.
+const char* kTrajectoryPaired[] = {"torque_err_mean", "median_abs_rel_err", "max_abs_rel_err", "val_rms"};
+
+// Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
+// random numbers), per method: the paired metrics and each parameter's |relative error|, with
+// Holm over the comparisons of one method (cells x metrics, cells x parameters).
+void compareTrajectories(const std::vector<SweepCondition>& conds, const std::map<int, Cell>& cells,
+                         const std::vector<Variant>& methods, nlohmann::json& conditions) {
+  std::vector<std::pair<nlohmann::json*, int>> pairs;  // (optimised cell's json, paper twin)
+  for (nlohmann::json& cj : conditions) {
+    const auto k = cj.at("cell").get<std::size_t>();
+    if (conds[k].trajectories != "optimised") continue;
+    const int twin = paperTwin(conds, k);
+    if (twin >= 0 && cells.count(twin)) pairs.emplace_back(&cj, twin);
+  }
+  if (pairs.empty()) return;
+  for (Variant v : methods) {
+    const std::string name = toString(v);
+    std::vector<nlohmann::json*> tested;  // every p_value of this method, for Holm
+    for (auto& [cj, twin] : pairs) {
+      const std::map<int, const Row*>& opt = repsOf(cells.at(cj->at("cell").get<int>()), name);
+      const std::map<int, const Row*>& pap = repsOf(cells.at(twin), name);
+      nlohmann::json& mj = (*cj)["methods"][name];
+      mj["vs_paper_trajectories"]["paper_cell"] = twin;
+      const auto meanOf = [](const std::map<int, const Row*>& reps, auto get) {
+        std::vector<double> x;
+        for (const auto& [rep, row] : reps) {
+          if (std::isfinite(get(*row))) x.push_back(get(*row));
+        }
+        return stats::mean(x);
+      };
+      for (const char* metric : kTrajectoryPaired) {
+        const auto get = [&](const Row& r) { return metricOf(r, metric); };
+        mj["vs_paper_trajectories"][metric] = pairedJson(pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get));
+      }
+      for (int i = 0; i < kNumParams; ++i) {
+        const auto get = [i](const Row& r) { return std::abs(r.rel_best_fit[i]); };
+        mj["vs_paper_trajectories"]["parameters"][std::string(ident::paramName(i))] =
+            pairedJson(pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get));
+      }
+    }
+    for (auto& [cj, twin] : pairs) {
+      nlohmann::json& t = (*cj)["methods"][name]["vs_paper_trajectories"];
+      for (const char* metric : kTrajectoryPaired) tested.push_back(&t[metric]);
+      for (auto& [pname, pj] : t["parameters"].items()) tested.push_back(&pj);
+    }
+    std::vector<double> ps;
+    for (const nlohmann::json* j : tested) ps.push_back(j->at("p_value").is_null() ? kNaN : j->at("p_value").get<double>());
+    const std::vector<double> adj = stats::holmAdjust(ps);
+    for (std::size_t k = 0; k < tested.size(); ++k) (*tested[k])["p_holm"] = jnum(adj[k]);
+  }
+}
+
 }  // namespace
 
 nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
@@ -303,6 +386,9 @@ nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlo
       {"mdd", "minimal detectable mean paired difference (method - ls) at 80 % power, alpha 0.05, paired t: "
               "(t(0.975, n-1) + t(0.8, n-1)) sd(diff) / sqrt(n)"},
       {"win_rate", "fraction of seeds where the method's value < ls's (ties count 1/2)"},
+      {"vs_paper_trajectories", "an optimised-trajectories cell against its paper twin (same condition and seeds), per "
+                                "method: Wilcoxon signed-rank, win_rate = share of seeds where optimised < paper, Holm "
+                                "over the method's comparisons (cells x metrics, cells x parameters)"},
       {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
       {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
                   "(experiments::noiseStd); mean over the cell's seeds"},
@@ -363,6 +449,7 @@ nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlo
       }
     }
   }
+  compareTrajectories(conds, cells, config.methods, conditions);
   out["conditions"] = conditions;
   return out;
 }
@@ -379,7 +466,9 @@ void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const s
     }
     for (const char* p : kPaired) out << ",win_rate_vs_ls_" << p << ",p_wilcoxon_vs_ls_" << p << ",p_holm_vs_ls_" << p << ",mdd_vs_ls_" << p;
     for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
-    out << ",rms_error_over_crb_max\n";
+    out << ",rms_error_over_crb_max";
+    for (const char* p : kTrajectoryPaired) out << ",win_rate_vs_paper_trajectories_" << p << ",p_holm_vs_paper_trajectories_" << p;
+    out << "\n";
     const std::vector<SweepCondition> conds = config.conditions();
     for (const nlohmann::json& c : s.at("conditions")) {
       for (Variant v : config.methods) {
@@ -399,7 +488,16 @@ void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const s
           }
         }
         for (int i = 0; i < kNumParams; ++i) out << ',' << num(get(m.at("parameters").at(std::string(ident::paramName(i))).at("rms_error_over_crb")));
-        out << ',' << num(get(m.at("rms_error_over_crb_max"))) << '\n';
+        out << ',' << num(get(m.at("rms_error_over_crb_max")));
+        for (const char* p : kTrajectoryPaired) {
+          if (m.contains("vs_paper_trajectories")) {
+            const nlohmann::json& q = m.at("vs_paper_trajectories").at(p);
+            out << ',' << num(get(q.at("win_rate"))) << ',' << num(get(q.at("p_holm")));
+          } else {
+            out << ",,";
+          }
+        }
+        out << '\n';
       }
     }
   });
@@ -411,6 +509,68 @@ std::string ciText(const nlohmann::json& m, double scale, int decimals) {
   std::string s = fixed(scale * mean, decimals);
   if (std::isfinite(lo)) s += " [" + fixed(scale * lo, decimals) + ", " + fixed(scale * hi, decimals) + "]";
   return s;
+}
+
+// "P -> O (win rate, Holm p)" of one paired trajectory comparison, in % when scale is 100.
+std::string trajectoryPairText(const nlohmann::json& p, double scale, int decimals) {
+  const double o = get(p.at("optimised_mean")), q = get(p.at("paper_mean"));
+  if (!std::isfinite(o) || !std::isfinite(q)) return "-";
+  return fixed(scale * q, decimals) + " -> " + fixed(scale * o, decimals) + " (" + fixed(get(p.at("win_rate")), 2) +
+         ", p = " + fmt(get(p.at("p_holm")), 2) + ")";
+}
+
+// The trajectory axis: each optimised cell against its paper twin, grouped like the sections.
+void writeTrajectoryComparisonMd(const SweepLayout& config, const nlohmann::json& s, std::ostream& md) {
+  std::map<std::string, std::vector<const nlohmann::json*>> groups;
+  std::vector<std::string> order;
+  for (const nlohmann::json& c : s.at("conditions")) {
+    if (c.at("methods").empty() || !c.at("methods").begin()->contains("vs_paper_trajectories")) continue;
+    const nlohmann::json& k = c.at("condition");
+    const std::string key = "cylinder mass scale " + fmt(k.at("cylinder_mass_scale").get<double>()) + ", vibration level " +
+                            fmt(k.at("vibration_level").get<double>()) + ", angle noise " + fmt(k.at("angle_noise_deg").get<double>()) +
+                            " deg, quantisation " + fmt(k.at("quantisation_deg").get<double>()) + " deg";
+    if (!groups.count(key)) order.push_back(key);
+    groups[key].push_back(&c);
+  }
+  if (order.empty()) return;
+  md << "\n# Optimised vs the paper's identification trajectories\n\nEach optimised cell against the paper cell with the "
+        "same condition and the same seeds (validation on trajectories 2 and 4 in both): paper -> optimised mean over seeds "
+        "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the method's comparisons).\n";
+  for (const std::string& key : order) {
+    const auto& cs = groups[key];
+    std::vector<std::string> header{"method"};
+    for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
+    md << "\n## " << key << "\n";
+    for (const char* metric : {"torque_err_mean", "median_abs_rel_err", "max_abs_rel_err"}) {
+      md << "\n" << (std::string(metric) == "torque_err_mean" ? "Torque-space error (%)"
+                     : std::string(metric) == "median_abs_rel_err" ? "Median per-parameter |error| (%)"
+                                                                    : "Worst per-parameter |error| (%)")
+         << "\n\n";
+      TextTable t(header);
+      for (Variant v : config.methods) {
+        std::vector<std::string> row{toString(v)};
+        for (const nlohmann::json* c : cs) row.push_back(trajectoryPairText(c->at("methods").at(toString(v)).at("vs_paper_trajectories").at(metric), 100.0, 2));
+        t.addRow(row);
+      }
+      t.printMarkdown(md);
+    }
+    for (const char* method : {"ls", "rls-pso"}) {
+      if (!cs.front()->at("methods").contains(method)) continue;
+      md << "\n" << method << ": per-parameter |error| (%)\n\n";
+      std::vector<std::string> ph{"param"};
+      for (std::size_t k = 1; k < header.size(); ++k) ph.push_back(header[k]);
+      TextTable t(ph);
+      for (int i = 0; i < kNumParams; ++i) {
+        const std::string pname(ident::paramName(i));
+        std::vector<std::string> row{pname};
+        for (const nlohmann::json* c : cs) {
+          row.push_back(trajectoryPairText(c->at("methods").at(method).at("vs_paper_trajectories").at("parameters").at(pname), 100.0, 2));
+        }
+        t.addRow(row);
+      }
+      t.printMarkdown(md);
+    }
+  }
 }
 
 // One section per (cylinder, vibration, angle noise, quantisation): methods (rows) x torque noise
@@ -427,7 +587,9 @@ void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const st
     std::vector<std::string> order;
     for (const nlohmann::json& c : s.at("conditions")) {
       const nlohmann::json& k = c.at("condition");
-      const std::string key = "cylinder mass scale " + fmt(k.at("cylinder_mass_scale").get<double>()) + ", vibration level " +
+      const std::string key = (k.value("trajectories", std::string("paper")) == "optimised" ? std::string("optimised trajectories, ")
+                                                                                             : std::string("paper's trajectories, ")) +
+                              "cylinder mass scale " + fmt(k.at("cylinder_mass_scale").get<double>()) + ", vibration level " +
                               fmt(k.at("vibration_level").get<double>()) + ", angle noise " +
                               fmt(k.at("angle_noise_deg").get<double>()) + " deg, quantisation " +
                               fmt(k.at("quantisation_deg").get<double>()) + " deg";
@@ -507,6 +669,7 @@ void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const st
       }
       t.printMarkdown(md);
     }
+    writeTrajectoryComparisonMd(config, s, md);
   });
 }
 

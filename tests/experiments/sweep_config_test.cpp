@@ -39,6 +39,38 @@ TEST(SweepConfig, SeedsDependOnlyOnMasterSeedCellAndReplicate) {
   EXPECT_NE(a.jobSeed(3, 2), b.jobSeed(3, 2));
 }
 
+// The trajectory axis: optimised cells use the designs, share their seeds with their paper twins
+// (so the comparison pairs), and a level without designs is refused naming the key.
+TEST(SweepConfig, TrajectoryAxisPairsOptimisedCellsWithTheirPaperTwins) {
+  const std::string dir = std::string(EXOID_SOURCE_DIR) + "/experiments/configs/";
+  const std::string path = writeToml("traj", "[grid]\ntorque_noise_Nm = [0.1, 0.5]\nvibration_level = [1.0]\n"
+                                             "cylinder_mass_scale = [1.0]\ntrajectories = [\"paper\", \"optimised\"]\n"
+                                             "[simulation]\nexcitation_knee = \"" + dir + "excitation_knee.json\"\n"
+                                             "excitation_both = \"" + dir + "excitation_both.json\"\n");
+  const SweepConfig c = loadSweepConfig(path);
+  const std::vector<SweepCondition> conds = c.conditions();
+  ASSERT_EQ(conds.size(), 4u);
+  for (int k = 0; k < 2; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    EXPECT_EQ(conds[K].trajectories, "paper");
+    EXPECT_EQ(conds[K + 2].trajectories, "optimised");
+    EXPECT_EQ(conds[K].torque_noise_Nm, conds[K + 2].torque_noise_Nm);
+    EXPECT_EQ(c.jobSeed(k, 5), c.jobSeed(k + 2, 5));  // common random numbers
+    EXPECT_FALSE(c.protocolFor(conds[K], 1).both_excitation.has_value());
+    EXPECT_TRUE(c.protocolFor(conds[K + 2], 1).both_excitation.has_value());
+    EXPECT_TRUE(c.protocolFor(conds[K + 2], 1).knee_excitation.has_value());
+  }
+  EXPECT_NE(c.jobSeed(0, 5), c.jobSeed(1, 5));
+  EXPECT_TRUE(c.toJson()["simulation"].contains("excitation_both"));
+
+  const std::string missing = errorOf("nodesign", "[grid]\ntrajectories = [\"paper\", \"optimised\"]\n");
+  EXPECT_NE(missing.find("grid.trajectories"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("excitation_knee"), std::string::npos) << missing;
+  const std::string bad = errorOf("badtraj", "[grid]\ntrajectories = [\"designed\"]\n");
+  EXPECT_NE(bad.find("grid.trajectories"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("designed"), std::string::npos) << bad;
+}
+
 TEST(SweepConfig, BadFilesNameTheKeyAndLine) {
   const std::string unknown = errorOf("unknown", "[grid]\ntorque_noise_Nm = [0.5]\ntorque_nose = [1]\n");
   EXPECT_NE(unknown.find("grid.torque_nose"), std::string::npos) << unknown;

@@ -48,6 +48,36 @@ TEST(Sweep, WritesEveryOutputWithOneRowPerRunAndMethod) {
   EXPECT_EQ(slurp(d + "/summary.json").find("wall_time"), std::string::npos);
 }
 
+// The trajectory axis end to end: each optimised cell is compared with its paper twin over the
+// same seeds, and the paired means are the two cells' own means.
+TEST(Sweep, OptimisedCellsArePairedWithTheirPaperTwins) {
+  const std::string d = freshDir("sweep_trajectories");
+  ASSERT_EQ(runExoid({"sweep", "--out", d, "--noise-tau", "0.5", "--vibration", "0", "--cylinder-mass-scale", "1", "--seeds", "3",
+                      "--duration", "5", "--methods", "ls,rls-pso", "--pso-iterations", "200", "--trajectories",
+                      "paper,optimised", "--no-plots"}),
+            0);
+  const nlohmann::json s = nlohmann::json::parse(slurp(d + "/summary.json"));
+  ASSERT_EQ(s["conditions"].size(), 2u);
+  const auto& paper = s["conditions"][0];
+  const auto& opt = s["conditions"][1];
+  EXPECT_EQ(paper["condition"]["trajectories"], "paper");
+  EXPECT_EQ(opt["condition"]["trajectories"], "optimised");
+  EXPECT_FALSE(paper["methods"]["ls"].contains("vs_paper_trajectories"));
+  const auto& v = opt["methods"]["ls"]["vs_paper_trajectories"];
+  EXPECT_EQ(v["paper_cell"], 0);
+  EXPECT_EQ(v["torque_err_mean"]["n"], 3);
+  EXPECT_DOUBLE_EQ(v["torque_err_mean"]["paper_mean"].get<double>(), paper["methods"]["ls"]["metrics"]["torque_err_mean"]["mean"].get<double>());
+  EXPECT_DOUBLE_EQ(v["torque_err_mean"]["optimised_mean"].get<double>(), opt["methods"]["ls"]["metrics"]["torque_err_mean"]["mean"].get<double>());
+  EXPECT_TRUE(v["parameters"]["Js"].contains("p_holm"));
+  // The same seeds: the runs of replicate r carry the same seed in both cells.
+  const std::string runs = slurp(d + "/runs.csv");
+  EXPECT_NE(runs.find("optimised"), std::string::npos);
+  EXPECT_NE(slurp(d + "/summary.md").find("Optimised vs the paper's identification trajectories"), std::string::npos);
+  const nlohmann::json j0 = nlohmann::json::parse(slurp(d + "/runs/job-00000-0001.json"));
+  const nlohmann::json j1 = nlohmann::json::parse(slurp(d + "/runs/job-00001-0001.json"));
+  EXPECT_EQ(j0["seed"], j1["seed"]);
+}
+
 TEST(Sweep, OneAndTwoThreadsGiveIdenticalResults) {
   const std::string d = freshDir("one_thread");
   std::vector<std::string> args = tinySweepArgs(d);

@@ -16,7 +16,7 @@ namespace exoid::experiments::test {
 
 inline std::vector<std::string> tinySweepArgs(const std::string& out) {
   return {"sweep", "--out", out, "--noise-tau", "0,0.5", "--vibration", "0", "--cylinder-mass-scale", "1",
-          "--seeds", "2", "--duration", "2", "--pso-iterations", "200", "--methods", "ls,rls,pso,rls-pso,lad",
+          "--seeds", "2", "--duration", "2", "--pso-iterations", "200", "--methods", "ls,rls,pso,rls-pso,lad", "--trajectories", "paper",
           "--no-plots"};
 }
 

@@ -1,13 +1,16 @@
 #pragma once
 // The grid of `exoid sweep`: read from TOML (experiments/configs/default_sweep.toml), overridden
 // by flags, validated before any work starts. Cells are the full factorial of the grid lists;
-// a job is (cell, replicate) and its seed derives from (master seed, cell, replicate) only.
+// a job is (cell, replicate) and its seed derives from (master seed, cell, replicate) only, where
+// the identification trajectories (paper | optimised) do not count as part of the cell: a paper
+// cell and its optimised twin share their seeds (common random numbers), so they pair.
 #include "exoid/experiments/protocol.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -27,11 +30,15 @@ struct SweepCondition {
   double quantisation_deg = 0.0;
   double vibration_level = 0.0;
   double cylinder_mass_scale = 0.0;
+  /// The identification records: "paper" (trajectories 1 and 3) or "optimised" (the designs of
+  /// [simulation] excitation_knee / excitation_both). Validation stays on trajectories 2 and 4.
+  std::string trajectories = "paper";
 };
 
 struct SweepConfig {
-  // [grid]: every combination is a cell (order: cylinder, vibration, angle noise, quantisation,
-  // torque noise; torque noise varies fastest).
+  // [grid]: every combination is a cell (order: trajectories, cylinder, vibration, angle noise,
+  // quantisation, torque noise; torque noise varies fastest).
+  std::vector<std::string> trajectories{"paper"};               ///< "paper", "optimised"
   std::vector<double> torque_noise_Nm{0.0, 0.1, 0.5, 1.0, 2.0};  ///< >= 0
   std::vector<double> angle_noise_deg{0.005};                   ///< >= 0
   std::vector<double> quantisation_deg{360.0 / 131072.0};       ///< >= 0 (0 = none)
@@ -44,6 +51,9 @@ struct SweepConfig {
   /// Everything else of a protocol run ([simulation], [identification]); the grid factors and
   /// the seed are set per job.
   ProtocolConfig base;
+  /// The designed records of the "optimised" trajectories ([simulation] excitation_knee,
+  /// excitation_both: `exoid excite` files).
+  std::optional<sim::FourierSpec> optimised_knee, optimised_both;
   /// Where each key's value came from ("file:line:col" or "--flag"), for error messages.
   std::map<std::string, std::string> origin;
 
@@ -52,7 +62,8 @@ struct SweepConfig {
   void validate() const;
   std::vector<SweepCondition> conditions() const;
   int numCells() const { return static_cast<int>(conditions().size()); }
-  /// Seed of job (cell, replicate): Rng::derive(Rng::derive(master_seed, cell), replicate).
+  /// Seed of job (cell, replicate): Rng::derive(Rng::derive(master_seed, c), replicate) with c
+  /// the cell's index among the cells of one trajectories level (= cell with one level).
   std::uint64_t jobSeed(int cell, int replicate) const;
   /// The protocol run of a job.
   ProtocolConfig protocolFor(const SweepCondition& c, std::uint64_t seed) const;
