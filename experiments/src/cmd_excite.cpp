@@ -4,10 +4,13 @@
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/plots.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
+#include "exoid/ident/atomic_file.hpp"
 #include "exoid/sim/truth.hpp"
 
+#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -25,7 +28,35 @@ struct ExciteArgs {
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
   std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
   std::string urdf = EXOID_SOURCE_DIR "/models/apal_leg.urdf";
+  bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
 };
+
+// The design and the paper's trajectory sampled over one period of the design: angle, speed,
+// acceleration and nominal torque per joint (what the figure plots).
+void writeSeriesCsv(const std::string& path, const ident::FourierTrajectory& design, const ident::FourierTrajectory& paper,
+                    const ident::LegConstants& c, const ident::ParamVector& nominal) {
+  ident::writeFileAtomically(path, [&](std::ostream& o) {
+    o << "t_s";
+    for (const char* who : {"design", "paper"}) {
+      for (const char* q : {"q", "qd", "qdd", "tau"}) o << ',' << who << '_' << q << "_hip," << who << '_' << q << "_knee";
+    }
+    o << '\n';
+    const int n = 1000;
+    for (int i = 0; i <= n; ++i) {
+      const double t = design.period_s() * i / n;
+      o << fmt(t, 8);
+      for (const ident::FourierTrajectory* tr : {&design, &paper}) {
+        Eigen::Vector2d q, qd, qdd;
+        tr->at(t, q, qd, qdd);
+        ident::RegressorRow hip, knee;
+        ident::regressorRows(c, q, qd, qdd, hip, knee);
+        const Eigen::Vector2d tau(hip.dot(nominal), knee.dot(nominal));
+        for (const Eigen::Vector2d& v : {q, qd, qdd, tau}) o << ',' << fmt(v[0], 10) << ',' << fmt(v[1], 10);
+      }
+      o << '\n';
+    }
+  });
+}
 
 // A "hip,knee" override of one limit pair; `scale` converts to SI.
 void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double scale, const char* flag) {
@@ -116,7 +147,15 @@ void runExcite(const ExciteArgs& args) {
                      {"crb_floor_std", paramsJson(floor, indices)},
                      {"crb_floor_note", "no trajectory inside the limits can do better (single-parameter Cauchy-Schwarz "
                                         "bound from the joint ranges, |qd| and |qdd| limits)"}};
+  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) std::filesystem::create_directories(parent);
   writeJsonFile(a.out, j);
+  std::string figure;
+  if (a.plot) {
+    const std::string stem = a.out.size() > 5 && a.out.substr(a.out.size() - 5) == ".json" ? a.out.substr(0, a.out.size() - 5) : a.out;
+    writeSeriesCsv(stem + "_series.csv", d.trajectory, paper, c, nominal);
+    figure = stem + ".png";
+    runPlotScript("excitation_plot.py", {stem + "_series.csv", a.out, figure});
+  }
 
   std::cout << "excitation design (" << (a.options.hip_locked ? "knee only, hip locked" : "both joints") << ", N = "
             << a.options.harmonics << ", f0 = " << fmt(a.options.f0_hz) << " Hz, seed " << a.options.seed << "): "
@@ -134,7 +173,7 @@ void runExcite(const ExciteArgs& args) {
   std::cout << "(" << fmt(a.duration_s) << " s at " << fmt(a.rate_hz) << " Hz, " << fmt(a.sigma_Nm)
             << " N m white torque noise; LS on raw torques. gain = paper's std / design's; floor = the least std any\n"
                "trajectory inside these limits can reach, max gain = paper's std / floor)\nwrote "
-            << a.out << "\n";
+            << a.out << (figure.empty() ? "" : " and " + figure) << "\n";
 }
 
 }  // namespace
@@ -174,6 +213,7 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_option("--qd-max", a->qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');
   cmd->add_option("--qdd-max", a->qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
   cmd->add_option("--tau-max", a->tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
+  cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(CLI::PositiveNumber)->capture_default_str();
   cmd->callback([a] { runExcite(*a); });

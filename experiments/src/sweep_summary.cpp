@@ -313,7 +313,7 @@ const char* kTrajectoryPaired[] = {"torque_err_mean", "median_abs_rel_err", "max
 
 // Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
 // random numbers), per method: the paired metrics and each parameter's |relative error|, with
-// Holm over the comparisons of one method (cells x metrics, cells x parameters).
+// Holm over the compared cells per method and metric.
 void compareTrajectories(const std::vector<SweepCondition>& conds, const std::map<int, Cell>& cells,
                          const std::vector<Variant>& methods, nlohmann::json& conditions) {
   std::vector<std::pair<nlohmann::json*, int>> pairs;  // (optimised cell's json, paper twin)
@@ -326,7 +326,6 @@ void compareTrajectories(const std::vector<SweepCondition>& conds, const std::ma
   if (pairs.empty()) return;
   for (Variant v : methods) {
     const std::string name = toString(v);
-    std::vector<nlohmann::json*> tested;  // every p_value of this method, for Holm
     for (auto& [cj, twin] : pairs) {
       const std::map<int, const Row*>& opt = repsOf(cells.at(cj->at("cell").get<int>()), name);
       const std::map<int, const Row*>& pap = repsOf(cells.at(twin), name);
@@ -349,15 +348,20 @@ void compareTrajectories(const std::vector<SweepCondition>& conds, const std::ma
             pairedJson(pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get));
       }
     }
-    for (auto& [cj, twin] : pairs) {
-      nlohmann::json& t = (*cj)["methods"][name]["vs_paper_trajectories"];
-      for (const char* metric : kTrajectoryPaired) tested.push_back(&t[metric]);
-      for (auto& [pname, pj] : t["parameters"].items()) tested.push_back(&pj);
+    // Holm per method and metric (each parameter's error is a metric) over the compared cells, as vs_ls.
+    const auto holm = [&](auto pick) {
+      std::vector<nlohmann::json*> tested;
+      for (auto& [cj, twin] : pairs) tested.push_back(&pick((*cj)["methods"][name]["vs_paper_trajectories"]));
+      std::vector<double> ps;
+      for (const nlohmann::json* j : tested) ps.push_back(j->at("p_value").is_null() ? kNaN : j->at("p_value").get<double>());
+      const std::vector<double> adj = stats::holmAdjust(ps);
+      for (std::size_t k = 0; k < tested.size(); ++k) (*tested[k])["p_holm"] = jnum(adj[k]);
+    };
+    for (const char* metric : kTrajectoryPaired) holm([&](nlohmann::json& t) -> nlohmann::json& { return t[metric]; });
+    for (int i = 0; i < kNumParams; ++i) {
+      const std::string pname(ident::paramName(i));
+      holm([&](nlohmann::json& t) -> nlohmann::json& { return t["parameters"][pname]; });
     }
-    std::vector<double> ps;
-    for (const nlohmann::json* j : tested) ps.push_back(j->at("p_value").is_null() ? kNaN : j->at("p_value").get<double>());
-    const std::vector<double> adj = stats::holmAdjust(ps);
-    for (std::size_t k = 0; k < tested.size(); ++k) (*tested[k])["p_holm"] = jnum(adj[k]);
   }
 }
 
@@ -388,7 +392,7 @@ nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlo
       {"win_rate", "fraction of seeds where the method's value < ls's (ties count 1/2)"},
       {"vs_paper_trajectories", "an optimised-trajectories cell against its paper twin (same condition and seeds), per "
                                 "method: Wilcoxon signed-rank, win_rate = share of seeds where optimised < paper, Holm "
-                                "over the method's comparisons (cells x metrics, cells x parameters)"},
+                                "over the compared cells per method and metric (each parameter's error is a metric)"},
       {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
       {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
                   "(experiments::noiseStd); mean over the cell's seeds"},
@@ -535,7 +539,8 @@ void writeTrajectoryComparisonMd(const SweepLayout& config, const nlohmann::json
   if (order.empty()) return;
   md << "\n# Optimised vs the paper's identification trajectories\n\nEach optimised cell against the paper cell with the "
         "same condition and the same seeds (validation on trajectories 2 and 4 in both): paper -> optimised mean over seeds "
-        "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the method's comparisons).\n";
+        "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the compared cells per method "
+        "and metric).\n";
   for (const std::string& key : order) {
     const auto& cs = groups[key];
     std::vector<std::string> header{"method"};

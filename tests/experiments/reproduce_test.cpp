@@ -47,6 +47,7 @@ TEST(Reproduce, ShortProtocolWritesEveryTableAndFigure) {
   for (const char* section : {"## Verdict", "## Knee parameters", "## Hip parameters", "## Is the truth inside the RLS box?",
                               "## Validation torque error", "## Scores against ground truth",
                               "## Errors in units of each method's Cramer-Rao bound", "![knee validation]",
+                              "## Optimised excitation arm",
                               "paper: LS (Table 4)", "truth: best fit"}) {
     EXPECT_NE(md.find(section), std::string::npos) << section;
   }
@@ -56,6 +57,13 @@ TEST(Reproduce, ShortProtocolWritesEveryTableAndFigure) {
   EXPECT_EQ(j["seed"], 1);
   // The rigid truth is the model's set-B links (paper.md), independent of the run.
   EXPECT_NEAR(j["truth"]["rigid"]["parameters"]["Mxt"].get<double>(), 5.83, 1e-9);
+  // The optimised-excitation arm: the same seed and methods, the same rigid truth, its own best fit.
+  const auto& arm = j["optimised_excitation_arm"];
+  EXPECT_EQ(arm["seed"], 1);
+  EXPECT_EQ(arm["methods"].size(), allVariants().size());
+  EXPECT_EQ(arm["truth"]["rigid"], j["truth"]["rigid"]);
+  EXPECT_NE(arm["truth"]["best_fit"], j["truth"]["best_fit"]);
+  EXPECT_TRUE(std::filesystem::exists(dir + "/estimates_optimised.csv"));
 }
 
 TEST(Reproduce, SameSeedSameNumbersDifferentSeedDiffers) {

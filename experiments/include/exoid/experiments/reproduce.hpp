@@ -17,8 +17,18 @@ struct ReproduceOutputs {
   std::string dir;  ///< created if missing
 };
 
-/// Writes report.md, results.json, estimates.csv, validation.csv, series_*.csv and figures.
-void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out);
+/// The designs exoid ships (exoid excite, seed 1) for the optimised-excitation arm.
+std::string defaultKneeExcitationPath();
+std::string defaultBothExcitationPath();
+
+/// Writes report.md, results.json, estimates.csv, validation.csv, series_*.csv and figures. With
+/// `optimised` (the same protocol and seed on designed identification records), also the
+/// optimised-excitation arm: a side-by-side section in report.md, results.json
+/// "optimised_excitation_arm", estimates_optimised.csv.
+void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out, const ProtocolResult* optimised = nullptr);
+
+/// Median of |v|: the median per-parameter relative error.
+double medianAbs(const Eigen::VectorXd& v);
 
 /// The verdict paragraph of the report, from the numbers alone.
 std::string verdict(const ProtocolResult& r);

@@ -1,0 +1,57 @@
+#!/usr/bin/python3
+"""Figure of `exoid excite`: the designed trajectory over one period (angle, speed, acceleration,
+nominal torque per joint) with the limits it was designed under, and the paper's trajectory on the
+same axes. Usage: excitation_plot.py SERIES_CSV DESIGN_JSON OUT_PNG"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(series_path, design_path, out_png):
+    with open(series_path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], rows[1:]
+    cols = {name: [float(r[i]) for r in data] for i, name in enumerate(header)}
+    with open(design_path) as f:
+        design = json.load(f)
+    lim = design["limits"]
+    paper = design["comparison"]["paper_trajectory"]
+    t = cols["t_s"]
+    quantities = [("q", "angle (deg)", 180 / 3.141592653589793, "q_min_rad", "q_max_rad"),
+                  ("qd", "speed (rad/s)", 1.0, None, "qd_max_radps"),
+                  ("qdd", "acceleration (rad/s^2)", 1.0, None, "qdd_max_radps2"),
+                  ("tau", "nominal torque (N m)", 1.0, None, "tau_max_Nm")]
+    fig, axes = plt.subplots(len(quantities), 2, figsize=(11, 10), sharex=True, squeeze=False)
+    for j, joint in enumerate(("hip", "knee")):
+        for r, (name, label, scale, low_key, high_key) in enumerate(quantities):
+            ax = axes[r][j]
+            ax.plot(t, [scale * v for v in cols[f"paper_{name}_{joint}"]], color="#999999", lw=0.8,
+                    label=f"paper's trajectory {paper}")
+            ax.plot(t, [scale * v for v in cols[f"design_{name}_{joint}"]], color="#1f77b4", lw=1.4, label="design")
+            hi = scale * lim[high_key][j]
+            lo = scale * lim[low_key][j] if low_key else -hi
+            for v in (lo, hi):
+                ax.axhline(v, color="#d62728", ls="--", lw=0.9)
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3)
+            if r == 0:
+                ax.set_title(joint)
+        axes[-1][j].set_xlabel("time (s)")
+    axes[0][0].legend(fontsize=8, loc="best")
+    fig.suptitle("exoid excite: design (seed %s, criterion %s) and limits (%s), red dashed"
+                 % (design["seed"], design["options"]["criterion"], lim["source"]), fontsize=9)
+    fig.tight_layout()
+    tmp = out_png + ".tmp.png"
+    fig.savefig(tmp, dpi=110, metadata={"Software": None})  # no timestamps: same design, same bytes
+    os.replace(tmp, out_png)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1], sys.argv[2], sys.argv[3])
