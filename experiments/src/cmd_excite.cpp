@@ -172,7 +172,11 @@ void runExcite(const ExciteArgs& args) {
   t.print(std::cout);
   std::cout << "(" << fmt(a.duration_s) << " s at " << fmt(a.rate_hz) << " Hz, " << fmt(a.sigma_Nm)
             << " N m white torque noise; LS on raw torques. gain = paper's std / design's; floor = the least std any\n"
-               "trajectory inside these limits can reach, max gain = paper's std / floor)\nwrote "
+               "trajectory inside these limits can reach, max gain = paper's std / floor)\n"
+            << (limits.qdd_max_radps2.maxCoeff() >= 1e5
+                    ? "(no acceleration limit here: the floors of the inertial and coupled gravity columns are not informative)\n"
+                    : "")
+            << "wrote "
             << a.out << (figure.empty() ? "" : " and " + figure) << "\n";
 }
 
