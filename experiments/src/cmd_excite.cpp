@@ -137,7 +137,7 @@ void runExcite(const ExciteArgs& args) {
   j["limits"] = lim;
   j["trajectory"] = toJson(d.trajectory);
   j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reached(d.score)},
-                {"evaluations", d.evaluations}, {"feasible_restarts", d.feasible_restarts}, {"wall_time_s", d.wall_time_s}};
+                {"evaluations", d.evaluations}, {"feasible_restarts", d.feasible_restarts}};  // no wall time: same seed, same bytes
   j["comparison"] = {{"footing", {{"duration_s", a.duration_s}, {"rate_hz", a.rate_hz}, {"sigma_Nm", a.sigma_Nm},
                                   {"note", "LS on raw torques, white noise on each joint"}}},
                      {"paper_trajectory", paper_id},

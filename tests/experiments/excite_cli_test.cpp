@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace exoid::experiments {
 namespace {
@@ -65,6 +66,28 @@ TEST(ExciteCli, DesignFileSimulatesInsideItsLimits) {
   // The design round-trips through the file.
   const ident::FourierTrajectory t = readExcitationFile(design);
   EXPECT_EQ(t.a_rad(0, 0), j["trajectory"]["a_rad"]["hip"][0].get<double>());
+}
+
+// Same seed, same bytes: the design, its series and its figure (no times or dates in them).
+TEST(ExciteCli, SameSeedSameBytes) {
+  const std::string dir = ::testing::TempDir();
+  const std::vector<std::string> args = {"excite", "--knee-only", "--restarts", "2", "--max-evaluations", "400", "--seed", "5", "--out"};
+  testing::internal::CaptureStdout();
+  auto a = args, b = args;
+  a.push_back(dir + "/same_a.json");
+  b.push_back(dir + "/same_b.json");
+  ASSERT_EQ(runExoid(a), 0);
+  ASSERT_EQ(runExoid(b), 0);
+  testing::internal::GetCapturedStdout();
+  const auto slurp = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const char* suffix : {".json", "_series.csv", ".png"}) {
+    const std::string x = slurp(dir + "/same_a" + suffix), y = slurp(dir + "/same_b" + suffix);
+    EXPECT_FALSE(x.empty()) << suffix;
+    EXPECT_EQ(x, y) << suffix;
+  }
 }
 
 TEST(ExciteCli, BadExcitationFileIsNamed) {
