@@ -2,8 +2,13 @@
 
 #include "exoid/ident/atomic_file.hpp"
 
+#include "csv_lines.hpp"
+
 #include <algorithm>
 #include <array>
+#include <charconv>
+#include <iterator>
+#include <string_view>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -31,18 +36,6 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r");
   return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> splitCommas(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string::size_type start = 0;
-  while (true) {
-    const auto comma = line.find(',', start);
-    cells.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return cells;
 }
 
 double median(std::vector<double> v) {
@@ -81,115 +74,223 @@ Eigen::VectorXd Dataset::extraColumn(const std::string& name) const {
   return extra.col(it - extra_names.begin());
 }
 
+namespace {
+
+bool isKnown(const std::string& name) {
+  for (const char* r : kRequired) if (name == r) return true;
+  for (const char* r : kDerivatives) if (name == r) return true;
+  return false;
+}
+
+// A number cell: blanks around it allowed, a leading '+' too; nothing else.
+bool parseNumber(std::string_view cell, double& v) {
+  cell = csv::trimBlanks(cell);
+  if (!cell.empty() && cell[0] == '+') cell.remove_prefix(1);
+  if (cell.empty()) return false;
+  const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+  return r.ec == std::errc() && r.ptr == cell.data() + cell.size();
+}
+
+std::string listNames(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+}  // namespace
+
+void LogFormat::validate() const {
+  if (!(time_scale_s > 0 && std::isfinite(time_scale_s))) throw std::invalid_argument("log format: time unit must be > 0 s");
+  if (!(angle_scale_rad > 0 && std::isfinite(angle_scale_rad))) throw std::invalid_argument("log format: angle unit must be > 0 rad");
+  for (int j = 0; j < 2; ++j) {
+    if (std::abs(torque_sign[j]) != 1.0) throw std::invalid_argument("log format: torque signs must be +1 or -1");
+  }
+  std::map<std::string, int> seen;
+  for (const auto& [ours, theirs] : columns) {
+    if (ours.empty() || theirs.empty()) throw std::invalid_argument("log format: empty name in the column map");
+    if (seen[ours]++) throw std::invalid_argument("log format: '" + ours + "' is mapped twice");
+  }
+}
+
+std::vector<std::pair<std::string, std::string>> parseColumnMap(const std::string& text) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const auto comma = text.find(',', start);
+    const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const auto eq = item.find('=');
+    const std::string ours = trim(item.substr(0, eq)), theirs = eq == std::string::npos ? "" : trim(item.substr(eq + 1));
+    if (eq == std::string::npos || ours.empty() || theirs.empty()) {
+      throw std::invalid_argument("column map: expected exoid_name=log_name pairs separated by commas (e.g. "
+                                  "t=time,q_hip=pos_meas1), got '" + item + "'");
+    }
+    out.emplace_back(ours, theirs);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+double parseTimeUnit(const std::string& unit) {
+  if (unit == "s") return 1.0;
+  if (unit == "ms") return 1e-3;
+  if (unit == "us") return 1e-6;
+  throw std::invalid_argument("time unit '" + unit + "': expected s, ms or us");
+}
+
+double parseAngleUnit(const std::string& unit) {
+  if (unit == "rad") return 1.0;
+  if (unit == "deg") return M_PI / 180.0;
+  throw std::invalid_argument("angle unit '" + unit + "': expected rad or deg");
+}
+
 Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvReadOptions& options) {
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parseDatasetText(text, source, options);
+}
+
+Dataset parseDatasetText(std::string_view text, const std::string& source, const CsvReadOptions& options) {
+  try {
+    options.format.validate();
+  } catch (const std::invalid_argument& e) {
+    throw DatasetError(source, 0, 0, e.what());
+  }
   Dataset d;
-  std::string line;
-  long line_no = 0;
-  // Comments, then the header.
   std::vector<std::string> names;
   long header_line = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string t = trim(line);
-    if (t.empty()) continue;
-    if (t[0] == '#') {
-      d.comments.push_back(t.substr(1));
-      continue;
+  bool trailing_comma = false;
+  std::map<std::string, long> index;  // exoid name -> 0-based column
+  std::vector<std::vector<double>> cols;
+  std::vector<bool> numeric;                       // per column: every cell so far a number
+  std::vector<long> row_lines;
+  std::size_t ncol = 0;
+
+  const auto onHeader = [&](const csv::Line& line) {
+    header_line = line.number;
+    names.clear();
+    for (const std::string& c : line.cells) names.emplace_back(csv::trimBlanks(c));
+    if (names.size() > 1 && names.back().empty()) {  // "a,b,c," on every line
+      names.pop_back();
+      trailing_comma = true;
     }
-    names = splitCommas(t);
-    header_line = line_no;
-    break;
+    // The log's names -> exoid's, as the format maps them.
+    for (const auto& [ours, theirs] : options.format.columns) {
+      const auto it = std::find(names.begin(), names.end(), theirs);
+      if (it == names.end()) {
+        throw DatasetError(source, header_line, 0, "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(names));
+      }
+      if (ours != theirs && std::find(names.begin(), names.end(), ours) != names.end()) {
+        throw DatasetError(source, header_line, static_cast<long>(std::find(names.begin(), names.end(), ours) - names.begin()) + 1,
+                           "column '" + ours + "' is in the header and also mapped from '" + theirs + "': which one is meant?");
+      }
+      *it = ours;
+    }
+    for (std::size_t c = 0; c < names.size(); ++c) {
+      const long col = static_cast<long>(c) + 1;
+      if (names[c].empty()) throw DatasetError(source, header_line, col, "empty column name in header");
+      if (!index.emplace(names[c], static_cast<long>(c)).second) {
+        throw DatasetError(source, header_line, col, "duplicate column '" + names[c] + "'");
+      }
+    }
+    for (const char* r : kRequired) {
+      if (!index.count(r)) {
+        throw DatasetError(source, header_line, 0,
+                           std::string("missing required column '") + r + "' (required: t,q_hip,q_knee,tau_hip,tau_knee; "
+                           "a log with its own names needs a column map, e.g. --columns t=time,q_hip=pos_meas1,...); the "
+                           "header has: " + listNames(names));
+      }
+    }
+    for (const auto& [a, b] : {std::pair<const char*, const char*>{"qd_hip", "qd_knee"}, {"qdd_hip", "qdd_knee"}}) {
+      if (index.count(a) != index.count(b)) {
+        throw DatasetError(source, header_line, 0,
+                           std::string("missing column '") + (index.count(a) ? b : a) + "': derivative columns come in hip/knee pairs");
+      }
+    }
+    ncol = names.size();
+    cols.assign(ncol, {});
+    numeric.assign(ncol, true);
+  };
+
+  const auto onRow = [&](const csv::Line& line) {
+    std::size_t cells = line.cells.size();
+    if (trailing_comma && cells == ncol + 1 && csv::trimBlanks(line.cells.back()).empty()) --cells;
+    if (cells != ncol) {
+      throw DatasetError(source, line.number, 0,
+                         "expected " + std::to_string(ncol) + " cells as in the header, got " + std::to_string(cells));
+    }
+    for (std::size_t c = 0; c < ncol; ++c) {
+      if (!numeric[c]) continue;
+      double v = 0.0;
+      const bool ok = parseNumber(line.cells[c], v);
+      const long col = static_cast<long>(c) + 1;
+      if (!isKnown(names[c])) {
+        if (!ok || !std::isfinite(v)) {  // an extra column that is not a number: ignored
+          numeric[c] = false;
+          std::vector<double>().swap(cols[c]);
+          continue;
+        }
+      } else if (!ok) {
+        throw DatasetError(source, line.number, col,
+                           "column '" + names[c] + "': expected a number, got '" + std::string(csv::trimBlanks(line.cells[c])) + "'");
+      } else if (!std::isfinite(v)) {
+        throw DatasetError(source, line.number, col,
+                           "column '" + names[c] + "': expected a finite number, got '" + std::string(csv::trimBlanks(line.cells[c])) + "'");
+      }
+      cols[c].push_back(v);
+    }
+    row_lines.push_back(line.number);
+  };
+
+  try {
+    csv::forEachLine(text, [&](const csv::Line& line) {
+      if (line.comment) {
+        d.comments.push_back(line.text);
+      } else if (header_line == 0) {
+        onHeader(line);
+      } else {
+        onRow(line);
+      }
+    });
+  } catch (const csv::SyntaxError& e) {
+    throw DatasetError(source, e.line, e.column, e.what);
   }
   if (header_line == 0) {
     throw DatasetError(source, 0, 0,
                        "empty file: expected a header line 't,q_hip,q_knee,tau_hip,tau_knee' "
                        "followed by data rows");
   }
-  std::map<std::string, long> index;  // name -> 0-based column
-  for (std::size_t c = 0; c < names.size(); ++c) {
-    names[c] = trim(names[c]);
-    const long col = static_cast<long>(c) + 1;
-    if (names[c].empty()) throw DatasetError(source, header_line, col, "empty column name in header");
-    if (!index.emplace(names[c], static_cast<long>(c)).second) {
-      throw DatasetError(source, header_line, col, "duplicate column '" + names[c] + "'");
-    }
-  }
-  for (const char* r : kRequired) {
-    if (!index.count(r)) {
-      throw DatasetError(source, header_line, 0,
-                         std::string("missing required column '") + r +
-                             "' (required: t,q_hip,q_knee,tau_hip,tau_knee)");
-    }
-  }
-  const bool has_qd = index.count("qd_hip") || index.count("qd_knee");
-  const bool has_qdd = index.count("qdd_hip") || index.count("qdd_knee");
-  for (const char* r : kDerivatives) {
-    const std::string n = r;
-    const bool needed = n.rfind("qdd", 0) == 0 ? has_qdd : has_qd;
-    if (needed && !index.count(n)) {
-      throw DatasetError(source, header_line, 0,
-                         "missing column '" + n + "': derivative columns come in hip/knee pairs");
-    }
-  }
-
-  // Data rows, column-major buffers.
-  const std::size_t ncol = names.size();
-  std::vector<std::vector<double>> cols(ncol);
-  std::vector<long> row_lines;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string t = trim(line);
-    if (t.empty()) continue;
-    if (t[0] == '#') {
-      throw DatasetError(source, line_no, 1, "comment lines are only allowed before the header");
-    }
-    const auto cells = splitCommas(t);
-    if (cells.size() != ncol) {
-      throw DatasetError(source, line_no, 0,
-                         "expected " + std::to_string(ncol) + " cells as in the header, got " +
-                             std::to_string(cells.size()));
-    }
-    for (std::size_t c = 0; c < ncol; ++c) {
-      const std::string cell = trim(cells[c]);
-      const long col = static_cast<long>(c) + 1;
-      char* end = nullptr;
-      errno = 0;
-      const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size()) {
-        throw DatasetError(source, line_no, col,
-                           "column '" + names[c] + "': expected a number, got '" + cell + "'");
-      }
-      if (!std::isfinite(v)) {
-        throw DatasetError(source, line_no, col,
-                           "column '" + names[c] + "': expected a finite number, got '" + cell + "'");
-      }
-      cols[c].push_back(v);
-    }
-    row_lines.push_back(line_no);
-  }
   const auto n = static_cast<Eigen::Index>(row_lines.size());
   if (n < options.min_rows) {
     throw DatasetError(source, 0, 0,
-                       "expected at least " + std::to_string(options.min_rows) + " data rows, got " +
-                           std::to_string(n));
+                       "expected at least " + std::to_string(options.min_rows) + " data rows, got " + std::to_string(n));
   }
 
-  auto column = [&](const std::string& name) {
-    return Eigen::Map<const Eigen::VectorXd>(cols[static_cast<std::size_t>(index.at(name))].data(), n);
+  const LogFormat& f = options.format;
+  auto column = [&](const std::string& name, double scale) -> Eigen::VectorXd {
+    return scale * Eigen::Map<const Eigen::VectorXd>(cols[static_cast<std::size_t>(index.at(name))].data(), n);
   };
-  auto pair = [&](const char* hip, const char* knee) {
+  auto pair = [&](const char* hip, const char* knee, double scale) {
     Eigen::MatrixX2d m(n, 2);
-    m.col(0) = column(hip);
-    m.col(1) = column(knee);
+    m.col(0) = column(hip, scale);
+    m.col(1) = column(knee, scale);
     return m;
   };
-  d.t_s = column("t");
-  d.q_rad = pair("q_hip", "q_knee");
-  d.tau_Nm = pair("tau_hip", "tau_knee");
-  if (has_qd) d.qd_radps = pair("qd_hip", "qd_knee");
-  if (has_qdd) d.qdd_radps2 = pair("qdd_hip", "qdd_knee");
+  d.t_s = column("t", f.time_scale_s);
+  d.q_rad = pair("q_hip", "q_knee", f.angle_scale_rad);
+  d.tau_Nm = pair("tau_hip", "tau_knee", 1.0);
+  d.tau_Nm.col(0) *= f.torque_sign[0];
+  d.tau_Nm.col(1) *= f.torque_sign[1];
+  if (index.count("qd_hip")) d.qd_radps = pair("qd_hip", "qd_knee", f.angle_scale_rad);
+  if (index.count("qdd_hip")) d.qdd_radps2 = pair("qdd_hip", "qdd_knee", f.angle_scale_rad);
+  for (std::size_t c = 0; c < ncol; ++c) {
+    if (isKnown(names[c])) continue;
+    (numeric[c] ? d.extra_names : d.text_columns).push_back(names[c]);
+  }
+  d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
+  for (std::size_t k = 0; k < d.extra_names.size(); ++k) d.extra.col(static_cast<Eigen::Index>(k)) = column(d.extra_names[k], 1.0);
+  std::vector<std::vector<double>>().swap(cols);
 
-  // Time strictly increasing and uniformly sampled.
+  // Time strictly increasing; uniform, or resampled onto a uniform grid.
   const long t_col = index.at("t") + 1;
   std::vector<double> dts(static_cast<std::size_t>(n - 1));
   for (Eigen::Index i = 1; i < n; ++i) {
@@ -201,36 +302,116 @@ Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvRe
     }
     dts[static_cast<std::size_t>(i - 1)] = dt;
   }
-  const double dt_med = median(dts);
-  for (Eigen::Index i = 1; i < n; ++i) {
-    const double dt = dts[static_cast<std::size_t>(i - 1)];
-    if (std::abs(dt - dt_med) > options.dt_rel_tolerance * dt_med) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf,
-                    "sampling is not uniform: interval %.9g s differs from the median %.9g s by "
-                    "more than %.3g %%",
-                    dt, dt_med, 100.0 * options.dt_rel_tolerance);
-      throw DatasetError(source, row_lines[static_cast<std::size_t>(i)], t_col, buf);
+  SamplingReport& rep = d.sampling;
+  rep.rows_read = static_cast<long>(n);
+  rep.median_dt_s = median(dts);
+  rep.min_dt_s = *std::min_element(dts.begin(), dts.end());
+  const auto longest = std::max_element(dts.begin(), dts.end());
+  rep.max_dt_s = *longest;
+  rep.max_dt_line = row_lines[static_cast<std::size_t>(longest - dts.begin()) + 1];
+  long first_off = -1;
+  for (std::size_t i = 0; i < dts.size(); ++i) {
+    if (std::abs(dts[i] - rep.median_dt_s) > options.dt_rel_tolerance * rep.median_dt_s) {
+      ++rep.intervals_off;
+      if (first_off < 0) first_off = static_cast<long>(i) + 1;
     }
   }
-
-  for (std::size_t c = 0; c < ncol; ++c) {
-    bool known = false;
-    for (const char* r : kRequired) known = known || names[c] == r;
-    for (const char* r : kDerivatives) known = known || names[c] == r;
-    if (!known) d.extra_names.push_back(names[c]);
+  if (rep.intervals_off == 0) return d;
+  if (options.sampling == SamplingMode::kStrict) {
+    const double dt = dts[static_cast<std::size_t>(first_off - 1)];
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "sampling is not uniform: interval %.9g s differs from the median %.9g s by more than %.3g %% (%ld "
+                  "such intervals; without strict sampling the record would be resampled)",
+                  dt, rep.median_dt_s, 100.0 * options.dt_rel_tolerance, rep.intervals_off);
+    throw DatasetError(source, row_lines[static_cast<std::size_t>(first_off)], t_col, buf);
   }
-  d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
-  for (std::size_t k = 0; k < d.extra_names.size(); ++k) {
-    d.extra.col(static_cast<Eigen::Index>(k)) = column(d.extra_names[k]);
+  const double max_gap = options.max_gap_s > 0 ? options.max_gap_s : 10.0 * rep.median_dt_s;
+  if (rep.max_dt_s > max_gap) {
+    const auto k = static_cast<std::size_t>(longest - dts.begin());
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "a gap of %.6g s between lines %ld and %ld (t = %.6g .. %.6g s) is longer than the %.6g s resampling "
+                  "bridges (the median interval is %.6g s): split the log there, or raise the limit",
+                  rep.max_dt_s, row_lines[k], row_lines[k + 1], d.t_s[static_cast<Eigen::Index>(k)],
+                  d.t_s[static_cast<Eigen::Index>(k + 1)], max_gap, rep.median_dt_s);
+    throw DatasetError(source, row_lines[k + 1], t_col, buf);
   }
-  return d;
+  const SamplingReport kept = rep;
+  Dataset r = resampleUniform(d, rep.median_dt_s);
+  r.sampling = kept;
+  r.sampling.resampled = true;
+  if (r.size() < options.min_rows) {
+    throw DatasetError(source, 0, 0, "expected at least " + std::to_string(options.min_rows) + " rows after resampling, got " +
+                                         std::to_string(r.size()));
+  }
+  return r;
 }
 
 Dataset readDatasetCsv(const std::string& path, const CsvReadOptions& options) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw DatasetError(path, 0, 0, "cannot open file for reading");
   return parseDatasetCsv(in, path, options);
+}
+
+namespace {
+// Cubic Hermite interpolation of y(t) at the sorted times tq, slopes from three points.
+Eigen::VectorXd hermite(const Eigen::VectorXd& t, const Eigen::VectorXd& y, const Eigen::VectorXd& tq) {
+  const Eigen::Index n = t.size();
+  Eigen::VectorXd m(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (i == 0 || i == n - 1) {
+      const Eigen::Index a = i == 0 ? 0 : n - 2;
+      m[i] = (y[a + 1] - y[a]) / (t[a + 1] - t[a]);
+      if (n >= 3) {  // second-order one-sided: exact for quadratics too
+        const Eigen::Index b = i == 0 ? 0 : n - 3;
+        const double h0 = t[b + 1] - t[b], h1 = t[b + 2] - t[b + 1];
+        const double d0 = (y[b + 1] - y[b]) / h0, d1 = (y[b + 2] - y[b + 1]) / h1;
+        m[i] = i == 0 ? d0 - h0 * (d1 - d0) / (h0 + h1) : d1 + h1 * (d1 - d0) / (h0 + h1);
+      }
+      continue;
+    }
+    const double h0 = t[i] - t[i - 1], h1 = t[i + 1] - t[i];
+    const double d0 = (y[i] - y[i - 1]) / h0, d1 = (y[i + 1] - y[i]) / h1;
+    m[i] = (h1 * d0 + h0 * d1) / (h0 + h1);  // the derivative of the parabola through the three points
+  }
+  Eigen::VectorXd out(tq.size());
+  Eigen::Index k = 0;
+  for (Eigen::Index q = 0; q < tq.size(); ++q) {
+    while (k + 2 < n && t[k + 1] < tq[q]) ++k;
+    const double h = t[k + 1] - t[k], s = (tq[q] - t[k]) / h;
+    const double s2 = s * s, s3 = s2 * s;
+    out[q] = (2 * s3 - 3 * s2 + 1) * y[k] + (s3 - 2 * s2 + s) * h * m[k] + (-2 * s3 + 3 * s2) * y[k + 1] + (s3 - s2) * h * m[k + 1];
+  }
+  return out;
+}
+}  // namespace
+
+Dataset resampleUniform(const Dataset& d, double dt_s) {
+  if (!(dt_s > 0) || d.size() < 2) throw std::invalid_argument("resampleUniform: needs dt > 0 and >= 2 rows");
+  const double t0 = d.t_s[0], span = d.t_s[d.size() - 1] - t0;
+  const auto n = static_cast<Eigen::Index>(std::floor(span / dt_s * (1.0 + 1e-12))) + 1;
+  Eigen::VectorXd tq(n);
+  for (Eigen::Index k = 0; k < n; ++k) tq[k] = t0 + static_cast<double>(k) * dt_s;
+  const auto pair = [&](const Eigen::MatrixX2d& m) {
+    Eigen::MatrixX2d out(n, 2);
+    for (int j = 0; j < 2; ++j) out.col(j) = hermite(d.t_s, m.col(j), tq);
+    return out;
+  };
+  Dataset r;
+  r.comments = d.comments;
+  r.t_s = tq;
+  r.q_rad = pair(d.q_rad);
+  r.tau_Nm = pair(d.tau_Nm);
+  if (d.qd_radps) r.qd_radps = pair(*d.qd_radps);
+  if (d.qdd_radps2) r.qdd_radps2 = pair(*d.qdd_radps2);
+  r.extra_names = d.extra_names;
+  r.text_columns = d.text_columns;
+  r.extra.resize(n, d.extra.cols());
+  for (Eigen::Index c = 0; c < d.extra.cols(); ++c) r.extra.col(c) = hermite(d.t_s, d.extra.col(c), tq);
+  r.sampling = d.sampling;
+  r.sampling.resampled = true;
+  return r;
 }
 
 void writeDatasetCsv(const Dataset& d, std::ostream& out) {

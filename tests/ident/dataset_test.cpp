@@ -18,10 +18,11 @@ std::string rows(int n, double dt = 0.001) {
 }
 
 // Parses `text`; expects a DatasetError whose message contains every fragment.
-void expectError(const std::string& text, std::vector<std::string> fragments, long line, long column) {
+void expectError(const std::string& text, std::vector<std::string> fragments, long line, long column,
+                 const CsvReadOptions& options = {}) {
   std::istringstream in(text);
   try {
-    parseDatasetCsv(in, "log.csv");
+    parseDatasetCsv(in, "log.csv", options);
     FAIL() << "no error for:\n" << text.substr(0, 200);
   } catch (const DatasetError& e) {
     const std::string msg = e.what();
@@ -69,7 +70,9 @@ TEST(Dataset, WriteReadRoundTripIsLossless) {
   d.extra = Eigen::MatrixXd::NullaryExpr(n, 2, [&] { return u(gen); });
   const std::string path = ::testing::TempDir() + "/exoid_roundtrip.csv";
   writeDatasetCsv(d, path);
-  const Dataset r = readDatasetCsv(path, CsvReadOptions{20, 1e-6});
+  CsvReadOptions tight;
+  tight.dt_rel_tolerance = 1e-6;
+  const Dataset r = readDatasetCsv(path, tight);
   EXPECT_EQ(r.comments, d.comments);
   EXPECT_TRUE(r.t_s == d.t_s);  // bitwise equality: %.17g round-trips every double
   EXPECT_TRUE(r.q_rad == d.q_rad);
@@ -111,13 +114,18 @@ TEST(DatasetErrors, TooFewRows) {
 TEST(DatasetErrors, TimeNotIncreasing) {
   expectError(header() + "0,0,0,0,0\n0.001,0,0,0,0\n0.001,0,0,0,0\n" + rows(30), {"strictly increasing"}, 4, 1);
 }
-TEST(DatasetErrors, NonUniformSampling) {
+TEST(DatasetErrors, NonUniformSamplingWhenStrict) {
   std::string text = header();
   for (int i = 0; i < 30; ++i) text += std::to_string(i == 29 ? 0.0295 : 0.001 * i) + ",0,0,0,0\n";
-  expectError(text, {"not uniform", "median"}, 31, 1);
+  CsvReadOptions strict;
+  strict.sampling = SamplingMode::kStrict;
+  expectError(text, {"not uniform", "median", "strict"}, 31, 1, strict);
 }
-TEST(DatasetErrors, CommentAfterHeader) {
-  expectError(header() + rows(3) + "# late\n", {"only allowed before the header"}, 5, 1);
+TEST(DatasetErrors, GapTooLongToResampleNamesBothLines) {
+  std::string text = header();
+  for (int i = 0; i < 30; ++i) text += std::to_string(0.001 * i + (i >= 20 ? 0.05 : 0.0)) + ",0,0,0,0\n";
+  // Rows 20 and 21 of the data are lines 21 and 22; the gap is 51 ms against a 10 ms limit.
+  expectError(text, {"gap of 0.051 s", "lines 21 and 22", "0.01 s"}, 22, 1);
 }
 TEST(DatasetErrors, MissingFileNamesPath) {
   try {
