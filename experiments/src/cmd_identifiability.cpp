@@ -1,6 +1,7 @@
 // `exoid identifiability`: what a record can identify, before anyone runs an experiment.
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/dataset.hpp"
@@ -19,6 +20,7 @@ struct Args {
   std::string data, json_out;
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
+  LogInputFlags log;
   ident::SignalOptions signals = defaultIdentifySignals();
 };
 
@@ -36,8 +38,9 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
 }
 
 void run(const Args& a) {
-  const ident::Dataset d = ident::readDatasetCsv(a.data);
-  const ident::LegConstants c = resolveConstants(a.constants, d, nullptr);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
+  const ident::Dataset d = readLog(a.data, log);
+  const ident::LegConstants c = resolveConstants(a.constants, d, nullptr, log.thigh_length_m, log.gravity_mps2);
   const ident::ProcessedRecord s = ident::processRecord(d, c, a.signals);
   const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
   const Eigen::MatrixXd& Hh = s.hip;
@@ -121,6 +124,7 @@ void addIdentifiabilityCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");
   addConstantsOptions(*cmd, args->constants);
+  addLogInputOptions(*cmd, args->log);
   addSignalOptions(*cmd, args->signals);
   cmd->callback([args] { run(*args); });
 }

@@ -2,12 +2,18 @@
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/dataset.hpp"
+#include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/preprocess.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <iostream>
 #include <memory>
 
@@ -16,7 +22,9 @@ namespace exoid::experiments {
 namespace {
 
 struct IdentifyArgs {
-  std::string data, knee_data, both_data, json_out;
+  std::vector<std::string> data, knee_data, both_data;  ///< several records per role are stacked
+  std::string json_out;
+  LogInputFlags log;
   std::vector<std::string> methods{"ls"};
   std::vector<std::string> validate;
   std::string truth;
@@ -26,6 +34,7 @@ struct IdentifyArgs {
   ident::IvOptions iv;
   std::string controller;  ///< JSON of the rig's controller (IDIM-IV); default: the records' metadata
   bool knee_armature = false;  ///< estimate Ia2 too
+  CLI::Option* wide_box_option = nullptr;  ///< given explicitly? else sized from the data
   bool history = false;
 };
 
@@ -130,11 +139,52 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
   }
 }
 
+// One role's records (--data, --knee-data or --both-data), read and processed each on its own.
+struct Role {
+  std::vector<std::string> files;
+  std::vector<ident::Dataset> data;
+  ident::ProcessedRecord rows;  ///< the records' rows stacked
+};
+
+// How well a role's records excite the parameters: the condition number of the column-scaled
+// regressor (both equations, or the knee's shank columns for the segmental knee role), and each
+// column's R^2 on the others (1 - 1 / [(Hs^T Hs)^-1]_jj for unit columns): a model error along
+// a column is amplified 1 / sqrt(1 - R^2) times in its parameter.
+struct Excitation {
+  double condition = 0.0;
+  std::vector<std::pair<int, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
+};
+Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
+  Eigen::MatrixXd H;
+  if (knee_only) {
+    H = r.knee.middleCols(ident::kShankFirst, ident::kGroupSize);
+  } else {
+    H.resize(2 * r.size(), ident::kNumParams);
+    H << r.hip, r.knee;
+  }
+  const Eigen::VectorXd scale = ident::columnScales(H);
+  const Eigen::MatrixXd Hs = H * scale.asDiagonal();
+  const Eigen::MatrixXd G = Hs.transpose() * Hs;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
+  const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+  Excitation e;
+  e.condition = lo > 0 ? std::sqrt(hi / lo) : std::numeric_limits<double>::infinity();
+  if (!(lo > 0)) return e;
+  const Eigen::MatrixXd Ginv = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  const int first = knee_only ? ident::kShankFirst : 0;
+  for (Eigen::Index j = 0; j < G.rows(); ++j) {
+    const double r2 = 1.0 - 1.0 / (G(j, j) * Ginv(j, j));
+    if (r2 > 0.95) e.collinear.emplace_back(first + static_cast<int>(j), r2);
+  }
+  std::sort(e.collinear.begin(), e.collinear.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  return e;
+}
+
 void run(const IdentifyArgs& a) {
   const bool single = !a.data.empty();
   const bool segmental = !a.knee_data.empty() || !a.both_data.empty();
   if (single == segmental) {
-    throw CLI::ValidationError("identify", "give either --data FILE, or --knee-data FILE and --both-data FILE (segmental strategy)");
+    throw CLI::ValidationError("identify", "give either --data FILE (repeatable), or --knee-data FILE and --both-data FILE (segmental strategy)");
   }
   if (segmental && (a.knee_data.empty() || a.both_data.empty())) {
     throw CLI::ValidationError("identify", "the segmental strategy needs both --knee-data and --both-data");
@@ -150,24 +200,92 @@ void run(const IdentifyArgs& a) {
   if (iv && a.signals.processing != ident::Processing::kParallel) {
     throw CLI::ValidationError("--method idim-iv", "needs '--processing parallel' (the default): its instruments are processed like the measured rows");
   }
+  if (iv && (a.data.size() > 1 || a.knee_data.size() > 1 || a.both_data.size() > 1)) {
+    throw CLI::ValidationError("--method idim-iv", "takes one record per role for now (its instruments simulate each record "
+                               "under its controller); stack records with the other methods");
+  }
   std::map<std::string, ident::ParamVector> truths;
   if (!a.truth.empty()) truths = readTruthFile(a.truth);
 
-  const ident::Dataset primary = ident::readDatasetCsv(single ? a.data : a.both_data);
-  std::string constants_origin;
-  const ident::LegConstants c = resolveConstants(a.constants, primary, &constants_origin);
-  const ident::ProcessedRecord r_primary = ident::processRecord(primary, c, a.signals);
-  ident::ProcessedRecord r_knee;
-  ident::Dataset knee_data;
-  if (segmental) {
-    knee_data = ident::readDatasetCsv(a.knee_data);
-    r_knee = ident::processRecord(knee_data, c, a.signals);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
+  Role primary, knee;
+  primary.files = single ? a.data : a.both_data;
+  knee.files = a.knee_data;
+  for (Role* role : {&primary, &knee}) {
+    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
   }
+  std::string constants_origin;
+  const ident::LegConstants c =
+      resolveConstants(a.constants, primary.data.front(), &constants_origin, log.thigh_length_m, log.gravity_mps2);
+  // Records that say their own Lt must agree with the one used.
+  for (Role* role : {&primary, &knee}) {
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      if (const auto lt = role->data[k].metadata("thigh_length_m"); lt && !a.constants.thigh_length_m && !log.thigh_length_m) {
+        if (std::abs(std::stod(*lt) - c.thigh_length_m) > 1e-12) {
+          throw std::invalid_argument(role->files[k] + ": its thigh_length_m " + *lt + " differs from " + primary.files.front() +
+                                      "'s " + fmt(c.thigh_length_m) + "; give --thigh-length");
+        }
+      }
+    }
+  }
+  std::cout << "constants: Lt " << fmt(c.thigh_length_m) << " m, g " << fmt(c.gravity_mps2) << " m/s^2 (" << constants_origin << ")\n";
+  for (Role* role : {&knee, &primary}) {
+    std::vector<ident::ProcessedRecord> rows;
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
+      try {
+        rows.push_back(ident::processRecord(role->data[k], c, a.signals));
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(role->files[k] + ": " + e.what());
+      }
+    }
+    if (rows.empty()) continue;
+    role->rows = ident::stackRecords(rows);
+    const bool knee_role = role == &knee;
+    const Excitation ex = excitationOf(role->rows, knee_role);
+    std::cout << "excitation of " << (knee_role ? "the knee records (shank columns)" : segmental ? "the both-joint records" : "the records")
+              << ": condition number " << (std::isfinite(ex.condition) ? fmt(ex.condition, 4) : std::string("inf"));
+    if (!ex.collinear.empty()) {
+      std::cout << "; nearly collinear (R^2 on the other columns > 0.95, model errors amplified):";
+      for (const auto& [p, r2] : ex.collinear) {
+        std::cout << ' ' << ident::paramName(p) << " R^2 " << fixed(r2, 4) << " (x" << fmt(1.0 / std::sqrt(1.0 - r2), 3) << ")";
+      }
+    }
+    if (ex.condition > 100.0 || !ex.collinear.empty()) {
+      std::cout << ". `exoid identifiability --data FILE` says what motion would separate them; `exoid excite` designs one";
+    }
+    std::cout << '\n';
+  }
+  const ident::ProcessedRecord& r_primary = primary.rows;
+  const ident::ProcessedRecord& r_knee = knee.rows;
   // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
   ident::ClosedLoopRecord cl_primary, cl_knee;
   if (iv) {
-    cl_primary = closedLoop(a, single ? a.data : a.both_data, primary, r_primary, false);
-    if (segmental) cl_knee = closedLoop(a, a.knee_data, knee_data, r_knee, true);
+    cl_primary = closedLoop(a, primary.files.front(), primary.data.front(), r_primary, false);
+    if (segmental) cl_knee = closedLoop(a, knee.files.front(), knee.data.front(), r_knee, true);
+  }
+
+  // The PSO baseline's box from the data: 10 x the largest |LS estimate| (a fixed +-50 is absurd
+  // for a 0.3 kg arm and tiny for a heavy leg).
+  ident::MethodOptions mo = a.methods_options;
+  if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
+      a.wide_box_option->count() == 0) {
+    Eigen::MatrixXd H(2 * r_primary.size(), ident::kNumParams);
+    H << r_primary.hip, r_primary.knee;
+    Eigen::VectorXd y(2 * r_primary.size());
+    y << r_primary.tau_Nm.col(0), r_primary.tau_Nm.col(1);
+    const ident::LsResult ls = ident::solveLeastSquares(H, y, mo.ls);
+    double biggest = ls.x.cwiseAbs().maxCoeff();
+    if (segmental) {
+      const Eigen::MatrixXd Hk = r_knee.knee.middleCols(ident::kShankFirst, ident::kGroupSize);
+      biggest = std::max(biggest, ident::solveLeastSquares(Hk, r_knee.tau_Nm.col(1), mo.ls).x.cwiseAbs().maxCoeff());
+    }
+    if (!(biggest > 0) || !std::isfinite(biggest)) {
+      throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");
+    }
+    mo.wide_box_half_width = 10.0 * biggest;
+    std::cout << "PSO box: +-" << fmt(mo.wide_box_half_width, 3) << " in every parameter (10 x the largest |LS estimate|; "
+              << "--wide-box sets it)\n";
   }
 
   std::vector<MethodOutcome> outcomes;
@@ -177,12 +295,11 @@ void run(const IdentifyArgs& a) {
                                 : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
       continue;
     }
-    outcomes.push_back(single ? identifyAll(m, r_primary, a.methods_options, a.knee_armature)
-                              : identifySegmented(m, r_knee, r_primary, a.methods_options));
+    outcomes.push_back(single ? identifyAll(m, r_primary, mo, a.knee_armature) : identifySegmented(m, r_knee, r_primary, mo));
   }
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
-    const ident::ProcessedRecord rv = ident::processRecord(ident::readDatasetCsv(file), c, a.signals);
+    const ident::ProcessedRecord rv = ident::processRecord(readLog(file, log), c, a.signals);
     std::vector<Validation> v;
     for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
     validations.emplace_back(file, std::move(v));
@@ -197,13 +314,24 @@ void run(const IdentifyArgs& a) {
     j["strategy"] = single ? "all_parameters_one_record" : "segmental";
     j["inputs"] = single ? nlohmann::json{{"data", a.data}}
                          : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
+    if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
+    nlohmann::json sampling = nlohmann::json::object();
+    for (const Role* role : {&knee, &primary}) {
+      for (std::size_t k = 0; k < role->files.size(); ++k) {
+        const ident::SamplingReport& sr = role->data[k].sampling;
+        sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
+                                    {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
+                                    {"rows_used", role->data[k].size()}};
+      }
+    }
+    j["inputs"]["sampling"] = sampling;
     // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
     j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
                            (a.signals.base_terms == ident::BaseTerms::kOn ||
-                            (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary)));
+                            (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary.data.front())));
     j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
     j["signal_options"] = toJson(a.signals);
-    j["method_options"] = toJson(a.methods_options);
+    j["method_options"] = toJson(mo);
     j["seed"] = a.methods_options.rls_pso.pso.seed;
     j["methods"] = nlohmann::json::object();
     for (std::size_t k = 0; k < outcomes.size(); ++k) {
@@ -223,6 +351,29 @@ void run(const IdentifyArgs& a) {
     writeJsonFile(a.json_out, j);
   }
   std::string problems;
+  // A swarm that ends on its box's bound was stopped by the box, not by the cost: the box does not
+  // hold the optimum in that direction. Not usable for PSO; a warning for RLS-PSO (whose box is
+  // its method).
+  for (const MethodOutcome& m : outcomes) {
+    if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) continue;
+    for (const Stage& st : m.stages) {
+      if (!st.estimate.box) continue;
+      const ident::Box& b = *st.estimate.box;
+      for (std::size_t k = 0; k < st.indices.size(); ++k) {
+        const auto K = static_cast<Eigen::Index>(k);
+        const double v = st.estimate.x[K], tol = 1e-9 * (b.upper[K] - b.lower[K]);
+        if (v > b.lower[K] + tol && v < b.upper[K] - tol) continue;
+        const std::string what = std::string(ident::toString(m.method)) + " [" + st.name + "]: " +
+                                 std::string(ident::paramName(st.indices[k])) + " = " + fmt(v) + " is on its box's bound [" +
+                                 fmt(b.lower[K]) + ", " + fmt(b.upper[K]) + "]: the box does not hold the cost's optimum";
+        if (m.method == ident::Method::kPso) {
+          problems += (problems.empty() ? "" : "; ") + what;
+        } else {
+          std::cout << "warning: " << what << '\n';
+        }
+      }
+    }
+  }
   for (const MethodOutcome& m : outcomes) {
     if (!m.usable()) problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": " + m.problems();
     for (const std::string& v : m.implausible) {
@@ -238,15 +389,17 @@ void addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArgs>();
   CLI::App* cmd = app.add_subcommand(
       "identify",
-      "Identify X = [Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2] from dataset CSV logs.\n"
-      "One record (--data): all 10 parameters from both joint equations. Two records\n"
-      "(--knee-data, --both-data): the paper's segmental strategy. Exit code 3 when a result\n"
-      "must not be used (e.g. the record cannot identify a parameter); outputs are still written.");
-  cmd->add_option("--data", args->data, "Dataset CSV: identify all 10 parameters from both equations")
+      "Identify X = [Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2] from dataset CSV logs (.csv or\n"
+      ".csv.gz; a lab's own columns and units through --profile or --columns).\n"
+      "--data: all 10 parameters from both joint equations. --knee-data and --both-data: the paper's\n"
+      "segmental strategy. Each is repeatable: the records of a role are processed one by one and\n"
+      "fitted together. Exit code 3 when a result must not be used (e.g. the record cannot identify a\n"
+      "parameter); outputs are still written.");
+  cmd->add_option("--data", args->data, "Dataset CSV: identify all 10 parameters from both equations (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--knee-data", args->knee_data, "Segmental step 1: knee-only record (hip fixed)")
+  cmd->add_option("--knee-data", args->knee_data, "Segmental step 1: knee-only record, hip fixed (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing")
+  cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--method", args->methods,
                   "ls, rls, pso, rls-pso, lad, idim-iv, or all (= all but idim-iv) (repeatable). idim-iv needs the\n"
@@ -273,8 +426,13 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--json", args->json_out, "Write the results as JSON here (atomically)")->group("Output");
   cmd->add_flag("--history", args->history, "Include PSO best-cost histories in the JSON")->group("Output");
   addConstantsOptions(*cmd, args->constants);
+  addLogInputOptions(*cmd, args->log);
   addSignalOptions(*cmd, args->signals);
   addMethodOptions(*cmd, args->methods_options);
+  args->wide_box_option = cmd->get_option("--wide-box");
+  args->wide_box_option->description(
+      "Half-width of the PSO baseline's box in every parameter (default for identify: 10 x the largest |LS estimate| of "
+      "the records, printed; a PSO result on its box's bound is not usable)");
   cmd->callback([args] { run(*args); });
 }
 

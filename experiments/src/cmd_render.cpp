@@ -4,6 +4,7 @@
 #ifdef EXOID_WITH_RENDER
 
 #include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
@@ -101,7 +102,7 @@ void addPrediction(const std::string& json_path, const ident::Dataset& d, const 
 }
 
 render::Track trackFromDataset(const std::string& path, const std::string& ident_json, const ident::SignalOptions& signals) {
-  const ident::Dataset d = ident::readDatasetCsv(path);
+  const ident::Dataset d = readLog(path, LogInput{});
   render::Track tr;
   tr.title = "recorded: " + baseName(path);
   tr.t_s = toVector(d.t_s);

@@ -102,9 +102,9 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
 
 void addConstantsOptions(CLI::App& app, ConstantsFlags& f) {
   app.add_option("--thigh-length", f.thigh_length_m,
-                 "Thigh length Lt in m (default: dataset metadata 'thigh_length_m', else 0.45)")
+                 "Thigh length Lt in m (else the --profile's [model], else dataset metadata 'thigh_length_m'; required)")
       ->check(CLI::PositiveNumber)->group("Model");
-  app.add_option("--gravity", f.gravity_mps2, "Gravity in m/s^2 (default: metadata 'gravity_mps2', else 9.81)")
+  app.add_option("--gravity", f.gravity_mps2, "Gravity in m/s^2 (else the --profile's [model], else metadata 'gravity_mps2', else 9.81)")
       ->check(CLI::PositiveNumber)->group("Model");
 }
 
@@ -122,21 +122,30 @@ std::optional<double> metadataNumber(const ident::Dataset& d, const std::string&
 }
 }  // namespace
 
-ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin) {
+ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin,
+                                     std::optional<double> profile_thigh_length_m, std::optional<double> profile_gravity_mps2) {
   ident::LegConstants c;
   std::string how;
   if (f.thigh_length_m) {
     c.thigh_length_m = *f.thigh_length_m;
     how = "thigh length from --thigh-length";
+  } else if (profile_thigh_length_m) {
+    c.thigh_length_m = *profile_thigh_length_m;
+    how = "thigh length from the log profile";
   } else if (auto v = metadataNumber(d, "thigh_length_m")) {
     c.thigh_length_m = *v;
     how = "thigh length from dataset metadata";
   } else {
-    how = "thigh length default 0.45 m";
+    throw std::invalid_argument(
+        "the thigh length Lt (hip to knee axis, m) is not known: give --thigh-length M, a '# thigh_length_m: M' line "
+        "in the log, or [model] thigh_length_m in the --profile (it scales every thigh parameter: there is no default)");
   }
   if (f.gravity_mps2) {
     c.gravity_mps2 = *f.gravity_mps2;
     how += ", gravity from --gravity";
+  } else if (profile_gravity_mps2) {
+    c.gravity_mps2 = *profile_gravity_mps2;
+    how += ", gravity from the log profile";
   } else if (auto v = metadataNumber(d, "gravity_mps2")) {
     c.gravity_mps2 = *v;
     how += ", gravity from dataset metadata";

@@ -86,6 +86,9 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
   if (recorded) {
     s.qd_radps = smooth(*d.qd_radps);
     s.qdd_radps2 = smooth(*d.qdd_radps2);
+  } else if (o.use_recorded_derivatives && d.qd_radps) {  // recorded velocities only: differentiate them
+    s.qd_radps = smooth(*d.qd_radps);
+    s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
   } else {
     s.qd_radps = smooth(differentiate(s.q_rad, dt, o.differentiation));
     s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
@@ -154,6 +157,13 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs)
     s.qdd_radps2 = *d.qdd_radps2;
     return s;
   }
+  if (o.use_recorded_derivatives && d.qd_radps) {  // recorded velocities only: differentiate them
+    s.qd_radps = *d.qd_radps;
+    Eigen::MatrixXd qd = *d.qd_radps;
+    if (prefilter) qd = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), qd);
+    s.qdd_radps2 = differentiate(qd, dt, Differentiation::kCentral4);
+    return s;
+  }
   Eigen::MatrixXd q = d.q_rad;
   if (prefilter) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
   s.qd_radps = differentiate(q, dt, Differentiation::kCentral4);
@@ -202,6 +212,50 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
   st.qdd_radps2 = trimAndDecimate(s.qdd_radps2, trim, r);
   st.tau_Nm = out.tau_Nm;
   if (s.base.rows() > 0) st.base = trimAndDecimate(s.base, trim, r);
+  return out;
+}
+
+ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {
+  if (records.empty()) throw std::invalid_argument("stackRecords: no records");
+  if (records.size() == 1) return records.front();
+  Eigen::Index n = 0;
+  const bool base = records.front().states.base.rows() > 0;
+  for (const ProcessedRecord& r : records) {
+    if ((r.states.base.rows() > 0) != base) {
+      throw std::invalid_argument("stackRecords: some records have base-motion columns and others not");
+    }
+    n += r.size();
+  }
+  ProcessedRecord out;
+  out.hip.resize(n, kNumParams);
+  out.knee.resize(n, kNumParams);
+  out.tau_Nm.resize(n, 2);
+  out.knee_armature.resize(n);
+  JointSignals& st = out.states;
+  st.t_s.resize(n);
+  st.q_rad.resize(n, 2);
+  st.qd_radps.resize(n, 2);
+  st.qdd_radps2.resize(n, 2);
+  st.tau_Nm.resize(n, 2);
+  if (base) st.base.resize(n, 4);
+  Eigen::Index at = 0;
+  for (const ProcessedRecord& r : records) {
+    const Eigen::Index m = r.size();
+    out.hip.middleRows(at, m) = r.hip;
+    out.knee.middleRows(at, m) = r.knee;
+    out.tau_Nm.middleRows(at, m) = r.tau_Nm;
+    out.knee_armature.segment(at, m) = r.knee_armature.size() == m ? r.knee_armature : Eigen::VectorXd::Zero(m);
+    if (r.states.size() != m) throw std::invalid_argument("stackRecords: a record's states do not align with its rows");
+    {
+      st.t_s.segment(at, m) = r.states.t_s;
+      st.q_rad.middleRows(at, m) = r.states.q_rad;
+      st.qd_radps.middleRows(at, m) = r.states.qd_radps;
+      st.qdd_radps2.middleRows(at, m) = r.states.qdd_radps2;
+      st.tau_Nm.middleRows(at, m) = r.states.tau_Nm;
+      if (base) st.base.middleRows(at, m) = r.states.base;
+    }
+    at += m;
+  }
   return out;
 }
 

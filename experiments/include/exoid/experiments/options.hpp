@@ -27,7 +27,12 @@ struct ConstantsFlags {
   std::optional<double> gravity_mps2;
 };
 void addConstantsOptions(CLI::App& app, ConstantsFlags& f);
-ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin);
+/// Lt and g: the flag, else the log profile's [model], else the dataset's metadata. Lt has no
+/// default (it scales every thigh parameter): without it, throws std::invalid_argument saying
+/// how to give it. g defaults to 9.81 m/s^2, said in `origin`.
+ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin,
+                                     std::optional<double> profile_thigh_length_m = std::nullopt,
+                                     std::optional<double> profile_gravity_mps2 = std::nullopt);
 
 nlohmann::json toJson(const ident::SignalOptions& o);
 nlohmann::json toJson(const ident::MethodOptions& o);

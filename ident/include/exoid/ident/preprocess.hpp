@@ -5,6 +5,8 @@
 #include "exoid/ident/regressor.hpp"
 #include "exoid/ident/signals.hpp"
 
+#include <vector>
+
 namespace exoid::ident {
 
 /// How a record becomes the rows an estimator fits.
@@ -53,7 +55,8 @@ struct SignalOptions {
   int decimationFactor(double sample_rate_hz) const;
   /// How qd and qdd are computed from the angles. Paper: forward differences.
   Differentiation differentiation = Differentiation::kForward;
-  /// Use recorded qd_* / qdd_* columns instead of differentiating, when the dataset has them.
+  /// Use recorded qd_* / qdd_* columns instead of differentiating, when the dataset has them;
+  /// with recorded velocities alone, the accelerations are their derivative (not the angles').
   bool use_recorded_derivatives = true;
   /// Zero-phase Butterworth low-pass (filtfilt) of angles, velocities and accelerations. Paper: on.
   bool filter = true;
@@ -99,6 +102,12 @@ struct ProcessedRecord {
   JointSignals states;     ///< states at the rows (for the parallel processing: unfiltered)
   Eigen::Index size() const { return tau_Nm.rows(); }
 };
+
+/// Several records' rows as one record, in order: each was processed on its own (its filter, edge
+/// trims and decimation), so no seam between records enters the fit. States are concatenated
+/// too (their times are each record's own). Throws std::invalid_argument for none, or when some
+/// have base-motion or knee-armature columns and others not.
+ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records);
 
 /// The regressor of signals as they are (no further processing).
 ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
