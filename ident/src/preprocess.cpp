@@ -100,9 +100,9 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
 JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
   const Eigen::Index keep = in.size() - 2 * trim;
   if (trim < 0 || keep < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(in.size()) + " samples leave " +
-                                std::to_string(keep) + " after trimming " + std::to_string(trim) +
-                                " at each end (edge_trim_s); need >= 20");
+    throw std::invalid_argument("record too short: " + std::to_string(in.size()) + " samples, and the processing trims " +
+                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
   }
   JointSignals s;
   s.t_s = in.t_s.segment(trim, keep);
@@ -190,9 +190,9 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
   if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   const Eigen::Index trim = o.edgeTrimSamples(fs);
   if (s.size() - 2 * trim < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples leave " +
-                                std::to_string(s.size() - 2 * trim) + " after trimming " + std::to_string(trim) +
-                                " at each end (edge_trim_s); need >= 20");
+    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples, and the processing trims " +
+                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
   }
   const int r = o.decimationFactor(fs);
   const Eigen::MatrixXd kept = trimAndDecimate(all, trim, r);
