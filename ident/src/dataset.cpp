@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 
 namespace exoid::ident {
@@ -144,31 +145,39 @@ double parseAngleUnit(const std::string& unit) {
   throw std::invalid_argument("angle unit '" + unit + "': expected rad or deg");
 }
 
-Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvReadOptions& options) {
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parseDatasetText(text, source, options);
-}
+namespace {
 
-Dataset parseDatasetText(std::string_view text, const std::string& source, const CsvReadOptions& options) {
+// The reader proper. `open` returns a fresh chunk reader (read(buffer) -> bool) for each of two
+// passes: the first counts the data rows, so every column is allocated once at its final size
+// and parsed straight into place.
+template <typename Open>
+Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& options) {
   try {
     options.format.validate();
   } catch (const std::invalid_argument& e) {
     throw DatasetError(source, 0, 0, e.what());
+  }
+  csv::LineSplitter splitter;
+  Eigen::Index rows = -1;  // data lines after the header
+  try {
+    splitter.run(open(), [&](const csv::Line& line) { rows += line.comment ? 0 : 1; }, false);
+  } catch (const csv::SyntaxError& e) {
+    throw DatasetError(source, e.line, e.column, e.what);
   }
   Dataset d;
   std::vector<std::string> names;
   long header_line = 0;
   bool trailing_comma = false;
   std::map<std::string, long> index;  // exoid name -> 0-based column
-  std::vector<std::vector<double>> cols;
-  std::vector<bool> numeric;                       // per column: every cell so far a number
+  std::vector<double*> target;        // per column: where its values go (nullptr: a text column)
+  std::vector<bool> known;
   std::vector<long> row_lines;
   std::size_t ncol = 0;
+  Eigen::Index row = 0;
 
   const auto onHeader = [&](const csv::Line& line) {
     header_line = line.number;
-    names.clear();
-    for (const std::string& c : line.cells) names.emplace_back(csv::trimBlanks(c));
+    for (std::string_view c : line.cells) names.emplace_back(csv::trimBlanks(c));
     if (names.size() > 1 && names.back().empty()) {  // "a,b,c," on every line
       names.pop_back();
       trailing_comma = true;
@@ -207,8 +216,29 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
       }
     }
     ncol = names.size();
-    cols.assign(ncol, {});
-    numeric.assign(ncol, true);
+    const Eigen::Index n = std::max<Eigen::Index>(rows, 0);
+    d.t_s.resize(n);
+    d.q_rad.resize(n, 2);
+    d.tau_Nm.resize(n, 2);
+    if (index.count("qd_hip")) d.qd_radps = Eigen::MatrixX2d(n, 2);
+    if (index.count("qdd_hip")) d.qdd_radps2 = Eigen::MatrixX2d(n, 2);
+    for (std::size_t c = 0; c < ncol; ++c) {
+      if (!isKnown(names[c])) d.extra_names.push_back(names[c]);
+    }
+    d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
+    std::map<std::string, double*> where = {{"t", d.t_s.data()},
+                                            {"q_hip", d.q_rad.col(0).data()},
+                                            {"q_knee", d.q_rad.col(1).data()},
+                                            {"tau_hip", d.tau_Nm.col(0).data()},
+                                            {"tau_knee", d.tau_Nm.col(1).data()}};
+    if (d.qd_radps) where.insert({{"qd_hip", d.qd_radps->col(0).data()}, {"qd_knee", d.qd_radps->col(1).data()}});
+    if (d.qdd_radps2) where.insert({{"qdd_hip", d.qdd_radps2->col(0).data()}, {"qdd_knee", d.qdd_radps2->col(1).data()}});
+    for (std::size_t k = 0; k < d.extra_names.size(); ++k) where[d.extra_names[k]] = d.extra.col(static_cast<Eigen::Index>(k)).data();
+    for (std::size_t c = 0; c < ncol; ++c) {
+      target.push_back(where.at(names[c]));
+      known.push_back(isKnown(names[c]));
+    }
+    row_lines.reserve(static_cast<std::size_t>(n));
   };
 
   const auto onRow = [&](const csv::Line& line) {
@@ -219,35 +249,33 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
                          "expected " + std::to_string(ncol) + " cells as in the header, got " + std::to_string(cells));
     }
     for (std::size_t c = 0; c < ncol; ++c) {
-      if (!numeric[c]) continue;
+      if (!target[c]) continue;
       double v = 0.0;
       const bool ok = parseNumber(line.cells[c], v);
-      const long col = static_cast<long>(c) + 1;
-      if (!isKnown(names[c])) {
+      if (!known[c]) {
         if (!ok || !std::isfinite(v)) {  // an extra column that is not a number: ignored
-          numeric[c] = false;
-          std::vector<double>().swap(cols[c]);
+          target[c] = nullptr;
           continue;
         }
-      } else if (!ok) {
+      } else if (!ok || !std::isfinite(v)) {
+        const long col = static_cast<long>(c) + 1;
         throw DatasetError(source, line.number, col,
-                           "column '" + names[c] + "': expected a number, got '" + std::string(csv::trimBlanks(line.cells[c])) + "'");
-      } else if (!std::isfinite(v)) {
-        throw DatasetError(source, line.number, col,
-                           "column '" + names[c] + "': expected a finite number, got '" + std::string(csv::trimBlanks(line.cells[c])) + "'");
+                           "column '" + names[c] + "': expected a " + std::string(ok ? "finite " : "") + "number, got '" +
+                               std::string(csv::trimBlanks(line.cells[c])) + "'");
       }
-      cols[c].push_back(v);
+      target[c][row] = v;
     }
     row_lines.push_back(line.number);
+    ++row;
   };
 
   try {
-    csv::forEachLine(text, [&](const csv::Line& line) {
+    splitter.run(open(), [&](const csv::Line& line) {
       if (line.comment) {
-        d.comments.push_back(line.text);
+        d.comments.emplace_back(line.text);
       } else if (header_line == 0) {
         onHeader(line);
-      } else {
+      } else if (row < rows) {
         onRow(line);
       }
     });
@@ -259,36 +287,42 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
                        "empty file: expected a header line 't,q_hip,q_knee,tau_hip,tau_knee' "
                        "followed by data rows");
   }
-  const auto n = static_cast<Eigen::Index>(row_lines.size());
+  const Eigen::Index n = row;
   if (n < options.min_rows) {
     throw DatasetError(source, 0, 0,
                        "expected at least " + std::to_string(options.min_rows) + " data rows, got " + std::to_string(n));
   }
-
+  // Extra columns found to hold text: dropped.
+  {
+    std::vector<std::string> numeric_names;
+    std::vector<Eigen::Index> keep;
+    for (std::size_t c = 0, k = 0; c < ncol; ++c) {
+      if (known[c]) continue;
+      if (target[c]) {
+        numeric_names.push_back(names[c]);
+        keep.push_back(static_cast<Eigen::Index>(k));
+      } else {
+        d.text_columns.push_back(names[c]);
+      }
+      ++k;
+    }
+    if (!d.text_columns.empty()) {
+      Eigen::MatrixXd kept(n, static_cast<Eigen::Index>(keep.size()));
+      for (std::size_t k = 0; k < keep.size(); ++k) kept.col(static_cast<Eigen::Index>(k)) = d.extra.col(keep[k]);
+      d.extra = std::move(kept);
+      d.extra_names = numeric_names;
+    }
+  }
+  // Units and signs, in place.
   const LogFormat& f = options.format;
-  auto column = [&](const std::string& name, double scale) -> Eigen::VectorXd {
-    return scale * Eigen::Map<const Eigen::VectorXd>(cols[static_cast<std::size_t>(index.at(name))].data(), n);
-  };
-  auto pair = [&](const char* hip, const char* knee, double scale) {
-    Eigen::MatrixX2d m(n, 2);
-    m.col(0) = column(hip, scale);
-    m.col(1) = column(knee, scale);
-    return m;
-  };
-  d.t_s = column("t", f.time_scale_s);
-  d.q_rad = pair("q_hip", "q_knee", f.angle_scale_rad);
-  d.tau_Nm = pair("tau_hip", "tau_knee", 1.0);
+  if (f.time_scale_s != 1.0) d.t_s *= f.time_scale_s;
+  if (f.angle_scale_rad != 1.0) {
+    d.q_rad *= f.angle_scale_rad;
+    if (d.qd_radps) *d.qd_radps *= f.angle_scale_rad;
+    if (d.qdd_radps2) *d.qdd_radps2 *= f.angle_scale_rad;
+  }
   d.tau_Nm.col(0) *= f.torque_sign[0];
   d.tau_Nm.col(1) *= f.torque_sign[1];
-  if (index.count("qd_hip")) d.qd_radps = pair("qd_hip", "qd_knee", f.angle_scale_rad);
-  if (index.count("qdd_hip")) d.qdd_radps2 = pair("qdd_hip", "qdd_knee", f.angle_scale_rad);
-  for (std::size_t c = 0; c < ncol; ++c) {
-    if (isKnown(names[c])) continue;
-    (numeric[c] ? d.extra_names : d.text_columns).push_back(names[c]);
-  }
-  d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
-  for (std::size_t k = 0; k < d.extra_names.size(); ++k) d.extra.col(static_cast<Eigen::Index>(k)) = column(d.extra_names[k], 1.0);
-  std::vector<std::vector<double>>().swap(cols);
 
   // Time strictly increasing; uniform, or resampled onto a uniform grid.
   const long t_col = index.at("t") + 1;
@@ -348,10 +382,34 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
   return r;
 }
 
+}  // namespace
+
+Dataset parseDatasetText(std::string_view text, const std::string& source, const CsvReadOptions& options) {
+  return parseLog(
+      [text] {
+        return [text, done = false](std::string& buf) mutable {
+          if (done) return false;
+          buf.append(text);
+          done = true;
+          return !text.empty();
+        };
+      },
+      source, options);
+}
+
+Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvReadOptions& options) {
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parseDatasetText(text, source, options);
+}
+
 Dataset readDatasetCsv(const std::string& path, const CsvReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw DatasetError(path, 0, 0, "cannot open file for reading");
-  return parseDatasetCsv(in, path, options);
+  std::shared_ptr<std::ifstream> in;
+  const auto open = [&] {
+    in = std::make_shared<std::ifstream>(path, std::ios::binary);
+    if (!*in) throw DatasetError(path, 0, 0, "cannot open file for reading");
+    return [in](std::string& buf) { return csv::readChunk(*in, buf); };
+  };
+  return parseLog(open, path, options);
 }
 
 namespace {

@@ -1,0 +1,106 @@
+// Long logs (issue 11): a 1,000,000-row dataset CSV (1000 s at 1 kHz, 5 columns written with
+// %.17g, ~96 MB), read, processed as `exoid identify` does by default (parallel filtering and
+// decimation) and identified by LS and by the exact L1 optimum (LAD), end to end.
+//
+//   build/bench/long_log_bench --benchmark_filter=Ingest
+//   build/bench/long_log_bench --benchmark_filter=LsEndToEnd    (one per process: peak_rss_MB is
+//   build/bench/long_log_bench --benchmark_filter=LadEndToEnd    the process's high-water mark)
+//
+// Targets: ingest >= 200 MB/s; LS end to end <= 0.5 s with peak memory <= 2.5x the numeric
+// payload (1e6 x 5 doubles = 40 MB); LAD end to end <= 2 s.
+#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/lad.hpp"
+#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/preprocess.hpp"
+#include "exoid/ident/random.hpp"
+
+#include <benchmark/benchmark.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+constexpr long kRows = 1000000;
+
+// Written once per process, streamed (a few kB of memory), removed at exit.
+const std::string& bigLog() {
+  static const std::string path = [] {
+    const std::string p = (std::filesystem::temp_directory_path() / "exoid_long_log_bench.csv").string();
+    std::FILE* f = std::fopen(p.c_str(), "w");
+    std::fprintf(f, "# thigh_length_m: 0.45\nt,q_hip,q_knee,tau_hip,tau_knee\n");
+    exoid::ident::Rng rng(1);
+    for (long i = 0; i < kRows; ++i) {
+      const double t = 1e-3 * static_cast<double>(i);
+      const double q1 = -0.5 - 0.5 * std::sin(2 * M_PI * 0.7 * t) + 0.1 * std::sin(2 * M_PI * 1.9 * t);
+      const double q2 = 1.2 - 0.5 * std::sin(2 * M_PI * 0.9 * t) + 0.1 * std::cos(2 * M_PI * 2.3 * t);
+      std::fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g\n", t, q1, q2, 20 * std::sin(q1) + 3 * std::cos(q2) + 0.5 * rng.uniform(-1.0, 1.0),
+                   5 * std::sin(q1 + q2) + 0.5 * rng.uniform(-1.0, 1.0));
+    }
+    std::fclose(f);
+    std::atexit([] { std::filesystem::remove(std::filesystem::temp_directory_path() / "exoid_long_log_bench.csv"); });
+    return p;
+  }();
+  return path;
+}
+
+double peakRssMB() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_maxrss) / 1024.0;  // kB on Linux
+}
+
+exoid::ident::SignalOptions identifyDefaults() {  // as exoid identify (experiments::defaultIdentifySignals)
+  exoid::ident::SignalOptions o;
+  o.processing = exoid::ident::Processing::kParallel;
+  o.differentiation = exoid::ident::Differentiation::kCentral4;
+  o.base_terms = exoid::ident::BaseTerms::kAuto;
+  return o;
+}
+
+void rows(const exoid::ident::ProcessedRecord& r, Eigen::MatrixXd& H, Eigen::VectorXd& y) {
+  H.resize(2 * r.size(), exoid::ident::kNumParams);
+  H << r.hip, r.knee;
+  y.resize(2 * r.size());
+  y << r.tau_Nm.col(0), r.tau_Nm.col(1);
+}
+
+void BM_Ingest(benchmark::State& state) {
+  const std::string& path = bigLog();
+  const auto bytes = static_cast<std::int64_t>(std::filesystem::file_size(path));
+  for (auto _ : state) benchmark::DoNotOptimize(exoid::ident::readDatasetCsv(path).size());
+  state.SetBytesProcessed(state.iterations() * bytes);
+  state.counters["rows"] = static_cast<double>(kRows);
+}
+BENCHMARK(BM_Ingest)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+template <bool kLad>
+void endToEnd(benchmark::State& state) {
+  const std::string& path = bigLog();
+  const exoid::ident::LegConstants c{0.45, 9.81};
+  Eigen::VectorXd x;
+  for (auto _ : state) {
+    Eigen::MatrixXd H;
+    Eigen::VectorXd y;
+    {
+      const exoid::ident::ProcessedRecord r = exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults());
+      rows(r, H, y);
+    }
+    x = kLad ? exoid::ident::solveLeastAbsoluteDeviations(H, y).x : exoid::ident::solveLeastSquares(H, y).x;
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["peak_rss_MB"] = peakRssMB();
+  state.counters["payload_MB"] = kRows * 5 * 8 / 1e6;
+  state.counters["peak_over_payload"] = peakRssMB() / (kRows * 5 * 8 / 1048576.0);
+}
+void BM_LsEndToEnd(benchmark::State& state) { endToEnd<false>(state); }
+void BM_LadEndToEnd(benchmark::State& state) { endToEnd<true>(state); }
+BENCHMARK(BM_LsEndToEnd)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_LadEndToEnd)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
