@@ -47,10 +47,10 @@ const std::string& bigLog() {
   return path;
 }
 
-double peakRssMB() {
+double peakRssMB() {  // 1 MB = 1e6 bytes, as the payload
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_maxrss) / 1024.0;  // kB on Linux
+  return static_cast<double>(u.ru_maxrss) * 1024.0 / 1e6;  // ru_maxrss is in kB on Linux
 }
 
 exoid::ident::SignalOptions identifyDefaults() {  // as exoid identify (experiments::defaultIdentifySignals)
@@ -94,7 +94,7 @@ void endToEnd(benchmark::State& state) {
   }
   state.counters["peak_rss_MB"] = peakRssMB();
   state.counters["payload_MB"] = kRows * 5 * 8 / 1e6;
-  state.counters["peak_over_payload"] = peakRssMB() / (kRows * 5 * 8 / 1048576.0);
+  state.counters["peak_over_payload"] = peakRssMB() / (kRows * 5 * 8 / 1e6);
 }
 void BM_LsEndToEnd(benchmark::State& state) { endToEnd<false>(state); }
 void BM_LadEndToEnd(benchmark::State& state) { endToEnd<true>(state); }

@@ -38,6 +38,7 @@ int SignalOptions::decimationFactor(double sample_rate_hz) const {
 
 void SignalOptions::validate() const {
   if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + std::to_string(decimation));
+  if (block_samples < 1) throw std::invalid_argument("'block_samples' must be >= 1, got " + std::to_string(block_samples));
   if (!(derivative_cutoff_hz >= 0.0) || !std::isfinite(derivative_cutoff_hz)) {
     throw std::invalid_argument("'derivative_cutoff_hz' must be >= 0 (0 = no pre-filter)");
   }
@@ -120,22 +121,14 @@ ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
 
 namespace {
 
-// Rows [trim, n - trim) of x, every r-th.
-Eigen::MatrixXd trimAndDecimate(const Eigen::MatrixXd& x, Eigen::Index trim, int r) {
-  const Eigen::Index keep = x.rows() - 2 * trim;
-  const Eigen::Index out_rows = (keep + r - 1) / r;
-  Eigen::MatrixXd out(out_rows, x.cols());
-  for (Eigen::Index i = 0; i < out_rows; ++i) out.row(i) = x.row(trim + i * r);
-  return out;
-}
-
 // States for the parallel processing: recorded derivatives, else five-point differences of the
 // (widely pre-filtered) angles; the angles themselves unfiltered.
-JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs) {
+JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs, Eigen::Index from, Eigen::Index to) {
+  const Eigen::Index len = to - from;
   JointSignals s;
-  s.t_s = d.t_s;
-  s.q_rad = d.q_rad;
-  s.tau_Nm = d.tau_Nm;
+  s.t_s = d.t_s.segment(from, len);
+  s.q_rad = d.q_rad.middleRows(from, len);
+  s.tau_Nm = d.tau_Nm.middleRows(from, len);
   const double dt = 1.0 / fs;
   const bool prefilter = o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs;
   const bool base = o.base_terms == BaseTerms::kOn || (o.base_terms == BaseTerms::kAuto && hasBaseColumns(d));
@@ -143,28 +136,26 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs)
     if (!hasBaseColumns(d)) {
       throw std::invalid_argument("base-motion terms requested but the dataset lacks base_acc_x, base_acc_z or base_gyro_y");
     }
-    s.base.resize(d.size(), 4);
-    s.base.col(0) = d.extraColumn(kBaseColumns[0]);
-    s.base.col(1) = d.extraColumn(kBaseColumns[1]);
-    s.base.col(2) = d.extraColumn(kBaseColumns[2]);
+    s.base.resize(len, 4);
+    for (int k = 0; k < 3; ++k) s.base.col(k) = d.extraColumn(kBaseColumns[k]).segment(from, len);
     // Pitch acceleration: the gyro differentiated like the angles' first derivative.
     Eigen::MatrixXd w = s.base.col(2);
     if (prefilter) w = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), w);
     s.base.col(3) = differentiate(w, dt, Differentiation::kCentral4);
   }
   if (o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2) {
-    s.qd_radps = *d.qd_radps;
-    s.qdd_radps2 = *d.qdd_radps2;
+    s.qd_radps = d.qd_radps->middleRows(from, len);
+    s.qdd_radps2 = d.qdd_radps2->middleRows(from, len);
     return s;
   }
   if (o.use_recorded_derivatives && d.qd_radps) {  // recorded velocities only: differentiate them
-    s.qd_radps = *d.qd_radps;
-    Eigen::MatrixXd qd = *d.qd_radps;
+    s.qd_radps = d.qd_radps->middleRows(from, len);
+    Eigen::MatrixXd qd = s.qd_radps;
     if (prefilter) qd = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), qd);
     s.qdd_radps2 = differentiate(qd, dt, Differentiation::kCentral4);
     return s;
   }
-  Eigen::MatrixXd q = d.q_rad;
+  Eigen::MatrixXd q = s.q_rad;
   if (prefilter) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
   s.qd_radps = differentiate(q, dt, Differentiation::kCentral4);
   s.qdd_radps2 = differentiate(s.qd_radps, dt, Differentiation::kCentral4);
@@ -173,46 +164,104 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs)
 
 }  // namespace
 
+namespace {
+
+// Hip rows, knee rows, torques and the armature column side by side, through the parallel filter
+// (one pass over all): N x 23.
+Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const SignalOptions& o, double fs) {
+  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
+  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1);
+  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  return all;
+}
+
+// The rows of `all` (and the states) at local indices first, first + r, ... <= last.
+ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
+  const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
+  ProcessedRecord out;
+  out.hip.resize(m, kNumParams);
+  out.knee.resize(m, kNumParams);
+  out.tau_Nm.resize(m, 2);
+  out.knee_armature.resize(m);
+  JointSignals& st = out.states;
+  st.t_s.resize(m);
+  st.q_rad.resize(m, 2);
+  st.qd_radps.resize(m, 2);
+  st.qdd_radps2.resize(m, 2);
+  if (s.base.rows() > 0) st.base.resize(m, 4);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = first + k * r;
+    out.hip.row(k) = all.row(i).segment(0, kNumParams);
+    out.knee.row(k) = all.row(i).segment(kNumParams, kNumParams);
+    out.tau_Nm.row(k) = all.row(i).segment(2 * kNumParams, 2);
+    out.knee_armature[k] = all(i, 2 * kNumParams + 2);
+    st.t_s[k] = s.t_s[i];
+    st.q_rad.row(k) = s.q_rad.row(i);
+    st.qd_radps.row(k) = s.qd_radps.row(i);
+    st.qdd_radps2.row(k) = s.qdd_radps2.row(i);
+    if (s.base.rows() > 0) st.base.row(k) = s.base.row(i);
+  }
+  st.tau_Nm = out.tau_Nm;
+  return out;
+}
+
+void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
+  if (n - 2 * trim < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string(n) + " samples, and the processing trims " +
+                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
+  }
+  if ((n - 2 * trim + r - 1) / r < 20) {
+    throw std::invalid_argument("record too short: " + std::to_string((n - 2 * trim + r - 1) / r) +
+                                " rows after trimming and decimating by " + std::to_string(r) + "; need >= 20 (lower 'decimation')");
+  }
+}
+
+}  // namespace
+
+Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) {
+  // Twenty periods of the slowest filter's cutoff: its impulse response (and the pre-filter's)
+  // has decayed below 1e-15 there (a 2nd-order Butterworth's pole radius at 10 Hz, 1 kHz is
+  // 0.957: 0.957^2000 ~ 1e-38), so a block's own edges do not reach the rows it keeps.
+  double slowest = o.filter ? o.cutoff_hz : sample_rate_hz;
+  if (o.derivative_cutoff_hz > 0.0) slowest = std::min(slowest, o.derivative_cutoff_hz);
+  return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
+}
+
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
   o.validate();
   if (o.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, o), c);
   const double fs = 1.0 / d.sampleInterval_s();
-  return parallelProcess(parallelStates(d, o, fs), c, o, fs);
+  const Eigen::Index n = d.size();
+  const Eigen::Index margin = parallelBlockMargin(o, fs), block = std::max<Eigen::Index>(o.block_samples, 4 * margin);
+  if (n <= block + 2 * margin) return parallelProcess(parallelStates(d, o, fs, 0, n), c, o, fs);
+  // A long log, a block at a time with `margin` samples of context on each side: memory stays
+  // bounded by the block, and the kept rows are the full-length ones to rounding (the margin).
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  const int r = o.decimationFactor(fs);
+  checkLength(n, trim, r);
+  std::vector<ProcessedRecord> parts;
+  for (Eigen::Index a = 0; a < n; a += block) {
+    const Eigen::Index b = std::min(n, a + block), lo = std::max<Eigen::Index>(0, a - margin), hi = std::min(n, b + margin);
+    // Kept global rows: trim + k r within [a, b) and [trim, n - trim).
+    const Eigen::Index first_g = std::max(a, trim), last_g = std::min(b, n - trim) - 1;
+    if (last_g < first_g) continue;
+    const Eigen::Index first_k = first_g + (r - (first_g - trim) % r) % r;
+    if (first_k > last_g) continue;
+    const JointSignals s = parallelStates(d, o, fs, lo, hi);
+    parts.push_back(selectRows(filteredRows(s, c, o, fs), s, first_k - lo, last_g - lo, r));
+  }
+  return stackRecords(parts);
 }
 
 ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, const SignalOptions& o,
                                 double sample_rate_hz) {
   o.validate();
   const double fs = sample_rate_hz;
-  // Hip rows, knee rows, torques and the armature column side by side: one filter pass over all.
-  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
-  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1);
-  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   const Eigen::Index trim = o.edgeTrimSamples(fs);
-  if (s.size() - 2 * trim < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(s.size()) + " samples, and the processing trims " +
-                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
-                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
-  }
   const int r = o.decimationFactor(fs);
-  const Eigen::MatrixXd kept = trimAndDecimate(all, trim, r);
-  if (kept.rows() < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(kept.rows()) + " rows after trimming and decimating by " +
-                                std::to_string(r) + "; need >= 20 (lower 'decimation')");
-  }
-  ProcessedRecord out;
-  out.hip = kept.leftCols(kNumParams);
-  out.knee = kept.middleCols(kNumParams, kNumParams);
-  out.tau_Nm = kept.middleCols(2 * kNumParams, 2);
-  out.knee_armature = kept.col(2 * kNumParams + 2);
-  JointSignals& st = out.states;
-  st.t_s = trimAndDecimate(s.t_s, trim, r).col(0);
-  st.q_rad = trimAndDecimate(s.q_rad, trim, r);
-  st.qd_radps = trimAndDecimate(s.qd_radps, trim, r);
-  st.qdd_radps2 = trimAndDecimate(s.qdd_radps2, trim, r);
-  st.tau_Nm = out.tau_Nm;
-  if (s.base.rows() > 0) st.base = trimAndDecimate(s.base, trim, r);
-  return out;
+  checkLength(s.size(), trim, r);
+  return selectRows(filteredRows(s, c, o, fs), s, trim, s.size() - trim - 1, r);
 }
 
 ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {

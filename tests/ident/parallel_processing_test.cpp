@@ -56,6 +56,27 @@ TEST(ParallelProcessing, ExactDataGiveExactParametersFromAnglesAlone) {
   EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, parallel())), truth), 1e-6);
 }
 
+// A long log is processed a block at a time (bounded memory): the same rows as the whole record
+// at once to rounding, because each block carries parallelBlockMargin samples of context on both
+// sides, where the filters' responses to its own edges have died out; and exact data still give
+// exact parameters (each block is filtered alike on both sides of tau = Y x).
+TEST(ParallelProcessing, BlocksOfALongLogGiveTheWholeRecordsRows) {
+  const Dataset d = test::multisineRecord(30.0, true, false);  // angles only: pre-filter and differences too
+  SignalOptions whole = parallel(), blocks = parallel();
+  whole.block_samples = 1000000;
+  blocks.block_samples = 1;  // -> 4 margins (8032 samples at 10 Hz, 1 kHz): four blocks of 30000
+  ASSERT_GT(d.size(), 4 * parallelBlockMargin(blocks, 1000.0) + 2 * parallelBlockMargin(blocks, 1000.0));
+  const ProcessedRecord a = processRecord(d, kC, whole), b = processRecord(d, kC, blocks);
+  ASSERT_EQ(a.size(), b.size());
+  const double scale = a.hip.cwiseAbs().maxCoeff() + a.knee.cwiseAbs().maxCoeff();
+  EXPECT_LT((a.hip - b.hip).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  EXPECT_LT((a.knee - b.knee).cwiseAbs().maxCoeff(), 1e-12 * scale);
+  EXPECT_LT((a.tau_Nm - b.tau_Nm).cwiseAbs().maxCoeff(), 1e-12 * a.tau_Nm.cwiseAbs().maxCoeff());
+  EXPECT_TRUE(a.states.t_s == b.states.t_s);
+  EXPECT_LT((a.states.qdd_radps2 - b.states.qdd_radps2).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_LT(maxRelError(stackedLs(b), toParamVector(defaultLeg())), 1e-6);
+}
+
 TEST(ParallelProcessing, ThePapersProcessingIsBiasedOnTheSameExactData) {
   // The reason for the parallel processing: the paper's filters the signals, then builds the
   // nonlinear columns, which are then not the filtered columns.

@@ -51,6 +51,9 @@ struct SignalOptions {
   /// Parallel processing: base-motion terms from the IMU columns. Default kOff (the paper's
   /// model); exoid identify defaults to kAuto.
   BaseTerms base_terms = BaseTerms::kOff;
+  /// Parallel processing: a record longer than this (plus two margins, parallelBlockMargin) is
+  /// processed a block at a time, so memory stays bounded by the block, not the log. >= 1.
+  Eigen::Index block_samples = 65536;
   /// The decimation factor for a record sampled at sample_rate_hz.
   int decimationFactor(double sample_rate_hz) const;
   /// How qd and qdd are computed from the angles. Paper: forward differences.
@@ -115,6 +118,10 @@ ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
 /// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
 /// prepareSignals does.
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
+/// Samples of context on each side of a block of the parallel processing: enough for the
+/// pre-filter, differences and parallel filter of the block's edges to die out before its kept rows.
+Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz);
+
 /// The parallel filtering and decimation of states sampled at sample_rate_hz (whatever
 /// o.processing says): the rows processRecord gives for kParallel once it has the states. Rows
 /// align with processRecord's for a record of the same length and rate (IDIM-IV's instruments).
