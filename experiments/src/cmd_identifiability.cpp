@@ -41,7 +41,12 @@ void run(const Args& a) {
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
   const ident::Dataset d = readLog(a.data, log);
   const ident::LegConstants c = resolveConstants(a.constants, d, nullptr, log.thigh_length_m, log.gravity_mps2);
-  const ident::ProcessedRecord s = ident::processRecord(d, c, a.signals);
+  ident::ProcessedRecord s;
+  try {
+    s = ident::processRecord(d, c, a.signals);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(d));
+  }
   const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
   const Eigen::MatrixXd& Hh = s.hip;
   const Eigen::MatrixXd& Hk = s.knee;

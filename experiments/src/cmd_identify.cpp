@@ -236,7 +236,7 @@ void run(const IdentifyArgs& a) {
       try {
         rows.push_back(ident::processRecord(role->data[k], c, a.signals));
       } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(role->files[k] + ": " + e.what());
+        throw std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
       }
     }
     if (rows.empty()) continue;

@@ -166,6 +166,12 @@ ident::Dataset readLog(const std::string& path, const LogInput& in) {
   return ident::readDatasetCsv(path, in.csv);
 }
 
+std::string timeUnitHint(const ident::Dataset& d) {
+  if (!(d.sampling.median_dt_s > 0.05)) return "";
+  return " (the time column's median interval is " + fmt(d.sampling.median_dt_s, 4) +
+         " s: if its unit is ms or us, say so with --time-unit or the profile's [units] time)";
+}
+
 std::string samplingSummary(const ident::Dataset& d, const ident::CsvReadOptions& o) {
   const ident::SamplingReport& r = d.sampling;
   std::string s = fmt(1e3 * r.median_dt_s, 4) + " ms median interval";

@@ -39,6 +39,10 @@ LogInput readLogProfile(const std::string& path);
 /// A dataset CSV, or a gzipped one (.gz). Throws ident::DatasetError naming the file.
 ident::Dataset readLog(const std::string& path, const LogInput& in);
 
+/// A hint for errors of a record sampled slower than 20 Hz ("" otherwise): its time column is
+/// probably in ms or us.
+std::string timeUnitHint(const ident::Dataset& d);
+
 /// "2 ms median interval, 37 of 4999 off by > 0.1 % (longest 8.4 ms, line 1234): resampled to
 /// 5012 rows", or "uniform, 1 ms" for a clean record.
 std::string samplingSummary(const ident::Dataset& d, const ident::CsvReadOptions& o);
