@@ -77,6 +77,19 @@ TEST(ParallelProcessing, BlocksOfALongLogGiveTheWholeRecordsRows) {
   EXPECT_LT(maxRelError(stackedLs(b), toParamVector(defaultLeg())), 1e-6);
 }
 
+// Recorded velocities without accelerations are used (their derivative gives qdd), not silently
+// dropped for the angles' differences: exact data still give exact parameters, and a wrong
+// velocity column changes the answer.
+TEST(ParallelProcessing, RecordedVelocitiesAloneAreUsed) {
+  Dataset d = test::multisineRecord(10.0, true, true);
+  d.qdd_radps2.reset();
+  const ParamVector truth = toParamVector(defaultLeg());
+  EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, parallel())), truth), 1e-6);
+  Dataset wrong = d;
+  *wrong.qd_radps *= 1.1;
+  EXPECT_GT(maxRelError(stackedLs(processRecord(wrong, kC, parallel())), truth), 1e-3);
+}
+
 TEST(ParallelProcessing, ThePapersProcessingIsBiasedOnTheSameExactData) {
   // The reason for the parallel processing: the paper's filters the signals, then builds the
   // nonlinear columns, which are then not the filtered columns.
