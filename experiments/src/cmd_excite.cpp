@@ -8,6 +8,7 @@
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/atomic_file.hpp"
+#include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/truth.hpp"
 
 #include <filesystem>
@@ -27,7 +28,7 @@ struct ExciteArgs {
   // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
   std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
-  std::string urdf = EXOID_SOURCE_DIR "/models/apal_leg.urdf";
+  std::string urdf = sim::dataPath("models/apal_leg.urdf");
   bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
 };
 

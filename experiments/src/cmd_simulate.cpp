@@ -52,10 +52,11 @@ struct TruthArgs {
   sim::ModelVariant variant;
 };
 
-void runTruth(const TruthArgs& a) {
-  if (a.model.empty() == a.urdf.empty()) {
-    throw CLI::ValidationError("truth", "give exactly one of --model FILE.xml or --urdf FILE.urdf");
+void runTruth(TruthArgs a) {
+  if (!a.model.empty() && !a.urdf.empty()) {
+    throw CLI::ValidationError("truth", "give one of --model FILE.xml or --urdf FILE.urdf, not both");
   }
+  if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
   sim::Truth t;
   if (!a.urdf.empty()) {
     t = sim::truthFromUrdf(a.urdf);
@@ -97,8 +98,8 @@ void addSimulateCommand(CLI::App& app) {
 
 void addTruthCommand(CLI::App& app) {
   auto args = std::make_shared<TruthArgs>();
-  CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF.");
-  cmd->add_option("--model", args->model, "MJCF model (e.g. models/apal_leg.xml)")->check(CLI::ExistingFile);
+  CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF (default: the built-in leg).");
+  cmd->add_option("--model", args->model, "MJCF model (default: the data directory's models/apal_leg.xml)")->check(CLI::ExistingFile);
   cmd->add_option("--urdf", args->urdf, "URDF of the rigid links (e.g. models/apal_leg.urdf)")->check(CLI::ExistingFile);
   cmd->add_option("--fc-hip", args->variant.fc_hip_Nm, "Override hip Coulomb friction, N m");
   cmd->add_option("--fv-hip", args->variant.fv_hip_Nms, "Override hip viscous friction, N m s/rad");

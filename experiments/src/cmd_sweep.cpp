@@ -2,6 +2,7 @@
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/sweep_config.hpp"
 #include "exoid/experiments/sweep_runner.hpp"
+#include "exoid/sim/data_dir.hpp"
 
 #include <iostream>
 #include <memory>
@@ -12,7 +13,7 @@ namespace exoid::experiments {
 namespace {
 
 struct SweepArgs {
-  std::string config = std::string(EXOID_SOURCE_DIR) + "/experiments/configs/default_sweep.toml";
+  std::string config = sim::dataPath("configs/default_sweep.toml");
   SweepRunOptions run;
   std::optional<int> seeds;
   std::optional<std::uint64_t> master_seed;

@@ -1,5 +1,7 @@
 #include "exoid/experiments/plots.hpp"
 
+#include "exoid/sim/data_dir.hpp"
+
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -20,7 +22,7 @@ std::string shellQuote(const std::string& s) {
 void runPlotScript(const std::string& script, const std::vector<std::string>& args) {
   // Debian's python3 owns python3-matplotlib; a python3 earlier on PATH may not have it.
   const char* python = std::getenv("EXOID_PYTHON") ? std::getenv("EXOID_PYTHON") : "/usr/bin/python3";
-  std::string cmd = shellQuote(python) + " " + shellQuote(std::string(EXOID_SOURCE_DIR) + "/experiments/plots/" + script);
+  std::string cmd = shellQuote(python) + " " + shellQuote(sim::dataPath("plots/" + script));
   for (const std::string& a : args) cmd += " " + shellQuote(a);
   cmd += " 2>&1";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);

@@ -4,6 +4,7 @@
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/atomic_file.hpp"
+#include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/sidecar.hpp"
 
 #ifdef EXOID_WITH_RENDER
@@ -30,8 +31,8 @@ ProtocolConfig defaultReproduceConfig() {
   return c;
 }
 
-std::string defaultKneeExcitationPath() { return std::string(EXOID_SOURCE_DIR) + "/experiments/configs/excitation_knee.json"; }
-std::string defaultBothExcitationPath() { return std::string(EXOID_SOURCE_DIR) + "/experiments/configs/excitation_both.json"; }
+std::string defaultKneeExcitationPath() { return sim::dataPath("configs/excitation_knee.json"); }
+std::string defaultBothExcitationPath() { return sim::dataPath("configs/excitation_both.json"); }
 
 double medianAbs(const Eigen::VectorXd& v) {
   std::vector<double> a(v.data(), v.data() + v.size());

@@ -1,5 +1,7 @@
 #include "exoid/sim/model.hpp"
 
+#include "exoid/sim/data_dir.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -10,7 +12,7 @@
 
 namespace exoid::sim {
 
-std::string defaultModelPath() { return std::string(EXOID_MODELS_DIR) + "/apal_leg.xml"; }
+std::string defaultModelPath() { return dataPath("models/apal_leg.xml"); }
 
 std::string readFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -22,7 +22,7 @@ struct DataDeleter {
 using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;  ///< owns an mjModel
 using DataPtr = std::unique_ptr<mjData, DataDeleter>;     ///< owns an mjData
 
-/// EXOID_MODELS_DIR "/apal_leg.xml".
+/// dataPath("models/apal_leg.xml") (see data_dir.hpp).
 std::string defaultModelPath();
 
 /// Whole file as bytes; throws std::invalid_argument("cannot read model file '<path>'...").

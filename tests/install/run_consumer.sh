@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the build tree into a scratch prefix, then builds and runs a project that finds exoid
+# with find_package and links its libraries, and runs the installed exoid, which must find its
+# data beside itself (not in the source tree). Usage: run_consumer.sh BUILD_DIR SOURCE_DIR
+set -euo pipefail
+build=$1
+src=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
+cmake -S "$src/tests/install/consumer" -B "$work/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+  -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/configure.log"
+cmake --build "$work/consumer" > "$work/build.log"
+"$work/consumer/consumer"
+if [[ -x "$work/consumer/consumer_sim" ]]; then
+  # The library's install data directory is the prefix it was configured for, not this scratch
+  # one: point it there, as a relocated install would.
+  EXOID_DATA_DIR="$work/prefix/share/exoid" "$work/consumer/consumer_sim"
+fi
+# The installed binary finds prefix/share/exoid beside itself (built with MuJoCo: `truth` reads
+# the built-in model from there; without, the log commands need no data directory).
+if ! "$work/prefix/bin/exoid" --help | grep -q "^  truth"; then
+  "$work/prefix/bin/exoid" identify --help > /dev/null
+  echo "installed exoid (without MuJoCo) runs"
+  exit 0
+fi
+out=$("$work/prefix/bin/exoid" truth)
+grep -q "$work/prefix/share/exoid/models/apal_leg.xml" <<<"$out" || { echo "exoid truth did not use the installed model:"; echo "$out"; exit 1; }
+echo "installed exoid uses $work/prefix/share/exoid"
