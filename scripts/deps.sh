@@ -11,7 +11,7 @@ PACKAGES=(
   libosmesa6-dev libgl1-mesa-dri ffmpeg zlib1g-dev
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libpagmo-dev
-  python3-matplotlib python3-numpy
+  python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest
   slurm-wlm
 )
 

@@ -303,7 +303,7 @@ void optimisedArmSection(std::ostream& md, const ProtocolResult& p, const Protoc
   }
   md << "Paper's trajectories -> designed, this seed (`exoid sweep --config experiments/configs/excitation_vs_paper.toml` "
         "pairs 30 seeds):\n\n";
-  TextTable t({"method", "median |param error| vs best fit (%)", "worst (%)", "median vs rigid links (%)",
+  TextTable t({"method", "median parameter error vs best fit (%)", "worst (%)", "median vs rigid links (%)",
                "torque-space error, mean of joints (%)", "knee validation RMS (N m)", "hip validation RMS (N m)"});
   for (std::size_t k = 0; k < p.scores.size() && k < o.scores.size(); ++k) {
     const VariantScore &a = p.scores[k], &b = o.scores[k];
@@ -316,7 +316,7 @@ void optimisedArmSection(std::ostream& md, const ProtocolResult& p, const Protoc
               fixed(a.hip_validation.rms, 4) + " -> " + fixed(b.hip_validation.rms, 4)});
   }
   t.printMarkdown(md);
-  md << "\nPer parameter, |error| vs each arm's best fit (%), paper's trajectories -> designed:\n\n";
+  md << "\nPer parameter, absolute error vs each arm's best fit (%), paper's trajectories -> designed:\n\n";
   std::vector<std::string> h{"method"};
   for (int i = 0; i < kNumParams; ++i) h.emplace_back(ident::paramName(i));
   TextTable pt(h);

@@ -27,9 +27,15 @@ void TextTable::print(std::ostream& out) const {
 }
 
 void TextTable::printMarkdown(std::ostream& out) const {
+  // A '|' inside a cell (e.g. "|error|") would split the column: escaped as GitHub tables expect.
+  auto cell = [](const std::string& s) {
+    std::string e;
+    for (char ch : s) e += ch == '|' ? std::string("\\|") : std::string(1, ch);
+    return e;
+  };
   auto line = [&](const std::vector<std::string>& r) {
     out << '|';
-    for (std::size_t c = 0; c < header_.size(); ++c) out << ' ' << (c < r.size() ? r[c] : "") << " |";
+    for (std::size_t c = 0; c < header_.size(); ++c) out << ' ' << (c < r.size() ? cell(r[c]) : "") << " |";
     out << '\n';
   };
   line(header_);

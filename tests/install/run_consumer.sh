@@ -17,9 +17,15 @@ if [[ -x "$work/consumer/consumer_sim" ]]; then
   # one: point it there, as a relocated install would.
   EXOID_DATA_DIR="$work/prefix/share/exoid" "$work/consumer/consumer_sim"
 fi
+# The installed Python module imports from the prefix alone.
+pydir=$(ls -d "$work"/prefix/lib*/python3/dist-packages 2>/dev/null | head -1 || true)
+if [[ -n "$pydir" ]] && ls "$pydir"/exoid*.so > /dev/null 2>&1; then
+  (cd "$work" && PYTHONPATH="$pydir" /usr/bin/python3 -c "import exoid; assert exoid.param_names()[0] == 'Mxt'; print('python: import exoid from', exoid.__file__)")
+fi
 # The installed binary finds prefix/share/exoid beside itself (built with MuJoCo: `truth` reads
 # the built-in model from there; without, the log commands need no data directory).
-if ! "$work/prefix/bin/exoid" --help | grep -q "^  truth"; then
+help=$("$work/prefix/bin/exoid" --help)
+if ! grep -q "^  truth" <<<"$help"; then
   "$work/prefix/bin/exoid" identify --help > /dev/null
   echo "installed exoid (without MuJoCo) runs"
   exit 0
