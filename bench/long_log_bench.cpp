@@ -13,6 +13,7 @@
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/random.hpp"
+#include "exoid/ident/segmental.hpp"
 
 #include <benchmark/benchmark.h>
 #include <malloc.h>
@@ -69,13 +70,6 @@ exoid::ident::SignalOptions identifyDefaults() {  // as exoid identify (experime
   return o;
 }
 
-void rows(const exoid::ident::ProcessedRecord& r, Eigen::MatrixXd& H, Eigen::VectorXd& y) {
-  H.resize(2 * r.size(), exoid::ident::kNumParams);
-  H << r.hip, r.knee;
-  y.resize(2 * r.size());
-  y << r.tau_Nm.col(0), r.tau_Nm.col(1);
-}
-
 void BM_Ingest(benchmark::State& state) {
   const std::string& path = bigLog();
   const auto bytes = static_cast<std::int64_t>(std::filesystem::file_size(path));
@@ -91,13 +85,9 @@ void endToEnd(benchmark::State& state) {
   const exoid::ident::LegConstants c{0.45, 9.81};
   Eigen::VectorXd x;
   for (auto _ : state) {
-    Eigen::MatrixXd H;
-    Eigen::VectorXd y;
-    {
-      const exoid::ident::ProcessedRecord r = exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults());
-      rows(r, H, y);
-    }
-    x = kLad ? exoid::ident::solveLeastAbsoluteDeviations(H, y).x : exoid::ident::solveLeastSquares(H, y).x;
+    const exoid::ident::SegmentalProblem p =
+        exoid::ident::bothEquations(exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults()));
+    x = kLad ? exoid::ident::solveLeastAbsoluteDeviations(p.H, p.y).x : exoid::ident::solveLeastSquares(p.H, p.y).x;
     benchmark::DoNotOptimize(x.data());
   }
   state.counters["peak_rss_MB"] = peakRssMB();

@@ -6,10 +6,10 @@
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/dataset.hpp"
+#include "exoid/ident/identifiability.hpp"
 #include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/segmental.hpp"
 #include "exoid/ident/preprocess.hpp"
-
-#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -155,28 +155,17 @@ struct Excitation {
   std::vector<std::pair<int, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
 };
 Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
-  Eigen::MatrixXd H;
-  if (knee_only) {
-    H = r.knee.middleCols(ident::kShankFirst, ident::kGroupSize);
-  } else {
-    H.resize(2 * r.size(), ident::kNumParams);
-    H << r.hip, r.knee;
-  }
-  const Eigen::VectorXd scale = ident::columnScales(H);
-  const Eigen::MatrixXd Hs = H * scale.asDiagonal();
-  const Eigen::MatrixXd G = Hs.transpose() * Hs;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(G);
-  const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+  const ident::SegmentalProblem p = knee_only ? ident::kneeStage(r) : ident::bothEquations(r);
+  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(p.H, p.y, 0.0);
   Excitation e;
-  e.condition = lo > 0 ? std::sqrt(hi / lo) : std::numeric_limits<double>::infinity();
-  if (!(lo > 0)) return e;
-  const Eigen::MatrixXd Ginv = eig.eigenvectors() * eig.eigenvalues().cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  e.condition = report.condition_number;
+  if (!std::isfinite(e.condition)) return e;  // rank deficient: the stages say which columns
   const int first = knee_only ? ident::kShankFirst : 0;
-  for (Eigen::Index j = 0; j < G.rows(); ++j) {
-    const double r2 = 1.0 - 1.0 / (G(j, j) * Ginv(j, j));
+  for (Eigen::Index j = 0; j < report.collinearity_r2.size(); ++j) {
+    const double r2 = report.collinearity_r2[j];
     if (r2 > 0.95) e.collinear.emplace_back(first + static_cast<int>(j), r2);
   }
-  std::sort(e.collinear.begin(), e.collinear.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::sort(e.collinear.begin(), e.collinear.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
   return e;
 }
 
@@ -270,15 +259,11 @@ void run(const IdentifyArgs& a) {
   ident::MethodOptions mo = a.methods_options;
   if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
       a.wide_box_option->count() == 0) {
-    Eigen::MatrixXd H(2 * r_primary.size(), ident::kNumParams);
-    H << r_primary.hip, r_primary.knee;
-    Eigen::VectorXd y(2 * r_primary.size());
-    y << r_primary.tau_Nm.col(0), r_primary.tau_Nm.col(1);
-    const ident::LsResult ls = ident::solveLeastSquares(H, y, mo.ls);
-    double biggest = ls.x.cwiseAbs().maxCoeff();
+    const ident::SegmentalProblem all = ident::bothEquations(r_primary);
+    double biggest = ident::solveLeastSquares(all.H, all.y, mo.ls).x.cwiseAbs().maxCoeff();
     if (segmental) {
-      const Eigen::MatrixXd Hk = r_knee.knee.middleCols(ident::kShankFirst, ident::kGroupSize);
-      biggest = std::max(biggest, ident::solveLeastSquares(Hk, r_knee.tau_Nm.col(1), mo.ls).x.cwiseAbs().maxCoeff());
+      const ident::SegmentalProblem k = ident::kneeStage(r_knee);
+      biggest = std::max(biggest, ident::solveLeastSquares(k.H, k.y, mo.ls).x.cwiseAbs().maxCoeff());
     }
     if (!(biggest > 0) || !std::isfinite(biggest)) {
       throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");

@@ -166,6 +166,23 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs,
 
 namespace {
 
+// A record of n rows, every field sized (states too; base-motion columns when `base`).
+ProcessedRecord allocated(Eigen::Index n, bool base) {
+  ProcessedRecord out;
+  out.hip.resize(n, kNumParams);
+  out.knee.resize(n, kNumParams);
+  out.tau_Nm.resize(n, 2);
+  out.knee_armature.resize(n);
+  JointSignals& st = out.states;
+  st.t_s.resize(n);
+  st.q_rad.resize(n, 2);
+  st.qd_radps.resize(n, 2);
+  st.qdd_radps2.resize(n, 2);
+  st.tau_Nm.resize(n, 2);
+  if (base) st.base.resize(n, 4);
+  return out;
+}
+
 // Hip rows, knee rows, torques and the armature column side by side, through the parallel filter
 // (one pass over all): N x 23.
 Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const SignalOptions& o, double fs) {
@@ -178,17 +195,8 @@ Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const
 // The rows of `all` (and the states) at local indices first, first + r, ... <= last.
 ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
   const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
-  ProcessedRecord out;
-  out.hip.resize(m, kNumParams);
-  out.knee.resize(m, kNumParams);
-  out.tau_Nm.resize(m, 2);
-  out.knee_armature.resize(m);
+  ProcessedRecord out = allocated(m, s.base.rows() > 0);
   JointSignals& st = out.states;
-  st.t_s.resize(m);
-  st.q_rad.resize(m, 2);
-  st.qd_radps.resize(m, 2);
-  st.qdd_radps2.resize(m, 2);
-  if (s.base.rows() > 0) st.base.resize(m, 4);
   for (Eigen::Index k = 0; k < m; ++k) {
     const Eigen::Index i = first + k * r;
     out.hip.row(k) = all.row(i).segment(0, kNumParams);
@@ -275,18 +283,8 @@ ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {
     }
     n += r.size();
   }
-  ProcessedRecord out;
-  out.hip.resize(n, kNumParams);
-  out.knee.resize(n, kNumParams);
-  out.tau_Nm.resize(n, 2);
-  out.knee_armature.resize(n);
+  ProcessedRecord out = allocated(n, base);
   JointSignals& st = out.states;
-  st.t_s.resize(n);
-  st.q_rad.resize(n, 2);
-  st.qd_radps.resize(n, 2);
-  st.qdd_radps2.resize(n, 2);
-  st.tau_Nm.resize(n, 2);
-  if (base) st.base.resize(n, 4);
   Eigen::Index at = 0;
   for (const ProcessedRecord& r : records) {
     const Eigen::Index m = r.size();
