@@ -455,12 +455,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
   for (const VariantScore& s : r.scores) {
     Eigen::Index worst = 0;
     s.vs_best_fit.rel.cwiseAbs().maxCoeff(&worst);
-    std::vector<double> a(s.vs_best_fit.rel.data(), s.vs_best_fit.rel.data() + kNumParams);
-    for (double& x : a) x = std::abs(x);
-    std::nth_element(a.begin(), a.begin() + kNumParams / 2, a.end());
-    const double upper = a[kNumParams / 2];
-    std::nth_element(a.begin(), a.begin() + kNumParams / 2 - 1, a.end());
-    const double med = 0.5 * (a[kNumParams / 2 - 1] + upper);
+    const double med = medianAbs(s.vs_best_fit.rel);
     std::string gaps, box_gaps;
     for (const Stage& st : s.outcome.stages) {
       if (st.estimate.optimality_gap_rel) gaps += (gaps.empty() ? "" : " / ") + pct(*st.estimate.optimality_gap_rel);
