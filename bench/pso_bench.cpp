@@ -1,6 +1,8 @@
 // PSO cost evaluation and a full PSO run in the paper's configuration (G = 10000 iterations,
 // 40 particles, 5 parameters, 10 s of 1 kHz data, L1 cost), against one-particle-at-a-time
 // evaluation, pagmo's pso_gen on the same cost and evaluations, and the core's FMA peak.
+// exoid's library is built as users get it (portable, the kernel dispatched at run time); this
+// file's own code, the baselines included, is compiled for this machine (bench/CMakeLists.txt).
 //
 //   build/bench/pso_bench --benchmark_counters_tabular=true
 #include "exoid/ident/linear_cost.hpp"
@@ -44,8 +46,18 @@ const Problem& problem() {
   return p;
 }
 
+// The fused kernel on each instruction set (0 = the one a run picks, then generic, avx2, avx512):
+// one portable binary carries them all.
 void BM_SwarmCostFused(benchmark::State& state) {
-  const LinearResidualCost cost(problem().A, problem().b);
+  using exoid::ident::CostKernel;
+  const CostKernel kernel = static_cast<CostKernel>(state.range(0));
+  if (!exoid::ident::costKernelSupported(kernel)) {
+    state.SkipWithError("this CPU cannot run the kernel");
+    return;
+  }
+  LinearResidualCost cost(problem().A, problem().b);
+  cost.useKernel(kernel);
+  state.SetLabel(toString(cost.kernel()));
   Eigen::MatrixXd X = Eigen::MatrixXd::Random(kParams, kSwarm);
   Eigen::VectorXd f(kSwarm);
   for (auto _ : state) {
@@ -55,7 +67,7 @@ void BM_SwarmCostFused(benchmark::State& state) {
   state.counters["evals/s"] = benchmark::Counter(static_cast<double>(kSwarm), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["GFLOP/s"] = benchmark::Counter(cost.flops(kSwarm) * 1e-9, benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_SwarmCostFused);
+BENCHMARK(BM_SwarmCostFused)->DenseRange(0, 3);
 
 void BM_SwarmCostOneParticleAtATime(benchmark::State& state) {
   const Eigen::MatrixXd& A = problem().A;
@@ -87,6 +99,7 @@ void BM_PsoPaperConfig(benchmark::State& state) {
   }
   state.counters["final_cost"] = final_cost;
   state.counters["evals"] = static_cast<double>(kSwarm * (kIterations + 1));
+  state.SetLabel(toString(cost.kernel()));
 }
 BENCHMARK(BM_PsoPaperConfig)->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -4,12 +4,25 @@ add_library(exoid_warnings INTERFACE)
 target_compile_options(exoid_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wconversion
                        -Wno-sign-conversion)
 
+# Eigen's object layout and allocator follow the widest vector the compiler targets (Eigen 3.4
+# aligns heap blocks to 64 bytes under AVX-512, 16 under SSE2, and frees them differently), so code
+# built with different -m flags (a -march=native build, the benchmarks, a user's project) would
+# disagree and crash on the first matrix one side allocates and the other frees. Pinning the
+# alignment Eigen assumes to the x86-64 baseline's 16 bytes and its allocator to the one that
+# records each block's origin makes both independent of the instruction set (the first is Eigen's
+# documented way to mix SSE and AVX code); exoid::ident exports the same definitions to its users.
+set(EXOID_EIGEN_ABI_DEFINITIONS EIGEN_MAX_ALIGN_BYTES=16 EIGEN_MALLOC_ALREADY_ALIGNED=0)
+add_compile_definitions(${EXOID_EIGEN_ABI_DEFINITIONS})
+
+# Flags that target this machine's CPU: the whole build with EXOID_NATIVE (off by default: a
+# binary must run on every node of a mixed cluster), the benchmarks always (they measure it).
+set(EXOID_NATIVE_FLAGS -march=native)
+# GCC 12 warns about its own AVX-512 intrinsics header when Eigen vectorises (GCC bug 105593).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  list(APPEND EXOID_NATIVE_FLAGS -Wno-maybe-uninitialized -Wno-uninitialized)
+endif()
 if(EXOID_NATIVE)
-  add_compile_options(-march=native)
-  # GCC 12 warns about its own AVX-512 intrinsics header when Eigen vectorises (GCC bug 105593).
-  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
-    target_compile_options(exoid_warnings INTERFACE -Wno-maybe-uninitialized -Wno-uninitialized)
-  endif()
+  add_compile_options(${EXOID_NATIVE_FLAGS})
 endif()
 
 if(EXOID_SANITIZE)

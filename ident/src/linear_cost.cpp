@@ -1,16 +1,96 @@
 #include "exoid/ident/linear_cost.hpp"
 
-#include <algorithm>
-#include <cmath>
+#include "kernels/swarm_cost_kernel.hpp"
+
+#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
 namespace exoid::ident {
 
+namespace {
+
+bool cpuHas(CostKernel k) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  __builtin_cpu_init();  // needed if the first call comes from a static initialiser
+  switch (k) {
+    case CostKernel::kAvx512: return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+    case CostKernel::kAvx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    default: return true;
+  }
+#else
+  return k == CostKernel::kGeneric || k == CostKernel::kAuto;  // the ISA units hold generic code here
+#endif
+}
+
+kernels::SwarmCostArgs::Fn kernelFunction(CostKernel k) {
+  switch (k) {
+    case CostKernel::kAvx512: return kernels::swarmCostAvx512;
+    case CostKernel::kAvx2: return kernels::swarmCostAvx2;
+    default: return kernels::swarmCostGeneric;
+  }
+}
+
+std::string supportedKernelList() {
+  std::string out;
+  for (CostKernel k : supportedCostKernels()) out += (out.empty() ? "" : ", ") + std::string(toString(k));
+  return out;
+}
+
+// The widest the CPU runs, unless EXOID_COST_KERNEL names one (to measure or compare them).
+CostKernel chooseDefaultKernel() {
+  if (const char* env = std::getenv("EXOID_COST_KERNEL"); env != nullptr && *env != '\0') {
+    const CostKernel k = parseCostKernel(env);
+    if (!cpuHas(k)) {
+      throw std::runtime_error(std::string("EXOID_COST_KERNEL=") + env + ": this CPU cannot run it (it can run: " +
+                               supportedKernelList() + ")");
+    }
+    if (k != CostKernel::kAuto) return k;
+  }
+  for (CostKernel k : {CostKernel::kAvx512, CostKernel::kAvx2}) {
+    if (cpuHas(k)) return k;
+  }
+  return CostKernel::kGeneric;
+}
+
+}  // namespace
+
+const char* toString(CostKernel k) {
+  switch (k) {
+    case CostKernel::kAuto: return "auto";
+    case CostKernel::kGeneric: return "generic";
+    case CostKernel::kAvx2: return "avx2";
+    case CostKernel::kAvx512: return "avx512";
+  }
+  return "?";
+}
+
+CostKernel parseCostKernel(const std::string& name) {
+  for (CostKernel k : {CostKernel::kAuto, CostKernel::kGeneric, CostKernel::kAvx2, CostKernel::kAvx512}) {
+    if (name == toString(k)) return k;
+  }
+  throw std::invalid_argument("cost kernel '" + name + "': expected auto, generic, avx2 or avx512");
+}
+
+bool costKernelSupported(CostKernel k) { return cpuHas(k); }
+
+std::vector<CostKernel> supportedCostKernels() {
+  std::vector<CostKernel> out;
+  for (CostKernel k : {CostKernel::kGeneric, CostKernel::kAvx2, CostKernel::kAvx512}) {
+    if (cpuHas(k)) out.push_back(k);
+  }
+  return out;
+}
+
+CostKernel defaultCostKernel() {
+  static const CostKernel k = chooseDefaultKernel();
+  return k;
+}
+
 const char* toString(CostNorm n) { return n == CostNorm::kL1 ? "L1" : "L2"; }
 
 LinearResidualCost::LinearResidualCost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, CostNorm norm)
-    : A_(A), b_(b), norm_(norm) {
+    : A_(A), b_(b), norm_(norm), kernel_(defaultCostKernel()) {
   if (A.rows() != b.size() || A.rows() == 0 || A.cols() == 0) {
     throw std::invalid_argument("cost: regressor is " + std::to_string(A.rows()) + " x " +
                                 std::to_string(A.cols()) + " but the torque vector has " +
@@ -32,65 +112,6 @@ double LinearResidualCost::flops(Eigen::Index particles) const {
   return static_cast<double>(rows()) * static_cast<double>(particles) * (2.0 * static_cast<double>(dim()) + 2.0);
 }
 
-namespace {
-
-constexpr int kLanes = 8;  // particles per block: one AVX-512 register, two AVX2 registers
-
-// GCC/Clang vector extensions: the compiler maps these onto the widest registers it has, so the
-// kernel neither depends on the auto-vectoriser's mood (it produced 5x slower code for plain
-// loops under -DNDEBUG) nor on an instruction set.
-using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
-using LaneBits = long long __attribute__((vector_size(kLanes * sizeof(double))));
-
-inline Lanes broadcast(double v) { return Lanes{} + v; }
-
-// Accumulates the cost of kLanes particles, x[k] holding dimension k of each. Four rows per step
-// with separate accumulators so the adds do not serialise on one dependency chain. Kept out of
-// line: inlined into evaluateFixed, GCC 12 kept x in memory and ran 3x slower (measured).
-template <int P, bool kL1>
-[[gnu::noinline]] Lanes blockKernel(const double* A, const double* b, Eigen::Index n, const Lanes (&x)[P]) {
-  const LaneBits abs_mask = LaneBits{} + 0x7fffffffffffffffLL;
-  auto row = [&](Eigen::Index i) {
-    const double* ai = A + i * P;
-    Lanes r = broadcast(b[i]);
-    for (int k = 0; k < P; ++k) r -= ai[k] * x[k];
-    if constexpr (kL1) {
-      return reinterpret_cast<Lanes>(reinterpret_cast<LaneBits>(r) & abs_mask);
-    } else {
-      return r * r;
-    }
-  };
-  Lanes acc0{}, acc1{}, acc2{}, acc3{};
-  Eigen::Index i = 0;
-  for (; i + 4 <= n; i += 4) {
-    acc0 += row(i);
-    acc1 += row(i + 1);
-    acc2 += row(i + 2);
-    acc3 += row(i + 3);
-  }
-  for (; i < n; ++i) acc0 += row(i);
-  return (acc0 + acc1) + (acc2 + acc3);
-}
-
-template <int P>
-void evaluateFixed(const double* A, const double* b, Eigen::Index n, CostNorm norm,
-                   const Eigen::Ref<const Eigen::MatrixXd>& particles, Eigen::Ref<Eigen::VectorXd> costs) {
-  const Eigen::Index S = particles.cols();
-  for (Eigen::Index j0 = 0; j0 < S; j0 += kLanes) {
-    Lanes x[P];
-    const Eigen::Index lanes = std::min<Eigen::Index>(kLanes, S - j0);
-    for (int l = 0; l < kLanes; ++l) {
-      // Lanes past the swarm repeat its last particle; their costs are discarded.
-      const Eigen::Index j = j0 + std::min<Eigen::Index>(l, lanes - 1);
-      for (int k = 0; k < P; ++k) x[k][l] = particles(k, j);
-    }
-    const Lanes out = norm == CostNorm::kL1 ? blockKernel<P, true>(A, b, n, x) : blockKernel<P, false>(A, b, n, x);
-    for (Eigen::Index l = 0; l < lanes; ++l) costs[j0 + l] = out[l];
-  }
-}
-
-}  // namespace
-
 void LinearResidualCost::evaluate(const Eigen::Ref<const Eigen::MatrixXd>& particles,
                                   Eigen::Ref<Eigen::VectorXd> costs) const {
   if (particles.rows() != dim() || costs.size() != particles.cols()) {
@@ -98,23 +119,21 @@ void LinearResidualCost::evaluate(const Eigen::Ref<const Eigen::MatrixXd>& parti
                                 " x S with S costs, got " + std::to_string(particles.rows()) + " x " +
                                 std::to_string(particles.cols()) + " and " + std::to_string(costs.size()));
   }
-  const double* A = A_.data();
-  const double* b = b_.data();
-  const Eigen::Index n = rows();
-  switch (dim()) {
-    case 1: return evaluateFixed<1>(A, b, n, norm_, particles, costs);
-    case 2: return evaluateFixed<2>(A, b, n, norm_, particles, costs);
-    case 3: return evaluateFixed<3>(A, b, n, norm_, particles, costs);
-    case 4: return evaluateFixed<4>(A, b, n, norm_, particles, costs);
-    case 5: return evaluateFixed<5>(A, b, n, norm_, particles, costs);
-    case 6: return evaluateFixed<6>(A, b, n, norm_, particles, costs);
-    case 7: return evaluateFixed<7>(A, b, n, norm_, particles, costs);
-    case 8: return evaluateFixed<8>(A, b, n, norm_, particles, costs);
-    case 9: return evaluateFixed<9>(A, b, n, norm_, particles, costs);
-    case 10: return evaluateFixed<10>(A, b, n, norm_, particles, costs);
-    default:
-      for (Eigen::Index j = 0; j < particles.cols(); ++j) costs[j] = (*this)(particles.col(j));
+  if (dim() > kernels::kMaxParams) {
+    for (Eigen::Index j = 0; j < particles.cols(); ++j) costs[j] = (*this)(particles.col(j));
+    return;
   }
+  const kernels::SwarmCostArgs args{A_.data(), b_.data(), rows(), static_cast<int>(dim()), norm_ == CostNorm::kL1,
+                                    particles.data(), particles.outerStride(), particles.cols(), costs.data()};
+  kernelFunction(kernel_)(args);
+}
+
+void LinearResidualCost::useKernel(CostKernel k) {
+  if (!costKernelSupported(k)) {
+    throw std::invalid_argument(std::string("cost: this CPU cannot run the ") + toString(k) +
+                                " kernel (it can run: " + supportedKernelList() + ")");
+  }
+  kernel_ = k == CostKernel::kAuto ? defaultCostKernel() : k;
 }
 
 }  // namespace exoid::ident

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 namespace exoid::ident {
@@ -132,6 +133,61 @@ TEST(LinearResidualCost, BatchEqualsOneAtATimeForEveryDimension) {
       }
     }
   }
+}
+
+// Every instruction set's kernel gives the generic kernel's bits (same lanes, same summation order,
+// no contraction), so a PSO run is the same on every machine: compared for p = 1..10, both norms,
+// a partial last block and particles that are a block of a larger matrix (outer stride != p).
+TEST(LinearResidualCost, EveryKernelTheCpuRunsGivesTheSameBits) {
+  std::mt19937_64 gen(12);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const std::vector<CostKernel> kernels = supportedCostKernels();
+  ASSERT_FALSE(kernels.empty());
+  EXPECT_EQ(kernels.front(), CostKernel::kGeneric);
+  for (int p = 1; p <= 10; ++p) {
+    for (CostNorm norm : {CostNorm::kL1, CostNorm::kL2}) {
+      const Eigen::MatrixXd A = Eigen::MatrixXd::NullaryExpr(997, p, [&] { return n01(gen); });
+      const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(997, [&] { return n01(gen); });
+      const Eigen::MatrixXd big = Eigen::MatrixXd::NullaryExpr(p + 3, 21, [&] { return n01(gen); });
+      LinearResidualCost cost(A, b, norm);
+      cost.useKernel(CostKernel::kGeneric);
+      Eigen::VectorXd reference(21);
+      cost.evaluate(big.topRows(p), reference);
+      for (CostKernel k : kernels) {
+        cost.useKernel(k);
+        EXPECT_EQ(cost.kernel(), k);
+        Eigen::VectorXd costs(21);
+        cost.evaluate(big.topRows(p), costs);
+        for (Eigen::Index j = 0; j < 21; ++j) {
+          EXPECT_EQ(costs[j], reference[j]) << toString(k) << " p " << p << " j " << j;
+          const double expected = norm == CostNorm::kL1 ? (b - A * big.col(j).head(p)).cwiseAbs().sum()
+                                                        : (b - A * big.col(j).head(p)).squaredNorm();
+          EXPECT_NEAR(costs[j], expected, 1e-10 * expected);
+        }
+      }
+    }
+  }
+}
+
+TEST(LinearResidualCost, KernelNamesParseAndTheDefaultFollowsTheEnvironment) {
+  for (CostKernel k : {CostKernel::kAuto, CostKernel::kGeneric, CostKernel::kAvx2, CostKernel::kAvx512}) {
+    EXPECT_EQ(parseCostKernel(toString(k)), k);
+  }
+  try {
+    parseCostKernel("sse9");
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("expected auto, generic, avx2 or avx512"), std::string::npos) << e.what();
+  }
+  // ctest runs this test a second time with EXOID_COST_KERNEL=generic (tests/CMakeLists.txt).
+  const char* env = std::getenv("EXOID_COST_KERNEL");
+  if (env != nullptr && std::string(env) != "auto") {
+    EXPECT_EQ(defaultCostKernel(), parseCostKernel(env));
+  } else {
+    EXPECT_EQ(defaultCostKernel(), supportedCostKernels().back());  // the widest the CPU runs
+  }
+  const LinearResidualCost cost(Eigen::MatrixXd::Ones(3, 2), Eigen::VectorXd::Ones(3));
+  EXPECT_EQ(cost.kernel(), defaultCostKernel());
 }
 
 }  // namespace

@@ -4,14 +4,29 @@
 # data beside itself (not in the source tree). Usage: run_consumer.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build=$1
-src=$2
+src=$(cd "$2" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" > "$work/install.log"
-cmake -S "$src/tests/install/consumer" -B "$work/consumer" -G Ninja -DCMAKE_BUILD_TYPE=Release \
-  -DCMAKE_PREFIX_PATH="$work/prefix" > "$work/configure.log"
-cmake --build "$work/consumer" > "$work/build.log"
+# The package must not point back into the trees it came from (they may be moved or deleted).
+if grep -rlF -e "$src" -e "$(cd "$build" && pwd)" "$work/prefix/lib"*/cmake "$work/prefix/include"; then
+  echo "the installed package refers to the source or build tree (files above)"
+  exit 1
+fi
+cp -r "$src/tests/install/consumer" "$work/consumer_src"
+build_consumer() {  # DIR [CXX flags]
+  cmake -S "$work/consumer_src" -B "$1" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$work/prefix" \
+    -DCMAKE_CXX_FLAGS="${2:-}" > "$work/configure.log"
+  cmake --build "$1" > "$work/build.log" || { cat "$work/build.log"; exit 1; }
+}
+build_consumer "$work/consumer"
 "$work/consumer/consumer"
+# A user's project built for its own CPU links the portable libraries: Eigen's object layout and
+# allocator must agree across the two (cmake/ExoidOptions.cmake), or this crashes.
+if echo 'int main(){}' | c++ -march=native -x c++ - -o "$work/native_probe" 2> /dev/null; then
+  build_consumer "$work/consumer_native" -march=native
+  "$work/consumer_native/consumer"
+fi
 if [[ -x "$work/consumer/consumer_sim" ]]; then
   # The library's install data directory is the prefix it was configured for, not this scratch
   # one: point it there, as a relocated install would.

@@ -1,5 +1,6 @@
 // Uses exoid::ident from the installed package: the regressor and LS recover X from exact torques.
 #include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/linear_cost.hpp"
 #include "exoid/ident/params.hpp"
 #include "exoid/ident/regressor.hpp"
 
@@ -28,6 +29,14 @@ int main() {
   }
   const LsResult ls = solveLeastSquares(H, y);
   const double err = (ls.x - x).cwiseAbs().maxCoeff();
-  std::printf("%s recovered to %.3g\n", std::string(paramName(0)).c_str(), err);
-  return err < 1e-8 ? 0 : 1;
+  // The swarm cost on the kernel the library dispatched to, against this project's own arithmetic.
+  const LinearResidualCost cost(H, y);
+  Eigen::MatrixXd swarm = Eigen::MatrixXd::Random(kNumParams, 11);
+  Eigen::VectorXd costs(11);
+  cost.evaluate(swarm, costs);
+  const double direct = (y - H * swarm.col(10)).cwiseAbs().sum();
+  const double cost_err = std::abs(costs[10] - direct) / direct;
+  std::printf("%s recovered to %.3g; swarm cost (%s kernel) agrees to %.3g\n", std::string(paramName(0)).c_str(), err,
+              toString(cost.kernel()), cost_err);
+  return err < 1e-8 && cost_err < 1e-12 ? 0 : 1;
 }

@@ -3,10 +3,26 @@
 // or sum_i (b_i - a_i^T x)^2 (L2), evaluated for a whole swarm in one pass over the data.
 #include <Eigen/Core>
 
+#include <string>
+#include <vector>
+
 namespace exoid::ident {
 
 enum class CostNorm { kL1, kL2 };
 const char* toString(CostNorm n);
+
+/// The swarm kernel's instruction set. One portable binary carries all of them and runs the
+/// widest the CPU has (kAuto); every one gives the same bits (tested), only the speed differs.
+enum class CostKernel { kAuto, kGeneric, kAvx2, kAvx512 };
+const char* toString(CostKernel k);
+/// "auto", "generic", "avx2" or "avx512"; throws std::invalid_argument naming the choices.
+CostKernel parseCostKernel(const std::string& name);
+bool costKernelSupported(CostKernel k);
+/// The kernels this CPU can run, narrowest first (generic always).
+std::vector<CostKernel> supportedCostKernels();
+/// The process default: the widest supported, or the environment variable EXOID_COST_KERNEL
+/// (auto|generic|avx2|avx512; throws std::runtime_error if the CPU cannot run the one named).
+CostKernel defaultCostKernel();
 
 class LinearResidualCost {
  public:
@@ -17,11 +33,17 @@ class LinearResidualCost {
   Eigen::Index dim() const { return A_.cols(); }
   Eigen::Index rows() const { return A_.rows(); }
   CostNorm norm() const { return norm_; }
+  /// The kernel evaluate() runs (defaultCostKernel() unless useKernel chose another).
+  CostKernel kernel() const { return kernel_; }
+  /// Runs evaluate() on kernel k (kAuto: the default). Throws std::invalid_argument if the CPU
+  /// cannot run it.
+  void useKernel(CostKernel k);
 
   /// Cost of one parameter vector.
   double operator()(const Eigen::Ref<const Eigen::VectorXd>& x) const;
   /// Costs of all columns of `particles` (p x S) into costs (S). One fused pass: rows are walked
-  /// once per block of 8 particles, residuals are never stored (memory-bound otherwise).
+  /// once per block of 8 particles, residuals are never stored (memory-bound otherwise). Up to
+  /// 10 parameters; more fall back to one particle at a time.
   void evaluate(const Eigen::Ref<const Eigen::MatrixXd>& particles, Eigen::Ref<Eigen::VectorXd> costs) const;
 
   /// Floating-point operations of one evaluate() call for S particles (for GFLOP/s reports):
@@ -32,6 +54,7 @@ class LinearResidualCost {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> A_;
   Eigen::VectorXd b_;
   CostNorm norm_;
+  CostKernel kernel_;
 };
 
 }  // namespace exoid::ident
