@@ -38,17 +38,6 @@ struct IdentifyArgs {
   bool history = false;
 };
 
-// What IDIM-IV needs of a record besides its rows: the reference and the controller it tracked.
-ident::ClosedLoopRecord closedLoop(const IdentifyArgs& a, const std::string& file, const ident::Dataset& d,
-                                   const ident::ProcessedRecord& rows, bool knee_only_record) {
-  ident::ClosedLoopRecord r;
-  r.measured = rows;
-  r.controller = a.controller.empty() ? controllerFromMetadata(d, file) : readControllerJson(a.controller);
-  r.reference = referenceOf(d, file);
-  if (knee_only_record) r.controller.locked = {true, false};  // the segmental strategy's knee record: hip fixed
-  return r;
-}
-
 std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names) {
   std::vector<ident::Method> out;
   for (const std::string& n : names) {
@@ -250,8 +239,8 @@ void run(const IdentifyArgs& a) {
   // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
   ident::ClosedLoopRecord cl_primary, cl_knee;
   if (iv) {
-    cl_primary = closedLoop(a, primary.files.front(), primary.data.front(), r_primary, false);
-    if (segmental) cl_knee = closedLoop(a, knee.files.front(), knee.data.front(), r_knee, true);
+    cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), r_primary, a.controller, false);
+    if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), r_knee, a.controller, true);
   }
 
   // The PSO baseline's box from the data: 10 x the largest |LS estimate| (a fixed +-50 is absurd

@@ -135,4 +135,15 @@ ident::Reference referenceOf(const ident::Dataset& d, const std::string& source)
   return ident::referenceFromAngles(d.t_s, q);
 }
 
+ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
+                                         const ident::ProcessedRecord& rows, const std::string& controller_json,
+                                         bool knee_only_record) {
+  ident::ClosedLoopRecord r;
+  r.measured = rows;
+  r.controller = controller_json.empty() ? controllerFromMetadata(d, source) : readControllerJson(controller_json);
+  r.reference = referenceOf(d, source);
+  if (knee_only_record) r.controller.locked = {true, false};
+  return r;
+}
+
 }  // namespace exoid::experiments

@@ -1,5 +1,7 @@
 #include "exoid/sim/data_dir.hpp"
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -30,6 +32,20 @@ std::string find() {
     const fs::path beside = (exe.parent_path() / ".." / "share" / "exoid").lexically_normal();
     if (looksRight(beside)) return beside.string();
     looked += beside.string() + ", ";
+  }
+  // Loaded into another program (the Python module in python3): the shared object holding this code
+  // lives in <build>/python or <prefix>/lib/python3/dist-packages; its ancestors hold share/exoid.
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<void*>(&looksRight), &info) != 0 && info.dli_fname != nullptr) {
+    const fs::path object = fs::weakly_canonical(info.dli_fname, ec);
+    if (!ec && object != fs::weakly_canonical(exe, ec)) {
+      fs::path dir = object.parent_path();
+      for (int up = 0; up < 4 && !dir.empty(); ++up, dir = dir.parent_path()) {
+        const fs::path candidate = (dir / ".." / "share" / "exoid").lexically_normal();
+        if (looksRight(candidate)) return candidate.string();
+      }
+      looked += object.parent_path().string() + "/{..,../..,../../..,../../../..}/share/exoid, ";
+    }
   }
   const fs::path installed = fs::path(EXOID_INSTALL_DATADIR);
   if (looksRight(installed)) return installed.string();

@@ -3,6 +3,7 @@
 // from a JSON file describing a real rig's controller.
 #include "exoid/ident/closed_loop.hpp"
 #include "exoid/ident/dataset.hpp"
+#include "exoid/ident/idim_iv.hpp"
 
 #include <string>
 
@@ -23,5 +24,11 @@ ident::ControllerModel readControllerJson(const std::string& path);
 /// The reference from the dataset's q_hip_ref and q_knee_ref columns (rad); throws
 /// std::invalid_argument naming `source` when they are missing.
 ident::Reference referenceOf(const ident::Dataset& d, const std::string& source);
+/// What IDIM-IV needs of a record besides its rows: the reference and the controller it tracked
+/// (from controller_json if not empty, else the record's metadata). knee_only_record: the
+/// segmental strategy's knee record, its hip held fixed.
+ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
+                                         const ident::ProcessedRecord& rows, const std::string& controller_json,
+                                         bool knee_only_record);
 
 }  // namespace exoid::experiments

@@ -7,8 +7,9 @@
 namespace exoid::sim {
 
 /// The data directory, the first of: $EXOID_DATA_DIR (must exist); <the running executable's
-/// folder>/../share/exoid (the build tree and an installed prefix both have it); the install
-/// prefix's share/exoid. Throws std::runtime_error listing where it looked.
+/// folder>/../share/exoid (the build tree and an installed prefix both have it); when this code
+/// is loaded into another program (the Python module), share/exoid beside an ancestor of the
+/// shared object's folder; the install prefix's share/exoid. Throws std::runtime_error listing where it looked.
 const std::string& dataDir();
 
 /// dataDir() + "/" + relative, e.g. dataPath("models/apal_leg.xml"); without a data directory,

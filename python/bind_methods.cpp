@@ -1,0 +1,103 @@
+// Identification methods, the segmental strategy, IDIM-IV and identifiability.
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include "exoid/experiments/controller_io.hpp"
+#include "exoid/ident/identifiability.hpp"
+#include "exoid/ident/idim_iv.hpp"
+
+namespace exoid::python {
+
+using namespace exoid::ident;
+
+namespace {
+
+py::dict segmentalDict(const SegmentalResult& r) {
+  return py::dict(py::arg("x") = Eigen::VectorXd(r.x), py::arg("knee") = estimateDict(r.knee),
+                  py::arg("hip") = estimateDict(r.hip));
+}
+
+std::string sourceOf(const py::dict& d, const char* role) {
+  return d.contains("source") ? d["source"].cast<std::string>() : std::string("<") + role + " record>";
+}
+
+}  // namespace
+
+void bindMethods(py::module_& m) {
+  m.def("identify",
+        [](const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::string& method, const py::kwargs& kw) {
+          return estimateDict(estimate(parseMethod(method), H, y, methodOptions(kw, "identify")));
+        },
+        py::arg("H"), py::arg("y"), py::arg("method") = "ls",
+        (std::string("Identify x in y = H x with one method: 'ls', 'rls', 'pso', 'rls-pso' (the paper's), 'lad' "
+                     "(exact L1 optimum). Returns a dict: x, method, status, usable, message, iterations, "
+                     "initial_cost, final_cost, wall_time_s, l1_cost; rank, condition_number, unidentifiable (LS); "
+                     "box (PSO, RLS-PSO; RLS's fluctuation range); optimum_l1_cost, optimality_gap and their "
+                     "in-box versions (PSO, RLS-PSO); cost_history (PSO). ") + kMethodOptionsDoc).c_str());
+
+  m.def("identify_segmental",
+        [](const py::dict& knee_record, const py::dict& both_record, double thigh_length_m, const std::string& method,
+           double gravity_mps2, const std::string& processing, double cutoff_hz, int filter_order, int decimation,
+           const std::string& base_terms, const py::kwargs& kw) {
+          const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
+          const SignalOptions s = signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms);
+          const MethodOptions o = methodOptions(kw, "identify_segmental");
+          return segmentalDict(identifySegmental(parseMethod(method), processRecord(datasetFrom(knee_record), c, s),
+                                                 processRecord(datasetFrom(both_record), c, s), o));
+        },
+        py::arg("knee_record"), py::arg("both_record"), py::arg("thigh_length_m"), py::arg("method") = "rls-pso",
+        py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = 10.0,
+        py::arg("filter_order") = 2, py::arg("decimation") = 0, py::arg("base_terms") = "auto",
+        (std::string("The paper's segmental strategy: the knee parameters (Mxs, Mys, Js, fc2, fv2) from a record with the "
+                     "hip fixed, then the hip parameters from a record where both joints move, its hip torque minus "
+                     "the knee part. Records are dataset dicts (read_dataset). Returns x (10) and the knee and hip "
+                     "stages' estimates (dicts as identify returns). ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
+
+  m.def("identify_idim_iv",
+        [](const py::dict& both_record, double thigh_length_m, const std::optional<py::dict>& knee_record,
+           const std::string& controller, double gravity_mps2, double cutoff_hz, int filter_order, int decimation,
+           const std::string& base_terms, double step_tolerance, int max_iterations, bool knee_armature) {
+          const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
+          const SignalOptions s = signalOptions("parallel", cutoff_hz, filter_order, decimation, base_terms);
+          IvOptions iv;
+          iv.step_tolerance = step_tolerance;
+          iv.max_iterations = max_iterations;
+          iv.validate();
+          auto closedLoop = [&](const py::dict& record, const char* role, bool knee_only) {
+            const Dataset d = datasetFrom(record);
+            return experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, c, s), controller, knee_only);
+          };
+          const ClosedLoopRecord both = closedLoop(both_record, "both", false);
+          if (!knee_record) {
+            const Estimate e = identifyAllIv(both, c, s, iv, knee_armature);
+            return py::dict(py::arg("x") = e.x, py::arg("all") = estimateDict(e));
+          }
+          if (knee_armature) throw std::invalid_argument("identify_idim_iv: knee_armature needs the single-record form (no knee_record)");
+          return segmentalDict(identifySegmentalIv(closedLoop(*knee_record, "knee", true), both, c, s, iv));
+        },
+        py::arg("both_record"), py::arg("thigh_length_m"), py::arg("knee_record") = py::none(), py::arg("controller") = "",
+        py::arg("gravity_mps2") = 9.81, py::arg("cutoff_hz") = 10.0, py::arg("filter_order") = 2, py::arg("decimation") = 0,
+        py::arg("base_terms") = "auto", py::arg("step_tolerance") = 0.1, py::arg("max_iterations") = 10,
+        py::arg("knee_armature") = false,
+        "IDIM-IV (Janot et al. 2014): instrumental variables from closed-loop simulations of the model identified at the "
+        "previous iteration, on the parallel processing. With knee_record, the segmental strategy (returns x, knee, "
+        "hip); without, all 10 parameters from both_record (returns x, all; with knee_armature, 11: Ia2 last). Each record needs its reference "
+        "(extra columns q_hip_ref, q_knee_ref) and its controller: from the record's metadata (comments, as `exoid "
+        "simulate` writes them) or controller, a JSON file {\"kp\": [hip, knee], \"kd\": [..], ...}. A record dict's "
+        "optional 'source' names it in errors.");
+
+  m.def("identifiability",
+        [](const Eigen::MatrixXd& H, const Eigen::VectorXd& y, double noise_sigma) {
+          const IdentifiabilityReport r = analyzeIdentifiability(H, y, noise_sigma);
+          std::vector<long> unid(r.unidentifiable.begin(), r.unidentifiable.end());
+          return py::dict(py::arg("rank") = r.rank, py::arg("condition_number") = r.condition_number,
+                          py::arg("unidentifiable") = unid, py::arg("crb_std") = r.crb_std, py::arg("crb_rel_std") = r.crb_rel_std,
+                          py::arg("collinearity_r2") = r.collinearity_r2);
+        },
+        py::arg("H"), py::arg("y"), py::arg("noise_sigma"),
+        "What y = H x can identify: rank, condition number of the column-scaled H, unidentifiable columns, the "
+        "Cramer-Rao std of each parameter for white noise of std noise_sigma (and relative to the LS estimate), each "
+        "column's R^2 on the others.");
+}
+
+}  // namespace exoid::python

@@ -1,0 +1,77 @@
+// simulate: the MuJoCo rig from Python, with exactly the options of `exoid simulate`.
+#include "bindings.hpp"
+#include "convert.hpp"
+
+#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/sim/simulate.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+
+namespace exoid::python {
+
+namespace {
+
+// A keyword argument as the command line's words: noise_tau=0.5 -> --noise-tau 0.5,
+// lock_hip=True -> --lock-hip, feedforward=False -> --no-feedforward, fourier_hip=[..] -> one word each.
+void appendArgument(std::vector<std::string>& args, const std::string& key, const py::handle& value) {
+  std::string flag = key;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  if (py::isinstance<py::bool_>(value)) {
+    args.push_back((value.cast<bool>() ? "--" : "--no-") + flag);
+  } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    args.push_back("--" + flag);
+    for (const py::handle& item : value) args.push_back(py::str(item).cast<std::string>());
+  } else {
+    args.push_back("--" + flag);
+    args.push_back(py::str(value).cast<std::string>());
+  }
+}
+
+py::object jsonToPython(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
+
+}  // namespace
+
+void bindSim(py::module_& m) {
+  m.def("simulate",
+        [](const py::kwargs& kw) {
+          CLI::App app{"exoid.simulate"};
+          sim::SimConfig config;
+          experiments::addSimOptions(app, config);
+          app.add_option("--seed", config.seed);
+          std::vector<std::string> args;
+          for (const auto& [key, value] : kw) {
+            const std::size_t first = args.size();
+            appendArgument(args, key.cast<std::string>(), value);
+            if (app.get_option_no_throw(args[first]) == nullptr) {
+              throw py::type_error("simulate() got an unexpected keyword argument '" + key.cast<std::string>() +
+                                   "' (keywords are `exoid simulate`'s options with '_' for '-', see its --help)");
+            }
+          }
+          std::reverse(args.begin(), args.end());  // CLI11 parses a vector from its back
+          try {
+            app.parse(args);
+          } catch (const CLI::ParseError& e) {
+            throw std::invalid_argument(std::string("simulate: ") + e.what() +
+                                        " (keywords are `exoid simulate`'s options with '_' for '-')");
+          }
+          const sim::SimResult r = sim::simulate(config);
+          const ident::Dataset d = experiments::toDataset(r);
+          py::dict truth(py::arg("x") = Eigen::VectorXd(experiments::toParamVector(r.truth.x)),
+                         py::arg("thigh_length_m") = r.truth.thigh_length_m, py::arg("gravity_mps2") = r.truth.gravity_mps2,
+                         py::arg("knee_armature_kgm2") = r.truth.knee_armature_kgm2, py::arg("source") = r.truth.source);
+          return py::dict(py::arg("dataset") = datasetDict(d), py::arg("truth") = truth,
+                          py::arg("sidecar") = jsonToPython(experiments::simulationSidecar(r, d)));
+        },
+        "Simulate the MuJoCo rig as `exoid simulate` does and return a dict: dataset (as read_dataset returns, "
+        "with the exact columns and the controller's metadata, so identify_idim_iv can use it), truth (x of the "
+        "rigid links, thigh_length_m, gravity_mps2, knee_armature_kgm2, source) and sidecar (every setting, the "
+        "seed, versions, statistics). Keywords are the command's options with '_' for '-': trajectory=3, "
+        "duration=10, noise_q_deg, noise_tau, vibration, seed, lock_hip=True, feedforward=False, excitation='d.json', "
+        "fourier_hip=[...], model='leg.xml', ... (see `exoid simulate --help`); defaults are the command's "
+        "(no noise, welded pedestal).");
+  m.attr("has_simulator") = true;
+}
+
+}  // namespace exoid::python
