@@ -4,10 +4,11 @@
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/options.hpp"
 #include "exoid/experiments/plots.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
-#include "exoid/ident/atomic_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/truth.hpp"
 
@@ -36,7 +37,7 @@ struct ExciteArgs {
 // acceleration and nominal torque per joint (what the figure plots).
 void writeSeriesCsv(const std::string& path, const ident::FourierTrajectory& design, const ident::FourierTrajectory& paper,
                     const ident::LegConstants& c, const ident::ParamVector& nominal) {
-  ident::writeFileAtomically(path, [&](std::ostream& o) {
+  core::writeFileAtomically(path, [&](std::ostream& o) {
     o << "t_s";
     for (const char* who : {"design", "paper"}) {
       for (const char* q : {"q", "qd", "qdd", "tau"}) o << ',' << who << '_' << q << "_hip," << who << '_' << q << "_knee";
@@ -204,10 +205,10 @@ void addExciteCommand(CLI::App& app) {
       ->check(CLI::IsMember({"crb", "cond"}))
       ->default_str("crb");
   cmd->add_option("--harmonics", a->options.harmonics, "Harmonics per joint, >= 2")->capture_default_str();
-  cmd->add_option("--f0", a->options.f0_hz, "Base frequency, Hz (the period is 1/f0)")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--f0", a->options.f0_hz, "Base frequency, Hz (the period is 1/f0)")->check(positiveNumber())->capture_default_str();
   cmd->add_option("--restarts", a->options.restarts, "Random starts of the optimiser, >= 1")->capture_default_str();
   cmd->add_option("--max-evaluations", a->options.max_evaluations, "Criterion evaluations per restart, >= 100")->capture_default_str();
-  cmd->add_option("--seed", a->options.seed, "Seed of the random starts")->capture_default_str();
+  cmd->add_option("--seed", a->options.seed, "Seed of the random starts")->check(seedValidator())->capture_default_str();
   cmd->add_option("--limits", a->limits,
                   "paper: the envelope of the paper's trajectories (asks no more of the rig than the paper did); urdf: the "
                   "rig's joint range, speed and effort from --urdf")
@@ -219,8 +220,8 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_option("--qdd-max", a->qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
   cmd->add_option("--tau-max", a->tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
   cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
-  cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(CLI::PositiveNumber)->capture_default_str();
-  cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(CLI::PositiveNumber)->capture_default_str();
+  cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
+  cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();
   cmd->callback([a] { runExcite(*a); });
 }
 

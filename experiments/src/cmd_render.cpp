@@ -12,7 +12,7 @@
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
 #include "exoid/render/clip.hpp"
-#include "exoid/render/output_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/render/video_writer.hpp"
 #include "exoid/sim/simulate.hpp"
 
@@ -157,7 +157,7 @@ void run(RenderArgs& a) {
   a.clip.validate();
   // Fail fast, before simulating or rendering: ffmpeg present, output folder writable.
   if (!still) render::requireFfmpeg(a.clip.ffmpeg);
-  render::checkOutputWritable(a.out);
+  core::checkOutputWritable(a.out);
 
   const render::Track track = a.data.empty() ? trackFromSimulation(a) : trackFromDataset(a.data, a.ident_json, a.signals);
   if (still) {
@@ -210,7 +210,7 @@ void addRenderCommand(CLI::App& app) {
   cmd->add_flag("--no-overlay", args->no_overlay, "No text or plots: the 3D view only")->group("Output");
   cmd->add_flag("--no-plot", args->no_plot, "Text overlay only, no torque plots")->group("Output");
   cmd->add_option("--window", args->clip.overlay.plot_window_s, "Scrolling plot window (s)")
-      ->capture_default_str()->check(CLI::PositiveNumber)->group("Output");
+      ->capture_default_str()->check(positiveNumber())->group("Output");
   cmd->add_option("--base-gain", args->clip.base_motion_gain,
                   "Multiply the drawn pedestal motion (1 = true size; e.g. 20 to see mm-scale vibration)")
       ->capture_default_str()->check(CLI::NonNegativeNumber)->group("Output");
@@ -225,7 +225,7 @@ void addRenderCommand(CLI::App& app) {
 
   addSimOptions(*cmd, args->sim);
   cmd->add_option("--seed", args->sim.seed, "Seed of the sensor noise and floor disturbance")
-      ->capture_default_str()->group("Simulation");
+      ->check(seedValidator())->capture_default_str()->group("Simulation");
   addSignalOptions(*cmd, args->signals);
   cmd->callback([args] {
     args->clip.model_path = args->sim.model_path;

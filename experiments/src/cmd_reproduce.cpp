@@ -101,7 +101,7 @@ void addReproduceCommand(CLI::App& app) {
   addMethodOptions(*cmd, args->config.methods);
   // One protocol seed instead of the PSO seed: sensor noise and PSO streams derive from it.
   cmd->remove_option(cmd->get_option("--seed"));
-  cmd->add_option("--seed", args->config.seed, "Protocol seed (sensor noise of each record, PSO)")->capture_default_str();
+  cmd->add_option("--seed", args->config.seed, "Protocol seed (sensor noise of each record, PSO)")->check(seedValidator())->capture_default_str();
   cmd->callback([args] { run(*args); });
 }
 

@@ -1,6 +1,7 @@
 // `exoid simulate` and `exoid truth`.
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/options.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/sim/sidecar.hpp"
@@ -90,7 +91,7 @@ void addSimulateCommand(CLI::App& app) {
       "write the dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed,\n"
       "versions and the truths (rigid links, lumped four-bar band, best fit of the record).");
   addSimOptions(*cmd, args->config);
-  cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->capture_default_str();
+  cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->check(seedValidator())->capture_default_str();
   cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");
   cmd->add_option("--out", args->out, "Dataset CSV to write")->required();
   cmd->callback([args] { runSimulate(*args); });

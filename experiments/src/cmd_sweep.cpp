@@ -1,5 +1,6 @@
 // `exoid sweep` and `exoid merge`: the grid of conditions x seeds x methods, and its shards.
 #include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/options.hpp"
 #include "exoid/experiments/sweep_config.hpp"
 #include "exoid/experiments/sweep_runner.hpp"
 #include "exoid/sim/data_dir.hpp"
@@ -94,8 +95,8 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--shard", a->shard, "Run shard K/N: cells with cell % N == K (default: from SLURM_ARRAY_TASK_ID/COUNT)");
   cmd->add_flag("!--no-plots", a->run.plots, "Skip the figures");
   const char* o = "Overrides of the config file";
-  cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell")->group(o);
-  cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->group(o);
+  cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell, 1 to 1e6")->check(CLI::Range(1, 1000000))->group(o);
+  cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->check(seedValidator())->group(o);
   cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base")->delimiter(',')->group(o);
   cmd->add_option("--noise-tau", a->noise_tau, "[grid] torque_noise_Nm levels, e.g. 0,0.5")->delimiter(',')->group(o);
   cmd->add_option("--noise-q-deg", a->noise_q, "[grid] angle_noise_deg levels")->delimiter(',')->group(o);
@@ -104,8 +105,8 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
   cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs)")
       ->delimiter(',')->group(o);
-  cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(CLI::PositiveNumber)->group(o);
-  cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(CLI::PositiveNumber)->group(o);
+  cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(positiveNumber())->group(o);
+  cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(positiveNumber())->group(o);
   cmd->callback([a] { runSweepCommand(*a); });
 }
 

@@ -3,7 +3,7 @@
 #include "exoid/ident/plausibility.hpp"
 
 #include "exoid/experiments/version.hpp"
-#include "exoid/ident/atomic_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/ident/segmental.hpp"
 
 #include <fstream>
@@ -259,7 +259,7 @@ std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path)
 nlohmann::json toolJson() { return {{"name", "exoid"}, {"version", kVersion}, {"revision", kGitRevision}}; }
 
 void writeJsonFile(const std::string& path, const nlohmann::json& j) {
-  ident::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
 }  // namespace exoid::experiments

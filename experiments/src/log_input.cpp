@@ -1,4 +1,5 @@
 #include "exoid/experiments/log_input.hpp"
+#include "exoid/experiments/options.hpp"
 
 #include "exoid/experiments/table.hpp"
 
@@ -30,7 +31,7 @@ void addLogInputOptions(CLI::App& app, LogInputFlags& f) {
       ->group(g);
   app.add_option("--max-gap-ms", f.max_gap_ms,
                  "Longest interval resampling bridges, ms (default: a tenth of the low-pass filter's period, 10 ms at 10 Hz)")
-      ->check(CLI::PositiveNumber)->group(g);
+      ->check(positiveNumber())->group(g);
 }
 
 LogInput readLogProfile(const std::string& path) {

@@ -1,5 +1,6 @@
 #include "exoid/experiments/options.hpp"
 
+#include <cmath>
 #include <map>
 
 namespace exoid::experiments {
@@ -10,6 +11,41 @@ ident::SignalOptions defaultIdentifySignals() {
   o.differentiation = ident::Differentiation::kCentral4;
   o.base_terms = ident::BaseTerms::kAuto;
   return o;
+}
+
+const CLI::Validator& seedValidator() {
+  static const CLI::Validator v(
+      [](std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits) {
+          try {
+            (void)std::stoull(text);
+            return {};
+          } catch (const std::out_of_range&) {
+          }
+        }
+        return "expected a seed: an integer from 0 to 18446744073709551615, got '" + text + "'";
+      },
+      "SEED");
+  return v;
+}
+
+const CLI::Validator& positiveNumber() {
+  static const CLI::Validator v(
+      [](std::string& text) -> std::string {
+        std::size_t used = 0;
+        double x = 0.0;
+        try {
+          x = std::stod(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0) return "expected a number > 0, got '" + text + "'";
+        if (!(x > 0.0) || !std::isfinite(x)) return "must be > 0 and finite, got " + text;
+        return {};
+      },
+      "POSITIVE");
+  return v;
 }
 
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
@@ -44,7 +80,7 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
   app.add_flag("!--no-filter", o.filter, "Do not low-pass filter (paper: zero-phase 10 Hz)")
       ->group("Signal processing");
   app.add_option("--cutoff-hz", o.cutoff_hz, "Zero-phase Butterworth cutoff of one pass, Hz")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str()
       ->group("Signal processing");
   app.add_option("--filter-order", o.filter_order, "Butterworth order of one pass (forward-backward doubles it)")
@@ -69,9 +105,9 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
   static const std::map<std::string, ident::CostNorm> kNorm = {{"l1", ident::CostNorm::kL1},
                                                               {"l2", ident::CostNorm::kL2}};
   const char* g = "PSO";
-  app.add_option("--seed", pso.seed, "Seed of every random draw of PSO")->capture_default_str()->group(g);
+  app.add_option("--seed", pso.seed, "Seed of every random draw of PSO")->check(seedValidator())->capture_default_str()->group(g);
   app.add_option("--pso-iterations", pso.max_iterations, "PSO iterations G (paper: 10000)")
-      ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+      ->check(positiveNumber())->capture_default_str()->group(g);
   app.add_option("--swarm", pso.swarm_size, "PSO particles")->check(CLI::Range(2, 100000))->capture_default_str()->group(g);
   app.add_option("--pso-tolerance", pso.cost_tolerance, "Stop when the best cost < this (paper: 1e-2)")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
@@ -86,12 +122,12 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
   app.add_option("--cost", o.rls_pso.cost, "PSO cost: l1 (paper) or l2")
       ->transform(CLI::CheckedTransformer(kNorm, CLI::ignore_case))->default_str("l1")->group(g);
   app.add_option("--wide-box", o.wide_box_half_width, "Half-width of the PSO baseline's box in every parameter")
-      ->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+      ->check(positiveNumber())->capture_default_str()->group(g);
   const char* r = "RLS";
   app.add_option("--rls-forgetting", o.rls_pso.rls.forgetting, "Forgetting factor lambda in (0, 1]")
       ->capture_default_str()->group(r);
   app.add_option("--rls-p0", o.rls_pso.rls.initial_covariance, "Initial covariance P0 = p0 * I")
-      ->check(CLI::PositiveNumber)->capture_default_str()->group(r);
+      ->check(positiveNumber())->capture_default_str()->group(r);
   app.add_option("--burn-in", o.rls_pso.range.burn_in_fraction,
                  "Fraction of RLS updates ignored for the fluctuation range")->capture_default_str()->group(r);
   app.add_option("--box-margin", o.rls_pso.range.margin_fraction,
@@ -103,9 +139,9 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
 void addConstantsOptions(CLI::App& app, ConstantsFlags& f) {
   app.add_option("--thigh-length", f.thigh_length_m,
                  "Thigh length Lt in m (else the --profile's [model], else dataset metadata 'thigh_length_m'; required)")
-      ->check(CLI::PositiveNumber)->group("Model");
+      ->check(positiveNumber())->group("Model");
   app.add_option("--gravity", f.gravity_mps2, "Gravity in m/s^2 (else the --profile's [model], else metadata 'gravity_mps2', else 9.81)")
-      ->check(CLI::PositiveNumber)->group("Model");
+      ->check(positiveNumber())->group("Model");
 }
 
 namespace {

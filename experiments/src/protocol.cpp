@@ -44,7 +44,7 @@ Variant parseVariant(const std::string& name) {
 
 void ProtocolConfig::validate() const {
   sim.validate();
-  signals.validate();
+  signals.validateFor(1.0 / sim.dt_s);  // the records' rate: a cutoff above its Nyquist fails every run
   if (signals.processing != ident::Processing::kPaper) {
     throw std::invalid_argument("the protocol's arms use the paper's signal processing ('--processing paper'); "
                                 "a parallel-processing arm is not part of it yet");

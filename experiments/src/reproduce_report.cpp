@@ -3,7 +3,7 @@
 #include "exoid/experiments/reproduce.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
-#include "exoid/ident/atomic_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/sidecar.hpp"
 
@@ -113,7 +113,7 @@ void writeSeries(const ProtocolResult& r, const std::string& dir) {
   for (int which = 0; which < 2; ++which) {
     const Record& rec = r.records[which == 0 ? 1 : 3];
     const int joint = which == 0 ? 1 : 0;
-    ident::writeFileAtomically(dir + (which == 0 ? "/series_validation_knee.csv" : "/series_validation_hip.csv"),
+    core::writeFileAtomically(dir + (which == 0 ? "/series_validation_knee.csv" : "/series_validation_hip.csv"),
                                [&](std::ostream& out) {
       out << "t,measured";
       std::vector<Eigen::MatrixX2d> preds;
@@ -129,7 +129,7 @@ void writeSeries(const ProtocolResult& r, const std::string& dir) {
       }
     });
   }
-  ident::writeFileAtomically(dir + "/series_convergence.csv", [&](std::ostream& out) {
+  core::writeFileAtomically(dir + "/series_convergence.csv", [&](std::ostream& out) {
     std::vector<std::pair<std::string, const std::vector<double>*>> cols;
     for (const VariantScore& s : r.scores) {
       for (const Stage& st : s.outcome.stages) {
@@ -273,7 +273,7 @@ std::string verdict(const ProtocolResult& r) {
 namespace {
 
 void writeEstimatesCsv(const ProtocolResult& r, const std::string& path) {
-  ident::writeFileAtomically(path, [&](std::ostream& o) {
+  core::writeFileAtomically(path, [&](std::ostream& o) {
     o << "method,parameter,unit,estimate,truth_rigid,truth_best_fit,rel_error_rigid,rel_error_best_fit\n";
     for (const VariantScore& s : r.scores) {
       for (int i = 0; i < kNumParams; ++i) {
@@ -342,7 +342,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
     writeJsonFile(out.dir + "/results.json", j);
     writeEstimatesCsv(*optimised, out.dir + "/estimates_optimised.csv");
   }
-  ident::writeFileAtomically(out.dir + "/validation.csv", [&](std::ostream& o) {
+  core::writeFileAtomically(out.dir + "/validation.csv", [&](std::ostream& o) {
     o << "method,joint,validation_trajectory,mean_abs_Nm,std_abs_Nm,rms_Nm,max_abs_Nm\n";
     for (const VariantScore& s : r.scores) {
       for (int k = 0; k < 2; ++k) {
@@ -501,7 +501,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
   if (!media.empty()) md << "\n## The leg\n\n" << media;
   md << "\n## Files\n\n`results.json` (everything, with the PSO histories), `estimates.csv`, `validation.csv`, "
         "`series_*.csv` (the plotted series).\n";
-  ident::writeFileAtomically(out.dir + "/report.md", [&](std::ostream& o) { o << md.str(); });
+  core::writeFileAtomically(out.dir + "/report.md", [&](std::ostream& o) { o << md.str(); });
 }
 
 }  // namespace exoid::experiments

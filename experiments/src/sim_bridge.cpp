@@ -1,8 +1,8 @@
 #include "exoid/experiments/sim_bridge.hpp"
 
 #include "exoid/experiments/excitation_io.hpp"
-
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/options.hpp"
 #include "exoid/experiments/version.hpp"
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/segmental.hpp"
@@ -144,7 +144,7 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
                            "--fourier-knee", [&c](const std::vector<double>& v) { c.fourier.knee = fourierJoint(v, "--fourier-knee"); c.trajectory = 0; },
                            "Fourier trajectory, knee: offset,a1,b1,a2,b2,... in deg (replaces --trajectory)")
                        ->delimiter(',')->group(g);
-  app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(positiveNumber())->capture_default_str()->group(g);
   app.add_flag("--lock-hip", c.fourier.lock_hip, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
   CLI::Option* ex = app.add_option_function<std::string>(
                            "--excitation", [&c](const std::string& path) { c.fourier = toFourierSpec(readExcitationFile(path)); c.trajectory = 0; },
@@ -174,7 +174,7 @@ ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked) 
 void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   const char* g = "Simulation";
   if (choose_trajectory) addTrajectoryOptions(app, c);
-  app.add_option("--duration", c.duration_s, "Recorded duration, s")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  app.add_option("--duration", c.duration_s, "Recorded duration, s")->check(positiveNumber())->capture_default_str()->group(g);
   app.add_option("--ramp", c.ramp_s, "Smooth start ramp, s (run before recording)")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--noise-q-deg", c.sensors.noise_q_deg, "Encoder noise std, deg")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--quantisation-deg", c.sensors.quantisation_deg, "Encoder resolution, deg (0 = none)")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
@@ -187,7 +187,7 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--floor-force-z", c.floor.force_z_amplitude_N, "Floor disturbance: vertical force amplitude, N")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
-  app.add_option("--floor-frequency", c.floor.frequency_Hz, "Floor disturbance frequency, Hz")->check(CLI::PositiveNumber)->capture_default_str()->group(g);
+  app.add_option("--floor-frequency", c.floor.frequency_Hz, "Floor disturbance frequency, Hz")->check(positiveNumber())->capture_default_str()->group(g);
   app.add_option("--floor-random", c.floor.random_std_N, "Floor disturbance: white force std, N")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--cylinder-mass-scale", c.variant.cylinder_mass_scale, "Scale of the cylinder and rod masses (0 = 2-link model exact)")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);

@@ -128,7 +128,15 @@ void SweepConfig::validate() const {
                            "(exoid excite files; exoid ships experiments/configs/excitation_knee.json and excitation_both.json)");
   }
 
-  if (seeds < 1) throw SweepConfigError(where(*this, "sweep.seeds") + ": must be >= 1, got " + std::to_string(seeds));
+  if (seeds < 1 || seeds > 1000000) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + std::to_string(seeds));
+  }
+  // Bounded before anything is allocated per run (a job list of 2^31 runs exhausts memory).
+  constexpr double kMaxRuns = 1e7;
+  if (static_cast<double>(numCells()) * seeds > kMaxRuns) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + std::to_string(numCells()) + " cells x " +
+                           std::to_string(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
+  }
   if (methods.empty()) throw SweepConfigError(where(*this, "sweep.methods") + ": name at least one method");
   if (std::set<Variant>(methods.begin(), methods.end()).size() != methods.size()) {
     throw SweepConfigError(where(*this, "sweep.methods") + ": methods must be distinct");

@@ -1,5 +1,7 @@
 #include "exoid/experiments/sweep_runner.hpp"
 
+#include "exoid/experiments/fault_injection.hpp"
+#include "exoid/experiments/folder_lock.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/plots.hpp"
 #include "exoid/experiments/progress.hpp"
@@ -35,16 +37,36 @@ nlohmann::json readJson(const fs::path& p) {
   }
 }
 
-// Finished jobs in DIR/runs, keyed by (cell, replicate). Only complete files exist there (each
-// was renamed into place whole); temporaries of a killed run are ignored and removed.
-std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir) {
+// Finished jobs in DIR/runs, keyed by (cell, replicate). Files are renamed into place whole, so
+// a file that does not parse was damaged afterwards (a disk error, a full disk on a filesystem
+// without atomic rename, a user's editor): it is removed with a warning and its run redone.
+// Temporaries of a killed run are removed.
+std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir, std::ostream* log = nullptr) {
   std::map<std::pair<int, int>, fs::path> out;
   const fs::path runs = dir / "runs";
   if (!fs::exists(runs)) return out;
   for (const auto& e : fs::directory_iterator(runs)) {
     const std::string name = e.path().filename().string();
     if (const auto id = parseJobFileName(name)) {
-      out[{id->cell, id->replicate}] = e.path();
+      std::string problem;
+      try {
+        const nlohmann::json j = readJson(e.path());
+        if (j.value("cell", -1) != id->cell || j.value("replicate", -1) != id->replicate || !j.contains("status")) {
+          problem = "it does not hold run (" + std::to_string(id->cell) + ", " + std::to_string(id->replicate) + ")";
+        }
+      } catch (const std::exception& err) {
+        problem = fs::file_size(e.path()) == 0 ? std::string("it is empty") : err.what();
+      }
+      if (problem.empty()) {
+        out[{id->cell, id->replicate}] = e.path();
+      } else if (log != nullptr) {
+        *log << "warning: " << e.path().string() << " is damaged (" << problem << "); redoing that run\n";
+        std::error_code ec;
+        fs::remove(e.path(), ec);
+      } else {
+        throw std::runtime_error(e.path().string() + " is damaged (" + problem +
+                                 "); rerun `exoid sweep` on that shard's folder to redo the run");
+      }
     } else if (name.find(".tmp.") != std::string::npos) {
       std::error_code ec;
       fs::remove(e.path(), ec);
@@ -53,22 +75,81 @@ std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir) {
   return out;
 }
 
+// The run's JSON without its wall times (the one part two runs of one job need not share).
+nlohmann::json withoutWallTimes(nlohmann::json j) {
+  if (j.is_object()) {
+    j.erase("wall_time_s");
+    for (auto& [k, v] : j.items()) v = withoutWallTimes(v);
+  } else if (j.is_array()) {
+    for (auto& v : j) v = withoutWallTimes(v);
+  }
+  return j;
+}
+
 std::vector<nlohmann::json> readJobs(const std::map<std::pair<int, int>, fs::path>& files) {
   std::vector<nlohmann::json> jobs;
   for (const auto& [id, path] : files) jobs.push_back(readJson(path));
   return jobs;
 }
 
+constexpr const char* kMarker = "complete.json";
+
+// What the folder holds once every output is written; written last, removed first (so a folder
+// without it is unfinished, whatever else it holds: a kill or a full disk mid-way).
+nlohmann::json completionRecord(const fs::path& dir) {
+  const fs::path p = dir / kMarker;
+  if (!fs::exists(p)) return nullptr;
+  try {
+    return readJson(p);
+  } catch (const std::exception&) {
+    return nullptr;  // damaged: the outputs are rewritten
+  }
+}
+
+long failedRuns(const std::vector<nlohmann::json>& jobs, std::string& example) {
+  long failed = 0;
+  for (const nlohmann::json& j : jobs) {
+    if (j.value("status", "") != "ok" && !failed++) {
+      example = "cell " + std::to_string(j.value("cell", -1)) + " replicate " + std::to_string(j.value("replicate", -1)) +
+                ": " + j.value("message", std::string("(no message)"));
+    }
+  }
+  return failed;
+}
+
+// Writes the tables, the plots, `timing` and then the completion marker (a plot failure is a
+// warning, and the marker says the plots are missing, so a rerun retries them).
 void writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const fs::path& dir, bool plots,
-                  std::ostream& log) {
+                  const nlohmann::json& timing, std::ostream& log) {
+  std::error_code ec;
+  fs::remove(dir / kMarker, ec);
   writeSweepTables(layout, jobs, dir.string());
+  bool plots_written = false;
   if (plots) {
     try {
       runPlotScript("sweep_plots.py", {(dir / "summary.json").string(), dir.string()});
+      plots_written = true;
     } catch (const std::exception& e) {
-      log << "warning: " << e.what() << '\n';
+      log << "warning: " << e.what() << " (the runs and tables are complete; a rerun retries the plots)\n";
     }
+    testKillPoint("sweep-plots");
   }
+  writeJsonFile((dir / "timing.json").string(), timing);
+  std::string example;
+  const long failed = failedRuns(jobs, example);
+  writeJsonFile((dir / kMarker).string(), {{"runs", jobs.size()}, {"failed_runs", failed}, {"plots", plots_written},
+                                           {"outputs", {"runs.csv", "summary.json", "summary.csv", "summary.md", "timing.json"}},
+                                           {"tool", toolJson()}});
+}
+
+// A finished folder with failed runs still exits non-zero, however often it is rerun.
+void throwIfRunsFailed(const std::vector<nlohmann::json>& jobs, const fs::path& dir) {
+  std::string example;
+  const long failed = failedRuns(jobs, example);
+  if (failed == 0) return;
+  throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(jobs.size()) + " runs failed (e.g. " + example +
+                           "); " + (static_cast<std::size_t>(failed) == jobs.size() ? "no run succeeded"
+                                                                                     : "the summary in " + dir.string() + " covers the rest"));
 }
 
 // config.json must match (resume or merge into an existing folder); written when absent.
@@ -135,6 +216,8 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   ident::Stopwatch clock;
   const fs::path dir(o.out);
   const SweepLayout layout = layoutOf(config);
+  fs::create_directories(dir / "runs");
+  const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
   claimFolder(dir, layout.resolved);
   const nlohmann::json shard_json = {{"index", o.shard.index}, {"count", o.shard.count}};
   const fs::path shard_file = dir / "shard.json";
@@ -146,7 +229,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   writeJsonFile(shard_file.string(), shard_json);
 
   const std::vector<JobId> jobs = shardJobs(config, o.shard);
-  const auto done = finishedJobs(dir);
+  const auto done = finishedJobs(dir, &log);
   std::vector<JobId> pending;
   for (const JobId& j : jobs) {
     if (!done.count({j.cell, j.replicate})) pending.push_back(j);
@@ -154,16 +237,22 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   SweepRunReport rep;
   rep.jobs = static_cast<long>(jobs.size());
   rep.skipped = rep.jobs - static_cast<long>(pending.size());
-  if (pending.empty() && fs::exists(dir / "summary.json")) {
+  const nlohmann::json marker = completionRecord(dir);
+  if (pending.empty() && marker.is_object() && marker.value("runs", -1L) == rep.jobs &&
+      (marker.value("plots", false) || !o.plots)) {
     rep.nothing_to_do = true;
     log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
-        << " are finished; nothing to do.\n";
+        << " are finished and its outputs complete; nothing to do.\n";
+    std::map<std::pair<int, int>, fs::path> mine;
+    for (const JobId& j : jobs) mine[{j.cell, j.replicate}] = done.at({j.cell, j.replicate});
+    throwIfRunsFailed(readJobs(mine), dir);
     return rep;
   }
   const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
   log << "exoid sweep: " << config.numCells() << " cells x " << config.seeds << " seeds x " << config.methods.size()
       << " methods; shard " << o.shard.text() << ": " << rep.jobs << " runs";
   if (rep.skipped) log << " (" << rep.skipped << " already finished, resuming)";
+  if (pending.empty()) log << "; writing the missing outputs";
   log << ", " << threads << " threads -> " << dir.string() << '\n' << std::flush;
 
   Progress progress(rep.jobs, rep.skipped, "runs", stderr, o.progress_tty);
@@ -175,7 +264,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
       const std::size_t i = next.fetch_add(1);
       if (i >= pending.size()) return;
       {
-        std::lock_guard<std::mutex> lock(error_mutex);
+        std::lock_guard<std::mutex> guard(error_mutex);
         if (error) return;
       }
       try {
@@ -183,7 +272,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
         writeJsonFile((dir / "runs" / jobFileName(pending[i])).string(), j);
         progress.tick();
       } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
+        std::lock_guard<std::mutex> guard(error_mutex);
         if (!error) error = std::current_exception();
       }
     }
@@ -200,20 +289,19 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   std::map<std::pair<int, int>, fs::path> mine;
   for (const JobId& j : jobs) mine[{j.cell, j.replicate}] = files.at({j.cell, j.replicate});
   const std::vector<nlohmann::json> records = readJobs(mine);
-  writeOutputs(layout, records, dir, o.plots, log);
   rep.wall_time_s = clock.seconds();
   double job_time = 0.0;
   for (const nlohmann::json& j : records) job_time += j.at("wall_time_s").get<double>();
-  writeJsonFile((dir / "timing.json").string(),
-                {{"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
-                 {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s},
-                 {"runs_per_minute", rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0},
-                 {"identifications_per_minute",
-                  rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran * static_cast<long>(config.methods.size())) / rep.wall_time_s : 0.0},
-                 {"sum_of_run_wall_times_s", job_time}});
-  log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s ("
-      << fmt(rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0, 4) << " runs/min); summary: "
-      << (dir / "summary.md").string() << '\n';
+  const double per_minute = rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0;
+  const nlohmann::json timing = {
+      {"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
+      {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s}, {"runs_per_minute", per_minute},
+      {"identifications_per_minute", per_minute * static_cast<double>(config.methods.size())},
+      {"sum_of_run_wall_times_s", job_time}};
+  writeOutputs(layout, records, dir, o.plots, timing, log);
+  log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s (" << fmt(per_minute, 4)
+      << " runs/min); summary: " << (dir / "summary.md").string() << '\n';
+  throwIfRunsFailed(records, dir);
   return rep;
 }
 
@@ -233,7 +321,17 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
       throw std::invalid_argument("exoid merge: " + d + "/config.json differs from " + shard_dirs.front() +
                                   "/config.json: shards of one sweep must share the configuration");
     }
-    for (const auto& [id, p] : finishedJobs(d)) files.emplace(id, p);  // duplicates: first folder wins
+    for (const auto& [id, p] : finishedJobs(d)) {
+      const auto [it, inserted] = files.emplace(id, p);
+      // The same run in two folders (a shard rerun into another folder, overlapping shards): fine
+      // if it is the same result, refused if not (which one would be right?).
+      if (!inserted && withoutWallTimes(readJson(it->second)) != withoutWallTimes(readJson(p))) {
+        throw std::runtime_error("exoid merge: " + it->second.string() + " and " + p.string() +
+                                 " hold different results for the same run (cell " + std::to_string(id.first) +
+                                 ", replicate " + std::to_string(id.second) +
+                                 "); were they made by different exoid versions or machines? Merge folders of one sweep only.");
+      }
+    }
     if (fs::exists(fs::path(d) / "timing.json")) shard_timing.push_back(readJson(fs::path(d) / "timing.json"));
   }
   const SweepLayout layout = layoutFromJson(resolved);
@@ -251,6 +349,8 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
                              "); did every shard finish? Re-run the missing shards (they resume), then merge again.");
   }
   const fs::path dir(out);
+  fs::create_directories(dir / "runs");
+  const FolderLock lock(dir.string(), "exoid merge --out " + dir.string());
   claimFolder(dir, resolved);
   std::vector<nlohmann::json> jobs = readJobs(files);
   for (const nlohmann::json& j : jobs) {
@@ -259,9 +359,10 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
     if (!fs::exists(target)) writeJsonFile(target.string(), j);
   }
   writeJsonFile((dir / "shard.json").string(), {{"index", 0}, {"count", 1}});
-  writeOutputs(layout, jobs, dir, plots, log);
-  writeJsonFile((dir / "timing.json").string(), {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}});
+  writeOutputs(layout, jobs, dir, plots,
+               {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}}, log);
   log << "exoid merge: " << jobs.size() << " runs from " << shard_dirs.size() << " folders -> " << (dir / "summary.md").string() << '\n';
+  throwIfRunsFailed(jobs, dir);
 }
 
 }  // namespace exoid::experiments

@@ -1,9 +1,10 @@
 #include "exoid/experiments/sweep_summary.hpp"
 
+#include "exoid/experiments/fault_injection.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/stats.hpp"
 #include "exoid/experiments/table.hpp"
-#include "exoid/ident/atomic_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/ident/metrics.hpp"
 #include "exoid/ident/params.hpp"
 
@@ -170,7 +171,7 @@ struct Cell {
 
 void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
-  ident::writeFileAtomically(path, [&](std::ostream& out) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell,replicate," << kConditionHeader
         << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
            "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max,plausible";
@@ -463,7 +464,7 @@ namespace {
 double get(const nlohmann::json& j) { return j.is_null() ? kNaN : j.get<double>(); }
 
 void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const std::string& path) {
-  ident::writeFileAtomically(path, [&](std::ostream& out) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell," << kConditionHeader << ",method,n,n_failed";
     for (const Metric& m : kMetrics) {
       for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << m.name << '_' << f;
@@ -582,7 +583,7 @@ void writeTrajectoryComparisonMd(const SweepLayout& config, const nlohmann::json
 // (columns) for the torque-space error, the median and worst per-parameter error, the worst
 // error in units of the method's CRB, and RLS-PSO vs LS.
 void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const std::string& path) {
-  ident::writeFileAtomically(path, [&](std::ostream& md) {
+  core::writeFileAtomically(path, [&](std::ostream& md) {
     md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
           "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
           "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
@@ -684,6 +685,7 @@ void writeSweepTables(const SweepLayout& config, const std::vector<nlohmann::jso
   writeRunsCsv(config, rowsOf(config, jobs), dir + "/runs.csv");
   const nlohmann::json s = sweepSummaryJson(config, jobs);
   writeJsonFile(dir + "/summary.json", s);
+  testKillPoint("sweep-tables");
   writeSummaryCsv(config, s, dir + "/summary.csv");
   writeSummaryMd(config, s, dir + "/summary.md");
 }

@@ -4,10 +4,12 @@
 // UTF-8 byte-order mark is skipped; cells follow RFC 4180 (a cell in double quotes may hold
 // commas, and "" stands for one quote). Blank lines are dropped; lines starting with '#' are
 // comments.
+#include <cerrno>
 #include <cstddef>
 #include <cstring>
 #include <deque>
 #include <istream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,12 +47,17 @@ class LineSplitter {
 };
 
 /// Chunks of a stream, 1 MiB at a time.
+/// Appends up to 1 MiB of `in` to buffer; false at the end of the stream. A failed read (an I/O
+/// error, a folder given as a file) is not an end: it throws std::runtime_error, so a log is never
+/// silently cut short.
 inline bool readChunk(std::istream& in, std::string& buffer) {
   constexpr std::size_t kChunk = 1 << 20;
   const std::size_t old = buffer.size();
   buffer.resize(old + kChunk);
+  errno = 0;
   in.read(buffer.data() + old, static_cast<std::streamsize>(kChunk));
   buffer.resize(old + static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw std::runtime_error(std::string("reading failed") + (errno != 0 ? std::string(": ") + std::strerror(errno) : ""));
   return in.gcount() > 0;
 }
 

@@ -1,6 +1,6 @@
 #include "exoid/ident/dataset.hpp"
 
-#include "exoid/ident/atomic_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 
 #include "csv_lines.hpp"
 
@@ -147,6 +147,23 @@ double parseAngleUnit(const std::string& unit) {
 
 namespace {
 
+// Largest magnitude a known column may hold, in any of the units the reader accepts (time in s
+// down to ns, angles in rad or deg): far beyond any leg, far below what overflows the arithmetic
+// (a torque cell of 1e308 used to come back as Mxt = 1e302, "converged").
+double physicalBound(const std::string& column) {
+  if (column == "t") return 1e15;                   // 11 days in ns
+  if (column.rfind("qdd_", 0) == 0) return 1e8;     // rad/s^2 or deg/s^2
+  if (column.rfind("qd_", 0) == 0) return 1e6;      // rad/s or deg/s
+  if (column.rfind("q_", 0) == 0) return 1e5;       // rad or deg
+  return 1e6;                                       // torques, N m
+}
+
+std::string formatBound(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 // The reader proper. `open` returns a fresh chunk reader (read(buffer) -> bool) for each of two
 // passes: the first counts the data rows, so every column is allocated once at its final size
 // and parsed straight into place.
@@ -178,6 +195,19 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
   const auto onHeader = [&](const csv::Line& line) {
     header_line = line.number;
     for (std::string_view c : line.cells) names.emplace_back(csv::trimBlanks(c));
+    // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first name.
+    if (!names.empty() && names.front().rfind("\xEF\xBB\xBF", 0) == 0) names.front().erase(0, 3);
+    // Another separator: say so, instead of "missing required column 't'" for a one-column header.
+    if (names.size() == 1) {
+      for (const auto& [sep, what] : {std::pair<char, const char*>{'\t', "tabs"}, {';', "semicolons"}, {' ', "spaces"}}) {
+        if (names.front().find(sep) != std::string::npos) {
+          throw DatasetError(source, header_line, 0,
+                             std::string("the header has no commas but is separated by ") + what +
+                                 ": exoid reads comma-separated files (convert it, e.g. tr '" + (sep == '\t' ? "\\t" : std::string(1, sep)) +
+                                 "' ',' < in > out.csv, minding decimal commas)");
+        }
+      }
+    }
     if (names.size() > 1 && names.back().empty()) {  // "a,b,c," on every line
       names.pop_back();
       trailing_comma = true;
@@ -262,6 +292,12 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
         throw DatasetError(source, line.number, col,
                            "column '" + names[c] + "': expected a " + std::string(ok ? "finite " : "") + "number, got '" +
                                std::string(csv::trimBlanks(line.cells[c])) + "'");
+      }
+      if (known[c] && std::abs(v) > physicalBound(names[c])) {
+        throw DatasetError(source, line.number, static_cast<long>(c) + 1,
+                           "column '" + names[c] + "': " + std::string(csv::trimBlanks(line.cells[c])) +
+                               " is not a physical value (|" + names[c] + "| <= " + formatBound(physicalBound(names[c])) +
+                               " in the log's units)");
       }
       target[c][row] = v;
     }
@@ -398,7 +434,13 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
 }
 
 Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvReadOptions& options) {
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {
+    while (csv::readChunk(in, text)) {
+    }
+  } catch (const std::runtime_error& e) {
+    throw DatasetError(source, 0, 0, std::string(e.what()) + " after " + std::to_string(text.size()) + " bytes");
+  }
   return parseDatasetText(text, source, options);
 }
 
@@ -407,7 +449,13 @@ Dataset readDatasetCsv(const std::string& path, const CsvReadOptions& options) {
   const auto open = [&] {
     in = std::make_shared<std::ifstream>(path, std::ios::binary);
     if (!*in) throw DatasetError(path, 0, 0, "cannot open file for reading");
-    return [in](std::string& buf) { return csv::readChunk(*in, buf); };
+    return [in, path](std::string& buf) {
+      try {
+        return csv::readChunk(*in, buf);
+      } catch (const std::runtime_error& e) {
+        throw DatasetError(path, 0, 0, std::string(e.what()) + " (the file cannot be read to its end)");
+      }
+    };
   };
   return parseLog(open, path, options);
 }
@@ -510,7 +558,7 @@ void writeDatasetCsv(const Dataset& d, std::ostream& out) {
 }
 
 void writeDatasetCsv(const Dataset& d, const std::string& path) {
-  writeFileAtomically(path, [&](std::ostream& out) { writeDatasetCsv(d, out); });
+  core::writeFileAtomically(path, [&](std::ostream& out) { writeDatasetCsv(d, out); });
 }
 
 }  // namespace exoid::ident

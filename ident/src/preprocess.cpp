@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -54,6 +55,29 @@ void SignalOptions::validate() const {
   }
 }
 
+void SignalOptions::validateFor(double sample_rate_hz) const {
+  validate();
+  if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
+    throw std::invalid_argument("the record's sample rate must be positive and finite, got " + std::to_string(sample_rate_hz) + " Hz");
+  }
+  if (sample_rate_hz > 1e6) {
+    std::ostringstream msg;
+    msg << "the record's time step is " << 1.0 / sample_rate_hz << " s (" << sample_rate_hz
+        << " Hz): exoid processes records sampled at up to 1 MHz; is its time column in another unit (--time-unit)?";
+    throw std::invalid_argument(msg.str());
+  }
+  const double nyquist = 0.5 * sample_rate_hz;
+  auto below = [&](const char* name, double hz) {
+    if (hz < nyquist) return;
+    std::ostringstream msg;
+    msg << "'" << name << "' = " << hz << " Hz must be below the record's Nyquist frequency, " << nyquist
+        << " Hz (it is sampled at " << sample_rate_hz << " Hz)";
+    if (sample_rate_hz < 20.0) msg << "; a log sampled that slowly usually has its time column in ms or us (--time-unit ms)";
+    throw std::invalid_argument(msg.str());
+  };
+  if (filter) below("cutoff_hz", cutoff_hz);
+}
+
 long SignalOptions::edgeTrimSamples(double sample_rate_hz) const {
   if (edge_trim_s >= 0.0) return std::lround(edge_trim_s * sample_rate_hz);
   return filter ? std::lround(3.0 / cutoff_hz * sample_rate_hz) : 2;
@@ -72,10 +96,15 @@ JointSignals recordedSignals(const Dataset& d) {
   return s;
 }
 
+namespace {
+void checkLength(Eigen::Index n, Eigen::Index trim, int r);  // below, with the parallel processing's helpers
+}  // namespace
+
 JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
-  o.validate();
   const double dt = d.sampleInterval_s();
   const double fs = 1.0 / dt;
+  o.validateFor(fs);
+  checkLength(d.size(), o.edgeTrimSamples(fs), 1);  // a clear message, not a least-squares size error later
   const bool recorded = o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2;
   SosFilter lowpass;
   if (o.filter) lowpass = butterworthLowpass(o.filter_order, o.cutoff_hz, fs);
@@ -237,9 +266,9 @@ Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) 
 }
 
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
-  o.validate();
   if (o.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, o), c);
   const double fs = 1.0 / d.sampleInterval_s();
+  o.validateFor(fs);
   const Eigen::Index n = d.size();
   const Eigen::Index margin = parallelBlockMargin(o, fs), block = std::max<Eigen::Index>(o.block_samples, 4 * margin);
   if (n <= block + 2 * margin) return parallelProcess(parallelStates(d, o, fs, 0, n), c, o, fs);
@@ -264,7 +293,7 @@ ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const Sig
 
 ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, const SignalOptions& o,
                                 double sample_rate_hz) {
-  o.validate();
+  o.validateFor(sample_rate_hz);
   const double fs = sample_rate_hz;
   const Eigen::Index trim = o.edgeTrimSamples(fs);
   const int r = o.decimationFactor(fs);

@@ -1,6 +1,6 @@
 #include "exoid/render/clip.hpp"
 
-#include "exoid/render/output_file.hpp"
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/render/png.hpp"
 #include "exoid/render/video_writer.hpp"
 
@@ -81,7 +81,7 @@ ClipSummary renderVideo(const Track& track, const ClipOptions& options, const st
     throw std::invalid_argument("video size must be even (H.264 yuv420p), got " + std::to_string(options.render.width) +
                                 "x" + std::to_string(options.render.height));
   }
-  checkOutputWritable(out_path);
+  core::checkOutputWritable(out_path);
 
   TrackRenderer source(track, options);
   VideoWriter video(out_path, options.render.width, options.render.height, options.fps, options.ffmpeg);
@@ -101,9 +101,9 @@ void renderStill(const Track& track, double t_s, const ClipOptions& options, con
   options.validate();
   track.validate();
   track.rowAt(t_s);  // a bad time fails before any rendering
-  checkOutputWritable(out_path);
+  core::checkOutputWritable(out_path);
   TrackRenderer source(track, options);
-  writeFileAtomic(out_path, encodePng(source.at(t_s)));
+  core::writeFileAtomically(out_path, encodePng(source.at(t_s)));
 }
 
 }  // namespace exoid::render

@@ -1,6 +1,7 @@
 #include "exoid/render/video_writer.hpp"
 
-#include "exoid/render/output_file.hpp"
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/render/mp4_check.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -92,7 +93,7 @@ std::string requireFfmpeg(const std::string& name) {
 }
 
 VideoWriter::VideoWriter(const std::string& out_path, int width, int height, double fps, const std::string& ffmpeg)
-    : out_path_(out_path), tmp_path_(temporaryPathFor(out_path)), width_(width), height_(height) {
+    : out_path_(out_path), tmp_path_(core::temporaryPathFor(out_path)), width_(width), height_(height) {
   if (width <= 0 || height <= 0 || width % 2 != 0 || height % 2 != 0) {
     throw std::invalid_argument("video size must be positive and even (H.264 yuv420p), got " + std::to_string(width) +
                                 "x" + std::to_string(height));
@@ -101,7 +102,9 @@ VideoWriter::VideoWriter(const std::string& out_path, int width, int height, dou
     throw std::invalid_argument("'fps' must be in (0, 240], got " + fpsText(fps));
   }
   ffmpeg_ = requireFfmpeg(ffmpeg);
-  checkOutputWritable(out_path_);
+  core::checkOutputWritable(out_path_);
+  core::removeStaleTemporaries(out_path_);
+  tmp_guard_ = std::make_unique<core::TemporaryFileGuard>(tmp_path_);
 
   char log_template[] = "/tmp/exoid-ffmpeg-XXXXXX";
   log_fd_ = ::mkstemp(log_template);
@@ -159,6 +162,21 @@ void VideoWriter::abort() noexcept {
   if (!tmp_path_.empty()) ::unlink(tmp_path_.c_str());
 }
 
+namespace {
+
+std::string exitText(int status) {
+  if (WIFEXITED(status)) return "it exited with code " + std::to_string(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return std::string("it was killed by signal ") + std::to_string(WTERMSIG(status));
+  return "it stopped";
+}
+
+// ffmpeg always says why it fails; silence means the program is not ffmpeg (e.g. --ffmpeg /bin/false).
+std::string messagesOrHint(const std::string& messages) {
+  return messages == "(no message)" ? "it printed nothing: is it ffmpeg? (--ffmpeg PATH, default: ffmpeg on PATH)" : messages;
+}
+
+}  // namespace
+
 std::string VideoWriter::ffmpegMessages() const {
   if (log_fd_ < 0) return {};
   std::string text;
@@ -181,7 +199,6 @@ void VideoWriter::write(const Image& frame) {
                                 std::to_string(frame.height));
   }
   if (!writeAll(pipe_fd_, frame.rgb.data(), frame.rgb.size())) {
-    const std::string why = std::strerror(errno);
     ::close(pipe_fd_);
     pipe_fd_ = -1;
     int status = 0;
@@ -190,7 +207,8 @@ void VideoWriter::write(const Image& frame) {
     pid_ = -1;
     const std::string messages = ffmpegMessages();
     abort();
-    throw std::runtime_error("ffmpeg stopped while writing '" + out_path_ + "' (" + why + "): " + messages);
+    throw std::runtime_error("'" + ffmpeg_ + "' stopped taking frames for '" + out_path_ + "' (" + exitText(status) + "): " +
+                             messagesOrHint(messages));
   }
   ++frames_;
 }
@@ -208,14 +226,17 @@ void VideoWriter::finish() {
                                               : "signal " + std::to_string(WTERMSIG(status));
     const std::string messages = ffmpegMessages();
     abort();
-    throw std::runtime_error("ffmpeg failed (" + how + ") writing '" + out_path_ + "': " + messages);
+    throw std::runtime_error("'" + ffmpeg_ + "' failed (" + how + ") writing '" + out_path_ + "': " + messagesOrHint(messages));
   }
-  if (std::rename(tmp_path_.c_str(), out_path_.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
+  // ffmpeg exits 0 on a full disk with a file that has no index (moov): check before keeping it.
+  if (const std::string problem = mp4Problem(tmp_path_); !problem.empty()) {
     abort();
-    throw std::runtime_error("cannot rename '" + tmp_path_ + "' to '" + out_path_ + "': " + why);
+    throw std::runtime_error("ffmpeg reported success but '" + out_path_ + "' is not a complete MP4 (" + problem +
+                             "); is the disk full?");
   }
-  tmp_path_.clear();  // renamed: nothing to clean up any more
+  const std::string tmp = tmp_path_;
+  tmp_path_.clear();  // commitTemporary renames it or removes it
+  core::commitTemporary(tmp, out_path_);
   ::close(log_fd_);
   log_fd_ = -1;
 }

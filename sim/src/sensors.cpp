@@ -18,15 +18,17 @@ void SensorOptions::validate() const {
   check("noise_q_deg", noise_q_deg, std::isfinite(noise_q_deg) && noise_q_deg >= 0 && noise_q_deg < 90, "in [0, 90)");
   check("quantisation_deg", quantisation_deg,
         std::isfinite(quantisation_deg) && quantisation_deg >= 0 && quantisation_deg < 90, "in [0, 90)");
-  check("noise_tau_Nm", noise_tau_Nm, std::isfinite(noise_tau_Nm) && noise_tau_Nm >= 0, "finite and >= 0");
-  check("tau_bias_Nm[hip]", tau_bias_Nm[0], std::isfinite(tau_bias_Nm[0]), "finite");
-  check("tau_bias_Nm[knee]", tau_bias_Nm[1], std::isfinite(tau_bias_Nm[1]), "finite");
+  // Physical bounds, so that no setting can put an infinite or absurd number into a record: a
+  // torque sensor noisier than 1 kN m (or biased more) measures nothing of a leg.
+  check("noise_tau_Nm", noise_tau_Nm, std::isfinite(noise_tau_Nm) && noise_tau_Nm >= 0 && noise_tau_Nm <= 1e3, "in [0, 1000] N m");
+  check("tau_bias_Nm[hip]", tau_bias_Nm[0], std::isfinite(tau_bias_Nm[0]) && std::abs(tau_bias_Nm[0]) <= 1e3, "in [-1000, 1000] N m");
+  check("tau_bias_Nm[knee]", tau_bias_Nm[1], std::isfinite(tau_bias_Nm[1]) && std::abs(tau_bias_Nm[1]) <= 1e3, "in [-1000, 1000] N m");
   check("tau_bandwidth_Hz", tau_bandwidth_Hz, std::isfinite(tau_bandwidth_Hz) && tau_bandwidth_Hz >= 0,
         ">= 0 (0 = ideal) and below the Nyquist frequency");
-  check("imu_acc_noise_mps2", imu_acc_noise_mps2, std::isfinite(imu_acc_noise_mps2) && imu_acc_noise_mps2 >= 0,
-        "finite and >= 0");
+  check("imu_acc_noise_mps2", imu_acc_noise_mps2, std::isfinite(imu_acc_noise_mps2) && imu_acc_noise_mps2 >= 0 && imu_acc_noise_mps2 <= 1e3,
+        "in [0, 1000] m/s^2");
   check("imu_gyro_noise_radps", imu_gyro_noise_radps,
-        std::isfinite(imu_gyro_noise_radps) && imu_gyro_noise_radps >= 0, "finite and >= 0");
+        std::isfinite(imu_gyro_noise_radps) && imu_gyro_noise_radps >= 0 && imu_gyro_noise_radps <= 1e3, "in [0, 1000] rad/s");
 }
 
 namespace {

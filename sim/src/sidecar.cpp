@@ -1,5 +1,7 @@
 #include "exoid/sim/sidecar.hpp"
 
+#include "exoid/core/atomic_file.hpp"
+
 #include "exoid/sim/table.hpp"
 
 namespace exoid::sim {
@@ -132,6 +134,6 @@ nlohmann::json sidecar(const SimResult& r, const std::string& exoid_version) {
   return j;
 }
 
-void writeJson(const nlohmann::json& j, const std::string& path) { writeFileAtomic(path, j.dump(2) + "\n"); }
+void writeJson(const nlohmann::json& j, const std::string& path) { core::writeFileAtomically(path, j.dump(2) + "\n"); }
 
 }  // namespace exoid::sim

@@ -65,7 +65,8 @@ void SimConfig::validate() const {
   if (model_path.empty()) badField("model_path", "\"\"", "a path to an MJCF file");
   if (trajectory < 0 || trajectory > 4) badField("trajectory", trajectory, "1..4 (paper Table 1) or 0 (Fourier)");
   if (trajectory == 0) fourier.validate();
-  if (!std::isfinite(ramp_s) || ramp_s < 0) badField("ramp_s", ramp_s, ">= 0");
+  // Bounded like the duration: the ramp is simulated too (1e7 s would be 1e10 steps).
+  if (!std::isfinite(ramp_s) || ramp_s < 0 || ramp_s > 600) badField("ramp_s", ramp_s, "in [0, 600] s");
   if (!std::isfinite(dt_s) || dt_s <= 0 || dt_s > 0.01) badField("dt_s", dt_s, "in (0, 0.01] s");
   if (!std::isfinite(duration_s) || duration_s <= 0 || duration_s > 3600) badField("duration_s", duration_s, "in (0, 3600] s");
   if (sampleCount(*this) < 2) badField("duration_s", duration_s, "at least 2 samples (duration >= 2 dt)");

@@ -1,5 +1,7 @@
 #include "exoid/sim/table.hpp"
 
+#include "exoid/core/atomic_file.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -51,31 +53,6 @@ std::string tableCsv(const Table& t) {
   return out;
 }
 
-void writeFileAtomic(const std::string& path, const std::string& bytes) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  fs::path tmp = target;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "' (for '" + path + "')");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error("write to '" + tmp.string() + "' failed (for '" + path + "')");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    std::error_code ec2;
-    fs::remove(tmp, ec2);
-    throw std::runtime_error("cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message());
-  }
-}
-
-void writeTableCsv(const Table& t, const std::string& path) { writeFileAtomic(path, tableCsv(t)); }
+void writeTableCsv(const Table& t, const std::string& path) { core::writeFileAtomically(path, tableCsv(t)); }
 
 }  // namespace exoid::sim

@@ -10,6 +10,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <thread>
@@ -79,6 +80,35 @@ TEST(SweepProcess, KilledWithSigkillAndRestartedLosesNothing) {
   // Once more: nothing to do.
   ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log3")), 0);
   EXPECT_NE(slurp(d + ".log3").find("nothing to do"), std::string::npos) << slurp(d + ".log3");
+}
+
+// Killed (as by a power cut) while writing the tables, then while writing the plots: the folder
+// is not marked complete, and the same command again finishes every output (it used to say
+// "nothing to do" with summary.md, the plots and timing.json missing).
+TEST(SweepProcess, KilledWhileWritingTablesOrPlotsTheRerunFinishesThem) {
+  for (const std::string point : {"sweep-tables", "sweep-plots"}) {
+    const std::string d = freshDir("killed_" + point);
+    std::vector<std::string> args = tinySweepArgs(d);
+    if (point == "sweep-plots") args.erase(std::find(args.begin(), args.end(), "--no-plots"));
+    ::setenv("EXOID_TEST_KILL_AT", point.c_str(), 1);
+    const pid_t pid = spawn(binaryArgs(args), d + ".log1");
+    ::unsetenv("EXOID_TEST_KILL_AT");
+    ASSERT_EQ(waitExit(pid), -SIGKILL) << point << ": " << slurp(d + ".log1");
+    EXPECT_TRUE(fs::exists(d + "/summary.json")) << point;
+    EXPECT_FALSE(fs::exists(d + "/complete.json")) << point;
+    EXPECT_FALSE(fs::exists(d + (point == "sweep-tables" ? "/summary.md" : "/timing.json"))) << point;
+    ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log2")), 0) << slurp(d + ".log2");
+    EXPECT_NE(slurp(d + ".log2").find("writing the missing outputs"), std::string::npos) << slurp(d + ".log2");
+    for (const char* f : {"summary.md", "summary.csv", "timing.json", "complete.json"}) {
+      EXPECT_TRUE(fs::exists(d + "/" + f)) << point << ": " << f;
+    }
+    if (point == "sweep-plots") {
+      EXPECT_TRUE(fs::exists(d + "/ratio_map.png") && fs::exists(d + "/error_vs_noise.png"));
+    }
+    expectSameSweep(d, referenceSweep());
+    ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log3")), 0);
+    EXPECT_NE(slurp(d + ".log3").find("nothing to do"), std::string::npos) << slurp(d + ".log3");
+  }
 }
 
 // ---- local single-node Slurm (platform.md, "A real single-node Slurm for tests") ----

@@ -65,9 +65,11 @@ TEST(Dataset, WriteReadRoundTripIsLossless) {
   d.q_rad = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e-3; });
   d.tau_Nm = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) / 3.0; });
   d.qd_radps = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e-17; });
-  d.qdd_radps2 = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e300 / 1e3; });
+  d.qdd_radps2 = Eigen::MatrixX2d::NullaryExpr(n, 2, [&] { return u(gen) * 1e4; });
+  // Known columns are bounded to physical values; extra columns carry the extreme magnitudes.
   d.extra_names = {"a", "b"};
   d.extra = Eigen::MatrixXd::NullaryExpr(n, 2, [&] { return u(gen); });
+  d.extra.col(1) *= 1e300 / 1e3;
   const std::string path = ::testing::TempDir() + "/exoid_roundtrip.csv";
   writeDatasetCsv(d, path);
   CsvReadOptions tight;
@@ -133,6 +135,39 @@ TEST(DatasetErrors, MissingFileNamesPath) {
     FAIL();
   } catch (const DatasetError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/exoid.csv"), std::string::npos);
+  }
+}
+
+// A stream that serves `text` and then fails, as a disk error or memory exhaustion mid-file would:
+// the reader must not take the rows it got for the whole log (it did: 999 of 2000 rows, exit 0).
+class FailingBuf : public std::streambuf {
+ public:
+  explicit FailingBuf(std::string text) : text_(std::move(text)) { setg(text_.data(), text_.data(), text_.data() + text_.size()); }
+
+ protected:
+  int_type underflow() override { throw std::ios_base::failure("injected read error"); }
+
+ private:
+  std::string text_;
+};
+
+TEST(DatasetErrors, AReadErrorMidFileIsAnErrorNotTheEnd) {
+  FailingBuf buf(header() + rows(999));
+  std::istream in(&buf);
+  try {
+    parseDatasetCsv(in, "log.csv");
+    FAIL() << "the first 999 rows were taken for the whole file";
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("reading failed"), std::string::npos) << e.what();
+  }
+}
+TEST(DatasetErrors, AFolderGivenAsTheLogSaysItCannotBeRead) {
+  try {
+    readDatasetCsv("/tmp");
+    FAIL();
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("/tmp"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("Is a directory"), std::string::npos) << e.what();
   }
 }
 

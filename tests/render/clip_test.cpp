@@ -1,7 +1,6 @@
 // End to end: a simulated trajectory rendered offscreen to MP4 and PNG, checked with ffprobe and
 // pixel statistics; error cases fail early with clear messages.
 #include "exoid/render/clip.hpp"
-#include "exoid/render/output_file.hpp"
 #include "exoid/render/png.hpp"
 #include "exoid/render/video_writer.hpp"
 
@@ -115,7 +114,9 @@ TEST(Clip, TwoSecondsAt30FpsIs60FramesOf2s) {
                                        "stream=nb_read_frames,duration,codec_name,width,height -of csv=p=0 '" + out + "'");
   // codec,width,height,duration,frames
   EXPECT_EQ(probe, "h264,320,240,2.000000,60\n");
-  EXPECT_FALSE(std::ifstream(temporaryPathFor(out)).good()) << "temporary file left behind";
+  for (const auto& e : std::filesystem::directory_iterator(scratchDir())) {
+    EXPECT_EQ(e.path().filename().string().find("clip.mp4.tmp."), std::string::npos) << "temporary left behind: " << e.path();
+  }
 }
 
 TEST(Clip, FramesAreNotBlankAndChangeWhileTheLegMoves) {

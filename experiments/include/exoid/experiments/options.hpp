@@ -16,6 +16,11 @@ namespace exoid::experiments {
 /// (exact on exact data whatever the filter) with the pedestal's base-motion terms when the
 /// dataset has the IMU columns; the paper's is `--processing paper`.
 ident::SignalOptions defaultIdentifySignals();
+/// For --seed and --master-seed: a non-negative integer that fits 64 bits (CLI11 alone would
+/// wrap -1 to 2^64 - 1 silently).
+const CLI::Validator& seedValidator();
+/// A number > 0 (CLI11's PositiveNumber names the range as 309-digit numbers).
+const CLI::Validator& positiveNumber();
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
 void addMethodOptions(CLI::App& app, ident::MethodOptions& o);

@@ -79,6 +79,9 @@ struct SignalOptions {
   /// The trim in samples for a record sampled at sample_rate_hz.
   long edgeTrimSamples(double sample_rate_hz) const;
   void validate() const;  ///< throws std::invalid_argument naming the field
+  /// validate(), and the filters' cutoffs below the Nyquist frequency of a record sampled at
+  /// sample_rate_hz (the message says the rate, and suggests the time unit for a slow one).
+  void validateFor(double sample_rate_hz) const;
 };
 
 /// Angles are filtered, differentiated, the velocity filtered, differentiated again and the

@@ -1,7 +1,9 @@
 #pragma once
 // H.264 MP4 through an ffmpeg child process fed raw RGB frames on a pipe.
+#include "exoid/core/temporary_files.hpp"
 #include "exoid/render/image.hpp"
 
+#include <memory>
 #include <string>
 #include <sys/types.h>
 
@@ -15,10 +17,12 @@ std::string findExecutable(const std::string& name);
 std::string requireFfmpeg(const std::string& name = "ffmpeg");
 
 /// Spawns `ffmpeg -y -loglevel error -f rawvideo -pix_fmt rgb24 -s WxH -r FPS -i -
-///   -pix_fmt yuv420p -c:v libx264 -preset veryfast -f mp4 <out>.tmp<pid>` (veryfast: half the
-/// encoding CPU of the default preset, about the same file size for these scenes) and renames the temporary file to
-/// `out_path` in finish(). Frames are top-down RGB (Image), so no vflip is needed.
-/// Destroying an unfinished writer stops ffmpeg and removes the temporary file.
+///   -pix_fmt yuv420p -c:v libx264 -preset veryfast -f mp4 <out>.tmp.<pid>.<n>` (veryfast: half the
+/// encoding CPU of the default preset, about the same file size for these scenes); finish() checks
+/// that the file is a complete MP4 (ffmpeg exits 0 on a full disk) and renames it to `out_path`.
+/// Frames are top-down RGB (Image), so no vflip is needed. Destroying an unfinished writer stops
+/// ffmpeg and removes the temporary file; so do SIGINT, SIGTERM and SIGHUP, and a temporary left by
+/// a SIGKILLed writer is removed by the next writer of the same output.
 class VideoWriter {
  public:
   /// Throws std::runtime_error if ffmpeg is not found ("install ffmpeg"), the output cannot be
@@ -45,6 +49,7 @@ class VideoWriter {
   std::string ffmpegMessages() const;
 
   std::string out_path_, tmp_path_, ffmpeg_;
+  std::unique_ptr<core::TemporaryFileGuard> tmp_guard_;  // removes tmp_path_ if a signal ends the process
   int width_, height_;
   int frames_ = 0;
   int pipe_fd_ = -1;

@@ -26,9 +26,6 @@ struct Table {
 
 /// Writes the table as CSV to `path` atomically; throws std::runtime_error naming the path.
 void writeTableCsv(const Table& table, const std::string& path);
-/// Writes bytes to `path` via a temporary file in the same folder + rename; throws
-/// std::runtime_error naming the path.
-void writeFileAtomic(const std::string& path, const std::string& bytes);
 /// The CSV text (same bytes as the file).
 std::string tableCsv(const Table& table);
 

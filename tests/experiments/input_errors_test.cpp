@@ -1,0 +1,111 @@
+// Bad input gets a message about the input and what would be accepted, a non-zero exit, and no
+// output: physical bounds on simulation settings and log values, other separators, time units,
+// short records, 309-digit ranges.
+#include "cli_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace exoid {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string scratch(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("exoid_input_errors_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return (d / name).string();
+}
+
+struct Outcome {
+  int rc;
+  std::string text;
+};
+
+Outcome run(const std::vector<std::string>& args) {
+  std::ostringstream buffer;
+  std::streambuf* old_out = std::cout.rdbuf(buffer.rdbuf());
+  std::streambuf* old_err = std::cerr.rdbuf(buffer.rdbuf());
+  const int rc = test::runExoid(args);
+  std::cout.rdbuf(old_out);
+  std::cerr.rdbuf(old_err);
+  return {rc, buffer.str()};
+}
+
+// A valid 2 s log at 1 kHz, with a callback to spoil it.
+std::string writeLog(const std::string& name, const std::string& header, char sep, double dt, double tau_scale = 1.0) {
+  std::ostringstream out;
+  out << header << '\n';
+  for (int i = 0; i < 2000; ++i) {
+    const double t = i * dt, s = std::sin(2 * M_PI * 1.0 * i * 1e-3);
+    out << t << sep << 0.3 * s << sep << 0.5 + 0.4 * s << sep << 20 * s * tau_scale << sep << 3 * s << '\n';
+  }
+  const std::string p = scratch(name);
+  std::ofstream(p) << out.str();
+  return p;
+}
+
+TEST(InputErrors, SimulationSettingsAreBoundedToPhysicalRanges) {
+  const std::string out = scratch("sim.csv");
+  Outcome o = run({"simulate", "--noise-tau", "1e308", "--out", out});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("'noise_tau_Nm' must be in [0, 1000] N m"), std::string::npos) << o.text;
+  EXPECT_FALSE(fs::exists(out));
+  o = run({"simulate", "--ramp", "1e7", "--out", out});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("'ramp_s' must be in [0, 600] s"), std::string::npos) << o.text;
+  o = run({"simulate", "--duration", "0", "--out", out});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("must be > 0 and finite, got 0"), std::string::npos) << o.text;
+  EXPECT_LT(o.text.size(), 300u) << "a range printed in full: " << o.text;
+}
+
+TEST(InputErrors, ALogValueBeyondAnyLegIsRefusedAtItsCell) {
+  const std::string log = writeLog("huge.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-3, 1e306);
+  const Outcome o = run({"identify", "--data", log, "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("huge.csv:"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("is not a physical value (|tau_hip| <= 1e+06 in the log's units)"), std::string::npos) << o.text;
+}
+
+TEST(InputErrors, OtherSeparatorsAreNamedAndAByteOrderMarkIsAccepted) {
+  Outcome o = run({"identify", "--data", writeLog("tabs.csv", "t\tq_hip\tq_knee\ttau_hip\ttau_knee", '\t', 1e-3), "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("separated by tabs: exoid reads comma-separated files"), std::string::npos) << o.text;
+  o = run({"identify", "--data", writeLog("semi.csv", "t;q_hip;q_knee;tau_hip;tau_knee", ';', 1e-3), "--thigh-length", "0.45"});
+  EXPECT_NE(o.text.find("separated by semicolons"), std::string::npos) << o.text;
+  o = run({"identify", "--data", writeLog("bom.csv", "\xEF\xBB\xBFt,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-3), "--thigh-length", "0.45"});
+  EXPECT_EQ(o.text.find("missing required column"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("condition"), std::string::npos) << o.text;  // it identified
+}
+
+TEST(InputErrors, TimeInTheWrongUnitIsSuggested) {
+  // Milliseconds read as seconds: a 1 Hz log, below the 10 Hz filter's Nyquist rate.
+  Outcome o = run({"identify", "--data", writeLog("ms.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1.0), "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("'cutoff_hz' = 10 Hz must be below the record's Nyquist frequency, 0.5 Hz"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("--time-unit ms"), std::string::npos) << o.text;
+  o = run({"identify", "--data", writeLog("tiny_dt.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-300), "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("is its time column in another unit"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("pole"), std::string::npos) << o.text;
+}
+
+TEST(InputErrors, ARecordTooShortForTheProcessingSaysHowLongItMustBe) {
+  const std::string out = scratch("short_reproduce");
+  const Outcome o = run({"reproduce", "--duration", "0.002", "--out", out, "--no-plots", "--no-optimised-arm"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("record too short: 2 samples, and the processing trims 300 at each end"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("least squares: need at least as many rows"), std::string::npos) << o.text;
+}
+
+}  // namespace
+}  // namespace exoid
