@@ -6,7 +6,7 @@
 //
 //   build/bench/idim_iv_bench --benchmark_counters_tabular=true
 #include "exoid/ident/idim_iv.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -39,7 +39,7 @@ ClosedLoopRecord makeRecord(bool hip_locked, std::uint64_t seed) {
   r.controller.pid.derivative_cutoff_hz = 100.0;
   r.controller.locked = {hip_locked, false};
   const ClosedLoopRun run = simulateClosedLoop(toParamVector(defaultLeg()), kC, r.controller, r.reference);
-  Rng rng(seed);
+  exoid::core::Rng rng(seed);
   Dataset d;
   d.t_s = t;
   d.q_rad = run.states.q_rad + Eigen::MatrixX2d::NullaryExpr(n, 2, [&](Eigen::Index, Eigen::Index) { return rng.uniform(-1.5e-4, 1.5e-4); });

@@ -12,7 +12,7 @@
 #include "exoid/ident/lad.hpp"
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 #include "exoid/ident/segmental.hpp"
 
 #include <benchmark/benchmark.h>
@@ -41,7 +41,7 @@ const std::string& bigLog() {
     const std::string p = (std::filesystem::temp_directory_path() / "exoid_long_log_bench.csv").string();
     std::FILE* f = std::fopen(p.c_str(), "w");
     std::fprintf(f, "# thigh_length_m: 0.45\nt,q_hip,q_knee,tau_hip,tau_knee\n");
-    exoid::ident::Rng rng(1);
+    exoid::core::Rng rng(1);
     for (long i = 0; i < kRows; ++i) {
       const double t = 1e-3 * static_cast<double>(i);
       const double q1 = -0.5 - 0.5 * std::sin(2 * M_PI * 0.7 * t) + 0.1 * std::sin(2 * M_PI * 1.9 * t);

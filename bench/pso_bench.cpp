@@ -7,7 +7,7 @@
 //   build/bench/pso_bench --benchmark_counters_tabular=true
 #include "exoid/ident/linear_cost.hpp"
 #include "exoid/ident/pso.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -31,7 +31,7 @@ struct Problem {
   Eigen::VectorXd b{kRows};
   Box box = Box::uniform(kParams, -50.0, 50.0);
   Problem() {
-    exoid::ident::Rng rng(2024);
+    exoid::core::Rng rng(2024);
     for (Eigen::Index i = 0; i < kRows; ++i) {
       const double t = 1e-3 * static_cast<double>(i), s = std::sin(2 * M_PI * t), c = std::cos(2 * M_PI * t);
       A.row(i) << 9.81 * s, 9.81 * c, -39.5 * s, (c > 0) - (c < 0), 6.3 * c;

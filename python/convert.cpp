@@ -1,5 +1,6 @@
 #include "convert.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/options.hpp"
 
 #include <functional>
@@ -50,7 +51,7 @@ Dataset datasetFrom(const py::dict& d) {
       const Eigen::VectorXd v = col.cast<Eigen::VectorXd>();
       if (v.size() != out.t_s.size()) {
         throw std::invalid_argument("dataset: extra column '" + name.cast<std::string>() + "' has " +
-                                    std::to_string(v.size()) + " rows, t has " + std::to_string(out.t_s.size()));
+                                    core::toText(v.size()) + " rows, t has " + core::toText(out.t_s.size()));
       }
       out.extra_names.push_back(name.cast<std::string>());
       out.extra.col(k++) = v;
@@ -58,8 +59,8 @@ Dataset datasetFrom(const py::dict& d) {
   }
   auto check = [&](const char* what, Eigen::Index rows) {
     if (rows != out.t_s.size()) {
-      throw std::invalid_argument(std::string("dataset: ") + what + " has " + std::to_string(rows) + " rows, t has " +
-                                  std::to_string(out.t_s.size()));
+      throw std::invalid_argument(std::string("dataset: ") + what + " has " + core::toText(rows) + " rows, t has " +
+                                  core::toText(out.t_s.size()));
     }
   };
   check("q", out.q_rad.rows());

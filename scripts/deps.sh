@@ -15,6 +15,14 @@ PACKAGES=(
   slurm-wlm
 )
 
+# Optional groups: --with-fuzz (clang and its libFuzzer runtime, for scripts/fuzz.sh).
+for arg in "$@"; do
+  case "$arg" in
+    --with-fuzz) PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "scripts/deps.sh: unknown option '$arg' (known: --with-fuzz)" >&2; exit 2 ;;
+  esac
+done
+
 missing=()
 for p in "${PACKAGES[@]}"; do
   status=$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)

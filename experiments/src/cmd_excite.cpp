@@ -1,6 +1,7 @@
 // `exoid excite`: design an excitation trajectory for the leg (ident::designExcitation) under the
 // rig's limits, write it as JSON for `exoid simulate --excitation`, and compare it with the
 // paper's trajectory on the same footing (condition number, Cramer-Rao bound per parameter).
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/identification.hpp"
@@ -165,7 +166,7 @@ void runExcite(const ExciteArgs& args) {
             << " restarts feasible, " << fmt(d.wall_time_s, 3) << " s\n"
             << "criterion " << ident::toString(a.options.criterion) << "; condition number " << fmt(d.score.condition_number, 4)
             << " (paper's trajectory " << paper_id << ": " << fmt(paper_score.condition_number, 4) << ")\n";
-  TextTable t({"param", "CRB std, design", "CRB std, paper's " + std::to_string(paper_id), "gain", "floor", "max gain"});
+  TextTable t({"param", "CRB std, design", "CRB std, paper's " + core::toText(paper_id), "gain", "floor", "max gain"});
   for (std::size_t k = 0; k < indices.size(); ++k) {
     const auto K = static_cast<Eigen::Index>(k);
     t.addRow({std::string(ident::paramName(indices[k])), fmt(crb[K], 3), fmt(crb_paper[K], 3), fmt(crb_paper[K] / crb[K], 3),

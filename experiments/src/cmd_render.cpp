@@ -3,6 +3,7 @@
 // measured torque and, given an identification JSON, the identified model's prediction and error.
 #ifdef EXOID_WITH_RENDER
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/identification.hpp"
@@ -128,8 +129,8 @@ render::Track trackFromSimulation(const RenderArgs& a) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::cout << "simulated " << a.sim.duration_s << " s of trajectory " << a.sim.trajectory << " in " << wall << " s\n";
   render::Track tr = render::trackFromSimulation(
-      r, "trajectory " + std::to_string(a.sim.trajectory) + " (simulated" +
-             (a.sim.variant.vibration_level > 0 ? ", vibration " + std::to_string(a.sim.variant.vibration_level).substr(0, 4) : std::string()) +
+      r, "trajectory " + core::toText(a.sim.trajectory) + " (simulated" +
+             (a.sim.variant.vibration_level > 0 ? ", vibration " + core::toText(a.sim.variant.vibration_level).substr(0, 4) : std::string()) +
              ")");
   if (!a.ident_json.empty()) {
     // The identification sees what a rig records: the measured angles and torques.
@@ -148,8 +149,8 @@ void run(RenderArgs& a) {
                                 "'), or --frame T --out FILE.png for a still");
   }
   if (still && a.data.empty() && !(a.frame_s >= 0.0 && a.frame_s < a.sim.duration_s)) {
-    throw std::invalid_argument("--frame " + std::to_string(a.frame_s) + " is outside the simulated record [0, " +
-                                std::to_string(a.sim.duration_s) + ") s (see --duration)");
+    throw std::invalid_argument("--frame " + core::toText(a.frame_s) + " is outside the simulated record [0, " +
+                                core::toText(a.sim.duration_s) + ") s (see --duration)");
   }
   a.clip.render.multisamples = a.antialias ? 4 : 0;
   a.clip.overlay_enabled = !a.no_overlay;

@@ -1,5 +1,7 @@
 #include "exoid/experiments/folder_lock.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <sys/file.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -29,7 +31,7 @@ std::string holderText(const std::string& what) {
   const std::time_t now = std::time(nullptr);
   std::tm utc{};
   if (::gmtime_r(&now, &utc)) std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return what + " (pid " + std::to_string(::getpid()) + " on " + host + ", since " + when + ")\n";
+  return what + " (pid " + core::toText(::getpid()) + " on " + host + ", since " + when + ")\n";
 }
 
 }  // namespace

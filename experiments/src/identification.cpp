@@ -1,5 +1,6 @@
 #include "exoid/experiments/identification.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/plausibility.hpp"
 
 #include "exoid/experiments/version.hpp"
@@ -67,7 +68,7 @@ void checkPlausibility(MethodOutcome& out) {
   }
   out.implausible = ident::implausibilities(out.x, not_estimated);
   if (out.knee_armature && !(*out.knee_armature >= 0.0)) {
-    out.implausible.push_back("Ia2 = " + std::to_string(*out.knee_armature) + " kg m^2 must be >= 0 (an inertia)");
+    out.implausible.push_back("Ia2 = " + core::toText(*out.knee_armature) + " kg m^2 must be >= 0 (an inertia)");
   }
 }
 }  // namespace

@@ -1,3 +1,4 @@
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/options.hpp"
 
@@ -39,13 +40,13 @@ LogInput readLogProfile(const std::string& path) {
   try {
     t = toml::parse_file(path);
   } catch (const toml::parse_error& e) {
-    throw std::invalid_argument(path + ":" + std::to_string(e.source().begin.line) + ":" +
-                                std::to_string(e.source().begin.column) + ": " + std::string(e.description()));
+    throw std::invalid_argument(path + ":" + core::toText(e.source().begin.line) + ":" +
+                                core::toText(e.source().begin.column) + ": " + std::string(e.description()));
   }
   LogInput in;
   in.profile = path;
   const auto at = [&](const toml::node& n) {
-    return path + ":" + std::to_string(n.source().begin.line) + ":" + std::to_string(n.source().begin.column);
+    return path + ":" + core::toText(n.source().begin.line) + ":" + core::toText(n.source().begin.column);
   };
   const auto text = [&](const toml::node& n, const std::string& key) {
     if (!n.is_string()) throw std::invalid_argument(at(n) + ": '" + key + "' must be a string");
@@ -177,10 +178,10 @@ std::string samplingSummary(const ident::Dataset& d, const ident::CsvReadOptions
   const ident::SamplingReport& r = d.sampling;
   std::string s = fmt(1e3 * r.median_dt_s, 4) + " ms median interval";
   if (r.intervals_off == 0) return "uniform, " + s;
-  s += ", " + std::to_string(r.intervals_off) + " of " + std::to_string(r.rows_read - 1) + " intervals off by > " +
+  s += ", " + core::toText(r.intervals_off) + " of " + core::toText(r.rows_read - 1) + " intervals off by > " +
        fmt(100.0 * o.dt_rel_tolerance) + " % (" + fmt(1e3 * r.min_dt_s, 4) + " to " + fmt(1e3 * r.max_dt_s, 4) +
-       " ms, the longest ending at line " + std::to_string(r.max_dt_line) + ")";
-  if (r.resampled) s += ": resampled to " + std::to_string(d.size()) + " rows on a uniform grid (cubic Hermite)";
+       " ms, the longest ending at line " + core::toText(r.max_dt_line) + ")";
+  if (r.resampled) s += ": resampled to " + core::toText(d.size()) + " rows on a uniform grid (cubic Hermite)";
   return s;
 }
 

@@ -1,9 +1,10 @@
 #include "exoid/experiments/protocol.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/ident/noise_covariance.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 #include "exoid/ident/segmental.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
@@ -70,9 +71,9 @@ ident::SignalOptions parallelSignals(const ident::SignalOptions& paper, bool bas
 }
 
 std::uint64_t recordSeed(std::uint64_t seed, int trajectory) {
-  return ident::Rng::derive(seed, static_cast<std::uint64_t>(trajectory));
+  return core::deriveSeed(seed, static_cast<std::uint64_t>(trajectory));
 }
-std::uint64_t psoSeed(std::uint64_t seed) { return ident::Rng::derive(seed, 100); }
+std::uint64_t psoSeed(std::uint64_t seed) { return core::deriveSeed(seed, 100); }
 
 namespace {
 
@@ -109,7 +110,7 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     if (k != 0 && k != 2) continue;  // the parallel arms identify on records 1 and 3 only
     const ident::LegConstants lc = constantsOf(r.sim.truth);
     r.closed_loop.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals));
-    r.closed_loop.reference = referenceOf(r.data, "record " + std::to_string(k + 1));
+    r.closed_loop.reference = referenceOf(r.data, "record " + core::toText(k + 1));
     r.closed_loop.controller = controllerOf(sc, k < 2);
     r.closed_loop_base = r.closed_loop;
     r.closed_loop_base.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals, true));

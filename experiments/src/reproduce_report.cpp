@@ -1,3 +1,4 @@
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/plots.hpp"
 #include "exoid/experiments/reproduce.hpp"
@@ -375,7 +376,7 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
      << " deg; torque noise " << c.sim.sensors.noise_tau_Nm << " N m. Records of " << c.sim.duration_s
      << " s, recorded after a " << c.sim.ramp_s << " s start ramp.\n";
   md << "- Signals: " << ident::toString(c.signals.differentiation)
-     << " differences; " << (c.signals.filter ? "zero-phase Butterworth order " + std::to_string(c.signals.filter_order) + " at " + fmt(c.signals.cutoff_hz) + " Hz" : std::string("no filter"))
+     << " differences; " << (c.signals.filter ? "zero-phase Butterworth order " + core::toText(c.signals.filter_order) + " at " + fmt(c.signals.cutoff_hz) + " Hz" : std::string("no filter"))
      << "; " << c.signals.edgeTrimSamples(1000.0) << " samples trimmed at each end (the paper's arms: ls, rls, pso, "
         "rls-pso, lad, ls-stacked).\n";
   {

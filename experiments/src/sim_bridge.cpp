@@ -1,5 +1,6 @@
 #include "exoid/experiments/sim_bridge.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/options.hpp"
@@ -120,7 +121,7 @@ namespace {
 sim::FourierJoint fourierJoint(const std::vector<double>& deg, const char* flag) {
   if (deg.empty() || deg.size() % 2 == 0) {
     throw CLI::ValidationError(flag, "expected offset,a1,b1[,a2,b2...] in degrees (an odd count), got " +
-                                         std::to_string(deg.size()) + " values");
+                                         core::toText(deg.size()) + " values");
   }
   const double rad = M_PI / 180.0;
   sim::FourierJoint j;

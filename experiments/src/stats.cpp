@@ -1,5 +1,7 @@
 #include "exoid/experiments/stats.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -60,8 +62,8 @@ double sampleStd(const std::vector<double>& x) {
 
 double incompleteBeta(double a, double b, double x) {
   if (!(a > 0.0) || !(b > 0.0) || !(x >= 0.0 && x <= 1.0)) {
-    throw std::invalid_argument("incompleteBeta: expected a, b > 0 and x in [0, 1], got a = " + std::to_string(a) +
-                                ", b = " + std::to_string(b) + ", x = " + std::to_string(x));
+    throw std::invalid_argument("incompleteBeta: expected a, b > 0 and x in [0, 1], got a = " + core::toText(a) +
+                                ", b = " + core::toText(b) + ", x = " + core::toText(x));
   }
   if (x == 0.0 || x == 1.0) return x;
   const double lbeta = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b);
@@ -71,14 +73,14 @@ double incompleteBeta(double a, double b, double x) {
 }
 
 double studentTCdf(double t, double df) {
-  if (!(df > 0.0)) throw std::invalid_argument("studentTCdf: df must be > 0, got " + std::to_string(df));
+  if (!(df > 0.0)) throw std::invalid_argument("studentTCdf: df must be > 0, got " + core::toText(df));
   if (std::isinf(t)) return t > 0 ? 1.0 : 0.0;
   const double tail = 0.5 * incompleteBeta(0.5 * df, 0.5, df / (df + t * t));  // P(T > |t|)
   return t >= 0.0 ? 1.0 - tail : tail;
 }
 
 double studentTQuantile(double p, double df) {
-  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("studentTQuantile: p must be in (0, 1), got " + std::to_string(p));
+  if (!(p > 0.0 && p < 1.0)) throw std::invalid_argument("studentTQuantile: p must be in (0, 1), got " + core::toText(p));
   if (p == 0.5) return 0.0;
   // Bracket, then bisect to full precision (the CDF is monotone; ~100 halvings at most).
   double lo = 0.0, hi = 1.0;
@@ -109,8 +111,8 @@ ConfidenceInterval meanCi(const std::vector<double>& x, double level) {
 
 WilcoxonResult wilcoxonSignedRank(const std::vector<double>& x, const std::vector<double>& y) {
   if (x.size() != y.size()) {
-    throw std::invalid_argument("wilcoxonSignedRank: expected samples of equal length, got " + std::to_string(x.size()) +
-                                " and " + std::to_string(y.size()));
+    throw std::invalid_argument("wilcoxonSignedRank: expected samples of equal length, got " + core::toText(x.size()) +
+                                " and " + core::toText(y.size()));
   }
   std::vector<double> d;
   for (std::size_t i = 0; i < x.size(); ++i) {

@@ -1,10 +1,11 @@
 #include "exoid/experiments/sweep_config.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/reproduce.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 #include "exoid/sim/sidecar.hpp"
 
 #include <toml++/toml.h>
@@ -25,19 +26,12 @@ std::string where(const SweepConfig& c, const std::string& key) {
   return it == c.origin.end() ? "'" + key + "'" : "'" + key + "' (" + it->second + ")";
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(17);
-  s << v;
-  return s.str();
-}
-
 void checkList(const SweepConfig& c, const std::string& key, const std::vector<double>& v, double lo, double hi) {
   if (v.empty()) throw SweepConfigError(where(c, key) + ": the grid list is empty (give at least one level)");
   for (double x : v) {
-    if (!std::isfinite(x)) throw SweepConfigError(where(c, key) + ": levels must be finite, got " + num(x));
-    if (x < lo) throw SweepConfigError(where(c, key) + ": levels must be >= " + num(lo) + ", got " + num(x));
-    if (x > hi) throw SweepConfigError(where(c, key) + ": levels must be <= " + num(hi) + ", got " + num(x));
+    if (!std::isfinite(x)) throw SweepConfigError(where(c, key) + ": levels must be finite, got " + core::formatNumber(x, 17));
+    if (x < lo) throw SweepConfigError(where(c, key) + ": levels must be >= " + core::formatNumber(lo, 17) + ", got " + core::formatNumber(x, 17));
+    if (x > hi) throw SweepConfigError(where(c, key) + ": levels must be <= " + core::formatNumber(hi, 17) + ", got " + core::formatNumber(x, 17));
   }
   if (std::set<double>(v.begin(), v.end()).size() != v.size()) {
     throw SweepConfigError(where(c, key) + ": levels must be distinct");
@@ -45,7 +39,7 @@ void checkList(const SweepConfig& c, const std::string& key, const std::vector<d
 }
 
 std::string at(const std::string& file, const toml::source_region& s) {
-  return file + ":" + std::to_string(s.begin.line) + ":" + std::to_string(s.begin.column);
+  return file + ":" + core::toText(s.begin.line) + ":" + core::toText(s.begin.column);
 }
 
 // Typed readers: each records the origin and throws naming the key on a wrong type.
@@ -129,13 +123,13 @@ void SweepConfig::validate() const {
   }
 
   if (seeds < 1 || seeds > 1000000) {
-    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + std::to_string(seeds));
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + core::toText(seeds));
   }
   // Bounded before anything is allocated per run (a job list of 2^31 runs exhausts memory).
   constexpr double kMaxRuns = 1e7;
   if (static_cast<double>(numCells()) * seeds > kMaxRuns) {
-    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + std::to_string(numCells()) + " cells x " +
-                           std::to_string(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + core::toText(numCells()) + " cells x " +
+                           core::toText(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
   }
   if (methods.empty()) throw SweepConfigError(where(*this, "sweep.methods") + ": name at least one method");
   if (std::set<Variant>(methods.begin(), methods.end()).size() != methods.size()) {
@@ -163,7 +157,7 @@ std::uint64_t SweepConfig::jobSeed(int cell, int replicate) const {
   // Trajectories vary slowest: cells of one level are a contiguous block, and the same position
   // in every block is the same noise condition.
   const int per_level = numCells() / static_cast<int>(std::max<std::size_t>(trajectories.size(), 1));
-  return ident::Rng::derive(ident::Rng::derive(master_seed, static_cast<std::uint64_t>(cell % per_level)),
+  return core::deriveSeed(core::deriveSeed(master_seed, static_cast<std::uint64_t>(cell % per_level)),
                             static_cast<std::uint64_t>(replicate));
 }
 
@@ -250,7 +244,7 @@ SweepConfig loadSweepConfig(const std::string& path) {
       const std::string full = s + "." + key;
       if (full == "sweep.seeds") {
         const std::int64_t n = r.integer(v, full);
-        if (n < 1 || n > 1000000) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be in [1, 1e6], got " + std::to_string(n));
+        if (n < 1 || n > 1000000) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be in [1, 1e6], got " + core::toText(n));
         c.seeds = static_cast<int>(n);
       } else if (full == "sweep.master_seed") {
         const std::int64_t n = r.integer(v, full);

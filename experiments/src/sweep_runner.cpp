@@ -1,5 +1,6 @@
 #include "exoid/experiments/sweep_runner.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/fault_injection.hpp"
 #include "exoid/experiments/folder_lock.hpp"
 #include "exoid/experiments/identification.hpp"
@@ -52,7 +53,7 @@ std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir, std::o
       try {
         const nlohmann::json j = readJson(e.path());
         if (j.value("cell", -1) != id->cell || j.value("replicate", -1) != id->replicate || !j.contains("status")) {
-          problem = "it does not hold run (" + std::to_string(id->cell) + ", " + std::to_string(id->replicate) + ")";
+          problem = "it does not hold run (" + core::toText(id->cell) + ", " + core::toText(id->replicate) + ")";
         }
       } catch (const std::exception& err) {
         problem = fs::file_size(e.path()) == 0 ? std::string("it is empty") : err.what();
@@ -110,7 +111,7 @@ long failedRuns(const std::vector<nlohmann::json>& jobs, std::string& example) {
   long failed = 0;
   for (const nlohmann::json& j : jobs) {
     if (j.value("status", "") != "ok" && !failed++) {
-      example = "cell " + std::to_string(j.value("cell", -1)) + " replicate " + std::to_string(j.value("replicate", -1)) +
+      example = "cell " + core::toText(j.value("cell", -1)) + " replicate " + core::toText(j.value("replicate", -1)) +
                 ": " + j.value("message", std::string("(no message)"));
     }
   }
@@ -147,7 +148,7 @@ void throwIfRunsFailed(const std::vector<nlohmann::json>& jobs, const fs::path& 
   std::string example;
   const long failed = failedRuns(jobs, example);
   if (failed == 0) return;
-  throw std::runtime_error(std::to_string(failed) + " of " + std::to_string(jobs.size()) + " runs failed (e.g. " + example +
+  throw std::runtime_error(core::toText(failed) + " of " + core::toText(jobs.size()) + " runs failed (e.g. " + example +
                            "); " + (static_cast<std::size_t>(failed) == jobs.size() ? "no run succeeded"
                                                                                      : "the summary in " + dir.string() + " covers the rest"));
 }
@@ -199,7 +200,7 @@ std::optional<ShardSpec> shardFromEnvironment() {
   if (!id || !count) return std::nullopt;
   const char* min = std::getenv("SLURM_ARRAY_TASK_MIN");
   const int k = std::atoi(id) - (min ? std::atoi(min) : 0);
-  return parseShard(std::to_string(k) + "/" + count);
+  return parseShard(core::toText(k) + "/" + count);
 }
 
 std::vector<JobId> shardJobs(const SweepConfig& c, ShardSpec shard) {
@@ -327,8 +328,8 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
       // if it is the same result, refused if not (which one would be right?).
       if (!inserted && withoutWallTimes(readJson(it->second)) != withoutWallTimes(readJson(p))) {
         throw std::runtime_error("exoid merge: " + it->second.string() + " and " + p.string() +
-                                 " hold different results for the same run (cell " + std::to_string(id.first) +
-                                 ", replicate " + std::to_string(id.second) +
+                                 " hold different results for the same run (cell " + core::toText(id.first) +
+                                 ", replicate " + core::toText(id.second) +
                                  "); were they made by different exoid versions or machines? Merge folders of one sweep only.");
       }
     }
@@ -340,12 +341,12 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
   for (int cell = 0; cell < static_cast<int>(layout.cells.size()); ++cell) {
     for (int r = 0; r < layout.seeds; ++r) {
       if (!files.count({cell, r})) {
-        if (!missing++) example = "cell " + std::to_string(cell) + " replicate " + std::to_string(r);
+        if (!missing++) example = "cell " + core::toText(cell) + " replicate " + core::toText(r);
       }
     }
   }
   if (missing) {
-    throw std::runtime_error("exoid merge: " + std::to_string(missing) + " runs are missing (e.g. " + example +
+    throw std::runtime_error("exoid merge: " + core::toText(missing) + " runs are missing (e.g. " + example +
                              "); did every shard finish? Re-run the missing shards (they resume), then merge again.");
   }
   const fs::path dir(out);

@@ -1,5 +1,6 @@
 #include "exoid/experiments/sweep_summary.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/fault_injection.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/stats.hpp"
@@ -645,7 +646,7 @@ void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const st
             have = true;
             const nlohmann::json& p = m.at("vs_ls").at("torque_err_mean");
             row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_holm")), 3) + ", n = " +
-                          std::to_string(p.at("n").get<long>()));
+                          core::toText(p.at("n").get<long>()));
           }
           if (have) t.addRow(row);
           any = any || have;

@@ -1,5 +1,7 @@
 #include "exoid/experiments/table.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -45,16 +47,7 @@ void TextTable::printMarkdown(std::ostream& out) const {
   for (const auto& r : rows_) line(r);
 }
 
-std::string fmt(double v, int significant) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*g", significant, v);
-  return buf;
-}
-
-std::string fixed(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
+std::string fmt(double v, int significant) { return core::formatNumber(v, significant); }
+std::string fixed(double v, int decimals) { return core::formatFixed(v, decimals); }
 
 }  // namespace exoid::experiments

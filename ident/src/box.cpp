@@ -1,5 +1,7 @@
 #include "exoid/ident/box.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -13,13 +15,13 @@ bool Box::contains(const Eigen::Ref<const Eigen::VectorXd>& x) const {
 void Box::validate() const {
   if (lower.size() != upper.size() || lower.size() == 0) {
     throw std::invalid_argument("box: lower and upper must have the same non-zero size, got " +
-                                std::to_string(lower.size()) + " and " + std::to_string(upper.size()));
+                                core::toText(lower.size()) + " and " + core::toText(upper.size()));
   }
   for (Eigen::Index i = 0; i < lower.size(); ++i) {
     if (!std::isfinite(lower[i]) || !std::isfinite(upper[i]) || !(lower[i] < upper[i])) {
-      throw std::invalid_argument("box: dimension " + std::to_string(i) +
-                                  " needs finite lower < upper, got [" + std::to_string(lower[i]) +
-                                  ", " + std::to_string(upper[i]) + "]");
+      throw std::invalid_argument("box: dimension " + core::toText(i) +
+                                  " needs finite lower < upper, got [" + core::toText(lower[i]) +
+                                  ", " + core::toText(upper[i]) + "]");
     }
   }
 }

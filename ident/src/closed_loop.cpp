@@ -1,5 +1,6 @@
 #include "exoid/ident/closed_loop.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/signals.hpp"
 
 #include <Eigen/Cholesky>
@@ -51,14 +52,14 @@ void Reference::validate() const {
   if (q_rad.rows() != n || qd_radps.rows() != n || qdd_radps2.rows() != n) {
     throw std::invalid_argument("reference: t, q, qd and qdd must have the same number of samples");
   }
-  if (n < 5) throw std::invalid_argument("reference: need >= 5 samples, got " + std::to_string(n));
+  if (n < 5) throw std::invalid_argument("reference: need >= 5 samples, got " + core::toText(n));
   if (!t_s.allFinite() || !q_rad.allFinite() || !qd_radps.allFinite() || !qdd_radps2.allFinite()) {
     throw std::invalid_argument("reference contains a NaN or Inf value");
   }
   const double dt = (t_s[n - 1] - t_s[0]) / static_cast<double>(n - 1);
   for (Eigen::Index i = 1; i < n; ++i) {
     if (!(std::abs(t_s[i] - t_s[i - 1] - dt) <= 1e-3 * dt)) {
-      throw std::invalid_argument("reference: sampling is not uniform at sample " + std::to_string(i));
+      throw std::invalid_argument("reference: sampling is not uniform at sample " + core::toText(i));
     }
   }
 }
@@ -140,7 +141,7 @@ ClosedLoopRun simulateClosedLoop(const ParamVector& x, const LegConstants& c, co
     if (!free_joint[j]) continue;
     if (!(m0(j, j) > 0)) {
       run.message = std::string("the model's mass matrix is not positive definite (M") + (j == 0 ? "11" : "22") + " = " +
-                    std::to_string(m0(j, j)) + at(ref.t_s[0]) + ")";
+                    core::toText(m0(j, j)) + at(ref.t_s[0]) + ")";
       return run;
     }
     omega = std::max({omega, std::sqrt(ctl.pid.kp_Nm_per_rad[j] / m0(j, j)), ctl.pid.kd_Nms_per_rad[j] / m0(j, j)});

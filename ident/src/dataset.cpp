@@ -1,6 +1,7 @@
 #include "exoid/ident/dataset.hpp"
 
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 
 #include "csv_lines.hpp"
 
@@ -24,8 +25,8 @@ namespace {
 
 std::string where(const std::string& source, long line, long column) {
   std::string s = source;
-  if (line > 0) s += ":" + std::to_string(line);
-  if (column > 0) s += ":" + std::to_string(column);
+  if (line > 0) s += ":" + core::toText(line);
+  if (column > 0) s += ":" + core::toText(column);
   return s;
 }
 
@@ -158,12 +159,6 @@ double physicalBound(const std::string& column) {
   return 1e6;                                       // torques, N m
 }
 
-std::string formatBound(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 // The reader proper. `open` returns a fresh chunk reader (read(buffer) -> bool) for each of two
 // passes: the first counts the data rows, so every column is allocated once at its final size
 // and parsed straight into place.
@@ -276,7 +271,7 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
     if (trailing_comma && cells == ncol + 1 && csv::trimBlanks(line.cells.back()).empty()) --cells;
     if (cells != ncol) {
       throw DatasetError(source, line.number, 0,
-                         "expected " + std::to_string(ncol) + " cells as in the header, got " + std::to_string(cells));
+                         "expected " + core::toText(ncol) + " cells as in the header, got " + core::toText(cells));
     }
     for (std::size_t c = 0; c < ncol; ++c) {
       if (!target[c]) continue;
@@ -296,7 +291,7 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
       if (known[c] && std::abs(v) > physicalBound(names[c])) {
         throw DatasetError(source, line.number, static_cast<long>(c) + 1,
                            "column '" + names[c] + "': " + std::string(csv::trimBlanks(line.cells[c])) +
-                               " is not a physical value (|" + names[c] + "| <= " + formatBound(physicalBound(names[c])) +
+                               " is not a physical value (|" + names[c] + "| <= " + core::formatNumber(physicalBound(names[c])) +
                                " in the log's units)");
       }
       target[c][row] = v;
@@ -326,7 +321,7 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
   const Eigen::Index n = row;
   if (n < options.min_rows) {
     throw DatasetError(source, 0, 0,
-                       "expected at least " + std::to_string(options.min_rows) + " data rows, got " + std::to_string(n));
+                       "expected at least " + core::toText(options.min_rows) + " data rows, got " + core::toText(n));
   }
   // Extra columns found to hold text: dropped.
   {
@@ -367,8 +362,8 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
     const double dt = d.t_s[i] - d.t_s[i - 1];
     if (!(dt > 0.0)) {
       throw DatasetError(source, row_lines[static_cast<std::size_t>(i)], t_col,
-                         "time must be strictly increasing: t = " + std::to_string(d.t_s[i]) +
-                             " s after t = " + std::to_string(d.t_s[i - 1]) + " s");
+                         "time must be strictly increasing: t = " + core::toText(d.t_s[i]) +
+                             " s after t = " + core::toText(d.t_s[i - 1]) + " s");
     }
     dts[static_cast<std::size_t>(i - 1)] = dt;
   }
@@ -412,8 +407,8 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
   r.sampling = kept;
   r.sampling.resampled = true;
   if (r.size() < options.min_rows) {
-    throw DatasetError(source, 0, 0, "expected at least " + std::to_string(options.min_rows) + " rows after resampling, got " +
-                                         std::to_string(r.size()));
+    throw DatasetError(source, 0, 0, "expected at least " + core::toText(options.min_rows) + " rows after resampling, got " +
+                                         core::toText(r.size()));
   }
   return r;
 }
@@ -439,7 +434,7 @@ Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvRe
     while (csv::readChunk(in, text)) {
     }
   } catch (const std::runtime_error& e) {
-    throw DatasetError(source, 0, 0, std::string(e.what()) + " after " + std::to_string(text.size()) + " bytes");
+    throw DatasetError(source, 0, 0, std::string(e.what()) + " after " + core::toText(text.size()) + " bytes");
   }
   return parseDatasetText(text, source, options);
 }
@@ -524,7 +519,7 @@ void writeDatasetCsv(const Dataset& d, std::ostream& out) {
   const Eigen::Index n = d.size();
   if (d.q_rad.rows() != n || d.tau_Nm.rows() != n || (!d.extra_names.empty() && d.extra.rows() != n) ||
       d.extra.cols() != static_cast<Eigen::Index>(d.extra_names.size())) {
-    throw std::invalid_argument("dataset: column sizes disagree with t (" + std::to_string(n) + " rows)");
+    throw std::invalid_argument("dataset: column sizes disagree with t (" + core::toText(n) + " rows)");
   }
   for (const std::string& c : d.comments) out << '#' << c << '\n';
   out << "t,q_hip,q_knee,tau_hip,tau_knee";

@@ -2,7 +2,7 @@
 
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/nelder_mead.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <Eigen/SVD>
@@ -262,7 +262,7 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants
     const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
     return f + 1e5 * s.worst_violation * s.worst_violation;
   };
-  Rng rng(o.seed);
+  core::Rng rng(o.seed);
   double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;
   Eigen::VectorXd p_feasible, p_any;
   NelderMeadOptions nm;

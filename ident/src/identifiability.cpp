@@ -1,5 +1,6 @@
 #include "exoid/ident/identifiability.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/least_squares.hpp"
 
 #include <Eigen/QR>
@@ -14,11 +15,11 @@ namespace exoid::ident {
 IdentifiabilityReport analyzeIdentifiability(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                                              double noise_sigma, const Eigen::VectorXd& reference) {
   if (!(noise_sigma >= 0.0 && std::isfinite(noise_sigma))) {
-    throw std::invalid_argument("noise sigma must be finite and >= 0 N m, got " + std::to_string(noise_sigma));
+    throw std::invalid_argument("noise sigma must be finite and >= 0 N m, got " + core::toText(noise_sigma));
   }
   if (reference.size() != 0 && reference.size() != H.cols()) {
-    throw std::invalid_argument("identifiability: reference has " + std::to_string(reference.size()) +
-                                " entries, expected " + std::to_string(H.cols()));
+    throw std::invalid_argument("identifiability: reference has " + core::toText(reference.size()) +
+                                " entries, expected " + core::toText(H.cols()));
   }
   const LsResult ls = solveLeastSquares(H, y);
   const Eigen::Index p = H.cols();

@@ -1,5 +1,7 @@
 #include "exoid/ident/identifiability_advice.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include "exoid/ident/params.hpp"
 
 #include <cmath>
@@ -28,17 +30,7 @@ std::string needs(int param) {
   }
 }
 
-std::string percent(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g %%", 100.0 * v);
-  return buf;
-}
-
-std::string num(double v, const char* f = "%.4g") {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string percent(double v) { return core::formatNumber(100.0 * v, 3) + " %"; }
 
 }  // namespace
 
@@ -73,11 +65,11 @@ std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const I
     const Eigen::Index q = partner(j);
     if (unidentifiable[static_cast<std::size_t>(j)]) {
       out.push_back(name(j) + " cannot be identified from this record: its column is a combination of the others (most "
-                    "nearly " + name(q) + "'s, |cos| = " + num(std::abs(G(j, q)), "%.6f") + "). It needs " + needs(param) + ".");
+                    "nearly " + name(q) + "'s, |cos| = " + core::formatFixed(std::abs(G(j, q)), 6) + "). It needs " + needs(param) + ".");
     } else if (!(r.crb_rel_std[j] <= o.poor_relative_std)) {
       out.push_back(name(j) + " is poorly determined: relative std " + percent(r.crb_rel_std[j]) + " at this noise; " +
-                    num(100.0 * r.collinearity_r2[j], "%.4g") + " % of its column is explained by the others (most by " +
-                    name(q) + ", |cos| = " + num(std::abs(G(j, q)), "%.4f") + "). It needs " + needs(param) + ".");
+                    core::formatNumber(100.0 * r.collinearity_r2[j], 4) + " % of its column is explained by the others (most by " +
+                    name(q) + ", |cos| = " + core::formatFixed(std::abs(G(j, q)), 4) + "). It needs " + needs(param) + ".");
     }
   }
   if (!std::isfinite(r.condition_number) || r.condition_number > o.poor_condition) {
@@ -91,13 +83,13 @@ std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const I
       }
     }
     out.push_back("The excitation is poor: condition number " +
-                  (std::isfinite(r.condition_number) ? num(r.condition_number, "%.4g") : std::string("inf")) +
-                  " (columns scaled; above " + num(o.poor_condition, "%.4g") + " small model errors move the estimate a lot). "
+                  (std::isfinite(r.condition_number) ? core::formatNumber(r.condition_number, 4) : std::string("inf")) +
+                  " (columns scaled; above " + core::formatNumber(o.poor_condition, 4) + " small model errors move the estimate a lot). "
                   "The most nearly parallel columns are " + name(a) + " and " + name(b) + " (|cos| = " +
-                  num(std::abs(G(a, b)), "%.6f") + "). A designed trajectory separates them: `exoid excite`.");
+                  core::formatFixed(std::abs(G(a, b)), 6) + "). A designed trajectory separates them: `exoid excite`.");
   }
   if (out.empty()) {
-    out.push_back("Well excited: condition number " + num(r.condition_number, "%.4g") + ", every parameter within " +
+    out.push_back("Well excited: condition number " + core::formatNumber(r.condition_number, 4) + ", every parameter within " +
                   percent(o.poor_relative_std) + " relative std at this noise.");
   }
   return out;

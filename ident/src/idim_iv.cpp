@@ -1,5 +1,6 @@
 #include "exoid/ident/idim_iv.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <Eigen/QR>
@@ -14,9 +15,9 @@ namespace exoid::ident {
 void IvOptions::validate() const {
   ls.validate();
   if (!(step_tolerance > 0 && step_tolerance < 1)) {
-    throw std::invalid_argument("'step_tolerance' must be in (0, 1), got " + std::to_string(step_tolerance));
+    throw std::invalid_argument("'step_tolerance' must be in (0, 1), got " + core::toText(step_tolerance));
   }
-  if (max_iterations < 1) throw std::invalid_argument("'max_iterations' must be >= 1, got " + std::to_string(max_iterations));
+  if (max_iterations < 1) throw std::invalid_argument("'max_iterations' must be >= 1, got " + core::toText(max_iterations));
 }
 
 namespace {
@@ -67,7 +68,7 @@ Estimate instrumentalVariables(const Eigen::MatrixXd& H, const Eigen::VectorXd& 
   if (qr.rank() < H.cols()) {
     for (Eigen::Index k = qr.rank(); k < H.cols(); ++k) e.unidentifiable.push_back(qr.colsPermutation().indices()[k]);
     e.summary.status = Status::kRankDeficient;
-    e.summary.message = "Z^T H is singular: the instruments do not separate " + std::to_string(H.cols() - qr.rank()) + " column(s)";
+    e.summary.message = "Z^T H is singular: the instruments do not separate " + core::toText(H.cols() - qr.rank()) + " column(s)";
   } else {
     e.summary.status = Status::kConverged;
     e.summary.message = "instrumental-variable solve";
@@ -101,18 +102,18 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
   if (!usable(ls.summary.status)) return finish(ls.summary.status, "starting LS: " + ls.summary.message);
   for (int k = 1; k <= options.max_iterations; ++k) {
     const Instruments z = instruments(e.x);
-    if (!z.ok) return finish(Status::kFailed, "iteration " + std::to_string(k) + ": " + z.message);
+    if (!z.ok) return finish(Status::kFailed, "iteration " + core::toText(k) + ": " + z.message);
     checkShapes(H, y, z.Z);
     const Estimate iv = instrumentalVariables(H, y, z.Z, options.ls);
     e.summary.iterations = k;
     if (!usable(iv.summary.status)) {
       e.unidentifiable = iv.unidentifiable;
-      return finish(iv.summary.status, "iteration " + std::to_string(k) + ": " + iv.summary.message);
+      return finish(iv.summary.status, "iteration " + core::toText(k) + ": " + iv.summary.message);
     }
     if (z.fixed) {
       e.x = iv.x;
       e.condition_number = iv.condition_number;
-      return finish(Status::kConverged, "IDIM-IV: " + z.message + "; one solve with them after " + std::to_string(k - 1) +
+      return finish(Status::kConverged, "IDIM-IV: " + z.message + "; one solve with them after " + core::toText(k - 1) +
                                             " iteration(s)");
     }
     const Eigen::VectorXd se = ivStandardErrors(H, y, z.Z, iv.x);
@@ -124,12 +125,12 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
     e.condition_number = iv.condition_number;
     e.cost_history.push_back(step);
     if (step <= options.step_tolerance) {
-      return finish(Status::kConverged, "IDIM-IV: steps below " + std::to_string(options.step_tolerance) +
-                                            " standard errors after " + std::to_string(k) + " iteration(s)");
+      return finish(Status::kConverged, "IDIM-IV: steps below " + core::toText(options.step_tolerance) +
+                                            " standard errors after " + core::toText(k) + " iteration(s)");
     }
   }
-  return finish(Status::kMaxIterations, "IDIM-IV: the step was still " + std::to_string(e.cost_history.back()) +
-                                            " standard errors after " + std::to_string(options.max_iterations) + " iterations");
+  return finish(Status::kMaxIterations, "IDIM-IV: the step was still " + core::toText(e.cost_history.back()) +
+                                            " standard errors after " + core::toText(options.max_iterations) + " iterations");
 }
 
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
@@ -152,7 +153,7 @@ Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const 
     z.message = "instruments from the reference (the model of this iteration cannot be simulated: " + run.message + ")";
   }
   if (out.size() != r.measured.size()) {
-    throw std::invalid_argument("IDIM-IV: the reference has " + std::to_string(r.reference.size()) +
+    throw std::invalid_argument("IDIM-IV: the reference has " + core::toText(r.reference.size()) +
                                 " samples but the measured record's rows do not come from as many (process it with the same options)");
   }
   z.ok = true;

@@ -1,5 +1,6 @@
 #include "exoid/ident/lad.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/least_squares.hpp"
 #include "lad_common.hpp"
 #include "exoid/ident/stopwatch.hpp"
@@ -33,7 +34,6 @@ namespace {
 
 using lad_detail::l1Cost;
 using lad_detail::roundingLevel;
-using lad_detail::str;
 
 /// Pivots |R_kk| < kRankTolerance * |R_00| of the column-scaled A are treated as zero; the same
 /// default as least squares (LsOptions::rank_tolerance): a scaled condition number above 1e8
@@ -52,7 +52,7 @@ std::string rankDeficiencyMessage(const Eigen::ColPivHouseholderQR<Eigen::Matrix
   const Eigen::Index rank = qr.rank();
   const auto& perm = qr.colsPermutation().indices();
   const Eigen::MatrixXd R = qr.matrixR().topRows(rank);
-  std::string msg = "rank " + std::to_string(rank) + " < " + std::to_string(p) + ":";
+  std::string msg = "rank " + core::toText(rank) + " < " + core::toText(p) + ":";
   for (Eigen::Index k = rank; k < p; ++k) {
     Eigen::VectorXd c = Eigen::VectorXd::Zero(rank);
     if (rank > 0) {
@@ -63,13 +63,13 @@ std::string rankDeficiencyMessage(const Eigen::ColPivHouseholderQR<Eigen::Matrix
       if (std::abs(c[i]) > 1e-8) with.push_back(perm[i]);
     }
     std::sort(with.begin(), with.end());
-    msg += (k == rank ? " column " : "; column ") + std::to_string(perm[k]);
+    msg += (k == rank ? " column " : "; column ") + core::toText(perm[k]);
     if (with.empty()) {
       msg += " is (numerically) zero";
     } else {
       msg += " is a linear combination of column" + std::string(with.size() > 1 ? "s" : "") + " {";
       for (std::size_t i = 0; i < with.size(); ++i) {
-        msg += (i ? ", " : "") + std::to_string(with[i]);
+        msg += (i ? ", " : "") + core::toText(with[i]);
       }
       msg += "}";
     }
@@ -193,11 +193,11 @@ double stepLength(const Eigen::VectorXd& x1, const Eigen::VectorXd& dx1, const E
 
 void LadOptions::validate() const {
   if (!(gap_tolerance > 0.0 && gap_tolerance < 1.0)) {
-    throw std::invalid_argument("'gap_tolerance' must be in (0, 1), got " + str(gap_tolerance));
+    throw std::invalid_argument("'gap_tolerance' must be in (0, 1), got " + core::formatNumber(gap_tolerance, 10));
   }
   if (max_iterations < 1) {
     throw std::invalid_argument("'max_iterations' must be >= 1, got " +
-                                std::to_string(max_iterations));
+                                core::toText(max_iterations));
   }
 }
 
@@ -299,7 +299,7 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
     const double gap = cost - bs.dot(tmp);
     const double mu = (a.dot(z) + s.dot(w)) / (2.0 * nd);
     if (!std::isfinite(gap) || !std::isfinite(mu)) {
-      stop_reason = "non-finite iterate at iteration " + std::to_string(iterations);
+      stop_reason = "non-finite iterate at iteration " + core::toText(iterations);
       break;
     }
     if (cost < best_cost) {
@@ -332,7 +332,7 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
         llt.compute(M);
         use_ldlt = false;
         if (llt.info() != Eigen::Success) {
-          stop_reason = "singular normal equations at iteration " + std::to_string(iterations);
+          stop_reason = "singular normal equations at iteration " + core::toText(iterations);
           break;
         }
       }
@@ -400,10 +400,10 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
   result.summary.final_cost = result.cost;
   result.summary.status = result.gap <= allowed ? Status::kConverged : Status::kMaxIterations;
   result.summary.message = (result.summary.status == Status::kConverged ? "converged" : "stopped") +
-                           std::string(" after ") + std::to_string(iterations) +
+                           std::string(" after ") + core::toText(iterations) +
                            " interior-point iterations (" + stop_reason + "); gap " +
-                           str(result.gap) + (result.gap <= allowed ? " <= " : " > ") +
-                           str(allowed) + (at_vertex ? "; purified to a vertex" : "");
+                           core::formatNumber(result.gap, 10) + (result.gap <= allowed ? " <= " : " > ") +
+                           core::formatNumber(allowed, 10) + (at_vertex ? "; purified to a vertex" : "");
   if (vertex.found && at_vertex && vertex.max_basic_u <= 1.0) {
     result.summary.message += " with an exact basic dual";
   }

@@ -1,5 +1,6 @@
 #include "exoid/ident/lad_box.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/stopwatch.hpp"
 #include "lad_common.hpp"
 
@@ -41,7 +42,6 @@ namespace {
 
 using lad_detail::l1Cost;
 using lad_detail::roundingLevel;
-using lad_detail::str;
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 /// A coordinate this close to a bound, relative to the box width, is tried on it (see intoBox):
@@ -61,16 +61,16 @@ constexpr const char kWho[] = "boxed least absolute deviations";
 void checkInputs(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Box& box) {
   lad_detail::checkProblem(kWho, A, b);
   if (box.lower.size() != A.cols() || box.upper.size() != A.cols()) {
-    throwInput("expected a box of dimension " + std::to_string(A.cols()) +
-               " (the columns of A), got lower of size " + std::to_string(box.lower.size()) +
-               " and upper of size " + std::to_string(box.upper.size()));
+    throwInput("expected a box of dimension " + core::toText(A.cols()) +
+               " (the columns of A), got lower of size " + core::toText(box.lower.size()) +
+               " and upper of size " + core::toText(box.upper.size()));
   }
   lad_detail::checkFinite(kWho, box.lower, "box.lower");
   lad_detail::checkFinite(kWho, box.upper, "box.upper");
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
     if (!(box.lower[j] < box.upper[j])) {
-      throwInput("box.lower(" + std::to_string(j) + ") = " + str(box.lower[j]) +
-                 " must be < box.upper(" + std::to_string(j) + ") = " + str(box.upper[j]));
+      throwInput("box.lower(" + core::toText(j) + ") = " + core::formatNumber(box.lower[j], 10) +
+                 " must be < box.upper(" + core::toText(j) + ") = " + core::formatNumber(box.upper[j], 10));
     }
   }
 }
@@ -243,9 +243,9 @@ std::string describeActive(const std::vector<int>& at) {
   int count = 0;
   for (std::size_t j = 0; j < at.size(); ++j) {
     if (at[j] == 0) continue;
-    s += (count++ ? ", x" : " (x") + std::to_string(j) + (at[j] < 0 ? " at lower" : " at upper");
+    s += (count++ ? ", x" : " (x") + core::toText(j) + (at[j] < 0 ? " at lower" : " at upper");
   }
-  return std::to_string(count) + " of " + std::to_string(at.size()) + " bounds active" +
+  return core::toText(count) + " of " + core::toText(at.size()) + " bounds active" +
          (count ? s + ")" : "");
 }
 
@@ -415,8 +415,8 @@ BoxedLadResult solveBoxedLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const
                                     : Status::kMaxIterations;
   summary.message = (failure.empty() ? std::string() : "penalised problem: " + failure + "; ") +
                     (converged ? "converged" : "stopped") + " after " +
-                    std::to_string(best->iterations) + " interior-point iterations; gap " +
-                    str(result.gap) + (converged ? " <= " : " > ") + str(limit) + "; " +
+                    core::toText(best->iterations) + " interior-point iterations; gap " +
+                    core::formatNumber(result.gap, 10) + (converged ? " <= " : " > ") + core::formatNumber(limit, 10) + "; " +
                     describeActive(result.at_bound) +
                     (best->message.empty() ? std::string() : " [" + best->message + "]");
   summary.iterations = best->iterations;

@@ -1,6 +1,8 @@
 #pragma once
 // Pieces both LAD solvers (lad.cpp, lad_box.cpp) use: the L1 cost in long double, the rounding
-// level below which no two costs can be told apart, and the number format of their messages.
+// level below which no two costs can be told apart, and input checks with their messages.
+#include "exoid/core/format.hpp"
+
 #include <Eigen/Core>
 
 #include <cmath>
@@ -42,12 +44,6 @@ inline long double columnDotLong(const Eigen::MatrixXd& A, Eigen::Index j, const
 }
 
 /// 10 significant digits.
-inline std::string str(double v) {
-  std::ostringstream os;
-  os << std::setprecision(10) << v;
-  return os.str();
-}
-
 /// Throws std::invalid_argument("<who>: <what>").
 [[noreturn]] inline void throwInput(const std::string& who, const std::string& what) {
   throw std::invalid_argument(who + ": " + what);
@@ -56,23 +52,23 @@ inline std::string str(double v) {
 /// Every entry of v finite, else throws naming "<name>(i)" and the value.
 inline void checkFinite(const std::string& who, const Eigen::VectorXd& v, const char* name) {
   for (Eigen::Index i = 0; i < v.size(); ++i) {
-    if (!std::isfinite(v[i])) throwInput(who, std::string(name) + "(" + std::to_string(i) + ") is not finite, got " + str(v[i]));
+    if (!std::isfinite(v[i])) throwInput(who, std::string(name) + "(" + core::toText(i) + ") is not finite, got " + core::formatNumber(v[i], 10));
   }
 }
 
 /// A has at least one row and column, b has A's rows, both finite; else throws naming the entry.
 inline void checkProblem(const std::string& who, const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
   if (A.rows() == 0 || A.cols() == 0) {
-    throwInput(who, "A must have at least one row and one column, got " + std::to_string(A.rows()) + " x " +
-                        std::to_string(A.cols()));
+    throwInput(who, "A must have at least one row and one column, got " + core::toText(A.rows()) + " x " +
+                        core::toText(A.cols()));
   }
   if (b.size() != A.rows()) {
-    throwInput(who, "expected b of size " + std::to_string(A.rows()) + " (the rows of A), got " + std::to_string(b.size()));
+    throwInput(who, "expected b of size " + core::toText(A.rows()) + " (the rows of A), got " + core::toText(b.size()));
   }
   for (Eigen::Index j = 0; j < A.cols(); ++j) {
     for (Eigen::Index i = 0; i < A.rows(); ++i) {
       if (!std::isfinite(A(i, j))) {
-        throwInput(who, "A(" + std::to_string(i) + ", " + std::to_string(j) + ") is not finite, got " + str(A(i, j)));
+        throwInput(who, "A(" + core::toText(i) + ", " + core::toText(j) + ") is not finite, got " + core::formatNumber(A(i, j), 10));
       }
     }
   }

@@ -1,5 +1,6 @@
 #include "exoid/ident/least_squares.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <Eigen/QR>
@@ -13,11 +14,11 @@ namespace exoid::ident {
 
 void LsOptions::validate() const {
   if (!(warn_condition > 1.0)) {
-    throw std::invalid_argument("'warn_condition' must be > 1, got " + std::to_string(warn_condition));
+    throw std::invalid_argument("'warn_condition' must be > 1, got " + core::toText(warn_condition));
   }
   if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0)) {
     throw std::invalid_argument("'rank_tolerance' must be in (0, 1), got " +
-                                std::to_string(rank_tolerance));
+                                core::toText(rank_tolerance));
   }
 }
 
@@ -34,12 +35,12 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                            const LsOptions& options) {
   options.validate();
   if (H.rows() != y.size()) {
-    throw std::invalid_argument("least squares: regressor has " + std::to_string(H.rows()) +
-                                " rows but the torque vector has " + std::to_string(y.size()));
+    throw std::invalid_argument("least squares: regressor has " + core::toText(H.rows()) +
+                                " rows but the torque vector has " + core::toText(y.size()));
   }
   if (H.cols() == 0 || H.rows() < H.cols()) {
     throw std::invalid_argument("least squares: need at least as many rows as parameters, got " +
-                                std::to_string(H.rows()) + " x " + std::to_string(H.cols()));
+                                core::toText(H.rows()) + " x " + core::toText(H.cols()));
   }
   if (!H.allFinite() || !y.allFinite()) {
     throw std::invalid_argument("least squares: regressor or torque contains NaN or Inf");
@@ -67,10 +68,10 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
     for (Eigen::Index k = r.rank; k < p; ++k) {
       const Eigen::Index col = qr.colsPermutation().indices()[k];
       r.unidentifiable.push_back(col);
-      names += (names.empty() ? "" : ", ") + std::to_string(col);
+      names += (names.empty() ? "" : ", ") + core::toText(col);
     }
     r.summary.status = Status::kRankDeficient;
-    r.summary.message = "rank " + std::to_string(r.rank) + " < " + std::to_string(p) +
+    r.summary.message = "rank " + core::toText(r.rank) + " < " + core::toText(p) +
                         ": columns {" + names + "} cannot be separated from the others";
   } else {
     r.summary.status = Status::kConverged;

@@ -1,5 +1,7 @@
 #include "exoid/ident/linear_cost.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include "kernels/swarm_cost_kernel.hpp"
 
 #include <cstdlib>
@@ -92,17 +94,17 @@ const char* toString(CostNorm n) { return n == CostNorm::kL1 ? "L1" : "L2"; }
 LinearResidualCost::LinearResidualCost(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, CostNorm norm)
     : A_(A), b_(b), norm_(norm), kernel_(defaultCostKernel()) {
   if (A.rows() != b.size() || A.rows() == 0 || A.cols() == 0) {
-    throw std::invalid_argument("cost: regressor is " + std::to_string(A.rows()) + " x " +
-                                std::to_string(A.cols()) + " but the torque vector has " +
-                                std::to_string(b.size()) + " entries");
+    throw std::invalid_argument("cost: regressor is " + core::toText(A.rows()) + " x " +
+                                core::toText(A.cols()) + " but the torque vector has " +
+                                core::toText(b.size()) + " entries");
   }
   if (!A.allFinite() || !b.allFinite()) throw std::invalid_argument("cost: data contain NaN or Inf");
 }
 
 double LinearResidualCost::operator()(const Eigen::Ref<const Eigen::VectorXd>& x) const {
   if (x.size() != dim()) {
-    throw std::invalid_argument("cost: expected " + std::to_string(dim()) + " parameters, got " +
-                                std::to_string(x.size()));
+    throw std::invalid_argument("cost: expected " + core::toText(dim()) + " parameters, got " +
+                                core::toText(x.size()));
   }
   const Eigen::VectorXd r = b_ - A_ * x;
   return norm_ == CostNorm::kL1 ? r.cwiseAbs().sum() : r.squaredNorm();
@@ -115,9 +117,9 @@ double LinearResidualCost::flops(Eigen::Index particles) const {
 void LinearResidualCost::evaluate(const Eigen::Ref<const Eigen::MatrixXd>& particles,
                                   Eigen::Ref<Eigen::VectorXd> costs) const {
   if (particles.rows() != dim() || costs.size() != particles.cols()) {
-    throw std::invalid_argument("cost: particles must be " + std::to_string(dim()) +
-                                " x S with S costs, got " + std::to_string(particles.rows()) + " x " +
-                                std::to_string(particles.cols()) + " and " + std::to_string(costs.size()));
+    throw std::invalid_argument("cost: particles must be " + core::toText(dim()) +
+                                " x S with S costs, got " + core::toText(particles.rows()) + " x " +
+                                core::toText(particles.cols()) + " and " + core::toText(costs.size()));
   }
   if (dim() > kernels::kMaxParams) {
     for (Eigen::Index j = 0; j < particles.cols(); ++j) costs[j] = (*this)(particles.col(j));

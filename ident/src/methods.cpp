@@ -1,5 +1,6 @@
 #include "exoid/ident/methods.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/lad_box.hpp"
 
 #include <cmath>
@@ -41,7 +42,7 @@ void MethodOptions::validate() const {
   lad.validate();
   if (!(wide_box_half_width > 0.0 && std::isfinite(wide_box_half_width))) {
     throw std::invalid_argument("'wide_box_half_width' must be > 0, got " +
-                                std::to_string(wide_box_half_width));
+                                core::toText(wide_box_half_width));
   }
 }
 

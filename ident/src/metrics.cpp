@@ -1,6 +1,7 @@
 #include "exoid/ident/metrics.hpp"
 
-#include "exoid/ident/random.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/core/random.hpp"
 
 #include <cmath>
 #include <limits>
@@ -12,8 +13,8 @@ namespace exoid::ident {
 TorqueErrorStats torqueError(const Eigen::Ref<const Eigen::VectorXd>& measured,
                              const Eigen::Ref<const Eigen::VectorXd>& predicted) {
   if (measured.size() != predicted.size() || measured.size() == 0) {
-    throw std::invalid_argument("torque error: sizes " + std::to_string(measured.size()) + " and " +
-                                std::to_string(predicted.size()) + " must agree and be > 0");
+    throw std::invalid_argument("torque error: sizes " + core::toText(measured.size()) + " and " +
+                                core::toText(predicted.size()) + " must agree and be > 0");
   }
   const Eigen::ArrayXd e = (measured - predicted).array().abs();
   const double n = static_cast<double>(e.size());
@@ -28,8 +29,8 @@ TorqueErrorStats torqueError(const Eigen::Ref<const Eigen::VectorXd>& measured,
 ParamError paramError(const Eigen::Ref<const Eigen::VectorXd>& estimate,
                       const Eigen::Ref<const Eigen::VectorXd>& truth) {
   if (estimate.size() != truth.size() || truth.size() == 0) {
-    throw std::invalid_argument("parameter error: estimate has " + std::to_string(estimate.size()) +
-                                " entries, truth " + std::to_string(truth.size()));
+    throw std::invalid_argument("parameter error: estimate has " + core::toText(estimate.size()) +
+                                " entries, truth " + core::toText(truth.size()));
   }
   if (truth.norm() == 0.0) throw std::invalid_argument("parameter error: truth vector is all zero");
   ParamError p;
@@ -45,7 +46,7 @@ ParamError paramError(const Eigen::Ref<const Eigen::VectorXd>& estimate,
 }
 
 JointSignals validationStates() {
-  Rng rng(kValidationSeed);
+  core::Rng rng(kValidationSeed);
   const double deg = M_PI / 180.0;
   JointSignals s;
   s.t_s = Eigen::VectorXd::LinSpaced(kValidationStates, 0.0, kValidationStates - 1.0);

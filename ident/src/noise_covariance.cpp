@@ -1,5 +1,6 @@
 #include "exoid/ident/noise_covariance.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/least_squares.hpp"
 
 #include <Eigen/QR>
@@ -54,14 +55,14 @@ ScaledInverse scaledInverse(const Eigen::MatrixXd& H) {
 }
 
 void checkChannel(const NoiseChannel& c, Eigen::Index p, std::size_t k) {
-  const std::string where = "noise channel " + std::to_string(k) + ": ";
+  const std::string where = "noise channel " + core::toText(k) + ": ";
   if (c.H.cols() != p) {
-    throw std::invalid_argument(where + "expected " + std::to_string(p) + " columns, got " + std::to_string(c.H.cols()));
+    throw std::invalid_argument(where + "expected " + core::toText(p) + " columns, got " + core::toText(c.H.cols()));
   }
   if (c.path.trim < 0 || c.H.rows() != c.path.fittedRows()) {
-    throw std::invalid_argument(where + "expected " + std::to_string(c.path.fittedRows()) + " rows (raw " +
-                                std::to_string(c.path.raw_rows) + " less 2 x trim " + std::to_string(c.path.trim) +
-                                "), got " + std::to_string(c.H.rows()));
+    throw std::invalid_argument(where + "expected " + core::toText(c.path.fittedRows()) + " rows (raw " +
+                                core::toText(c.path.raw_rows) + " less 2 x trim " + core::toText(c.path.trim) +
+                                "), got " + core::toText(c.H.rows()));
   }
   if (!(c.sigma_Nm >= 0.0 && std::isfinite(c.sigma_Nm))) {
     throw std::invalid_argument(where + "sigma must be finite and >= 0 N m");
@@ -72,8 +73,8 @@ void checkChannel(const NoiseChannel& c, Eigen::Index p, std::size_t k) {
 
 Eigen::MatrixXd TorqueNoisePath::transposeApply(const Eigen::MatrixXd& H) const {
   if (H.rows() != fittedRows() || trim < 0 || decimation < 1) {
-    throw std::invalid_argument("noise path: expected " + std::to_string(fittedRows()) + " rows, got " +
-                                std::to_string(H.rows()));
+    throw std::invalid_argument("noise path: expected " + core::toText(fittedRows()) + " rows, got " +
+                                core::toText(H.rows()));
   }
   // Decimation and trim transposed: each fitted row back at its raw sample, zeros elsewhere.
   Eigen::MatrixXd placed = Eigen::MatrixXd::Zero(raw_rows, H.cols());
@@ -139,9 +140,9 @@ Eigen::MatrixXd segmentalNoiseCovariance(const NoiseChannel& knee, const NoiseCh
   const Eigen::Index pk = knee.H.cols(), ph = hip.H.cols(), p = pk + ph;
   if (hip_knee_columns.rows() != hip.H.rows() || hip_knee_columns.cols() != pk) {
     throw std::invalid_argument("segmental noise covariance: hip_knee_columns must be " +
-                                std::to_string(hip.H.rows()) + " x " + std::to_string(pk) + ", got " +
-                                std::to_string(hip_knee_columns.rows()) + " x " +
-                                std::to_string(hip_knee_columns.cols()));
+                                core::toText(hip.H.rows()) + " x " + core::toText(pk) + ", got " +
+                                core::toText(hip_knee_columns.rows()) + " x " +
+                                core::toText(hip_knee_columns.cols()));
   }
   const Eigen::MatrixXd Ck = lsNoiseCovariance({knee});
   const Eigen::MatrixXd Ch = lsNoiseCovariance({hip});

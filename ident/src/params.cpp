@@ -1,23 +1,34 @@
 #include "exoid/ident/params.hpp"
 
+#include "exoid/core/format.hpp"
+#include "exoid/core/params.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
 namespace exoid::ident {
 
+static_assert(kNumParams == core::kNumParams, "ident's X is core's parameter table");
+
 const std::array<ParamInfo, kNumParams>& paramInfo() {
-  static const std::array<ParamInfo, kNumParams> info = {{
-      {"Mxt", "kg m", "thigh first moment along the link, incl. shank mass at the knee"},
-      {"Myt", "kg m", "thigh first moment perpendicular to the link"},
-      {"Jt", "kg m^2", "hip-axis inertia of thigh + shank (shank at the knee, Js included)"},
-      {"fc1", "N m", "hip Coulomb friction"},
-      {"fv1", "N m s/rad", "hip viscous friction"},
-      {"Mxs", "kg m", "shank first moment along the link"},
-      {"Mys", "kg m", "shank first moment perpendicular to the link"},
-      {"Js", "kg m^2", "knee-axis inertia of the shank"},
-      {"fc2", "N m", "knee Coulomb friction"},
-      {"fv2", "N m s/rad", "knee viscous friction"},
-  }};
+  // Names and units from the one table sim shares (core/params.hpp); what each means, here.
+  static const std::array<const char*, kNumParams> kMeaning = {
+      "thigh first moment along the link, incl. shank mass at the knee",
+      "thigh first moment perpendicular to the link",
+      "hip-axis inertia of thigh + shank (shank at the knee, Js included)",
+      "hip Coulomb friction",
+      "hip viscous friction",
+      "shank first moment along the link",
+      "shank first moment perpendicular to the link",
+      "knee-axis inertia of the shank",
+      "knee Coulomb friction",
+      "knee viscous friction",
+  };
+  static const std::array<ParamInfo, kNumParams> info = [] {
+    std::array<ParamInfo, kNumParams> out{};
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = {core::kParams[i].name, core::kParams[i].unit, kMeaning[i]};
+    return out;
+  }();
   return info;
 }
 
@@ -29,7 +40,7 @@ const ParamInfo& kneeArmatureInfo() {
 std::string_view paramName(int index) {
   if (index == kKneeArmature) return kneeArmatureInfo().name;
   if (index < 0 || index >= kNumParams) {
-    throw std::invalid_argument("parameter index must be in [0, 10], got " + std::to_string(index));
+    throw std::invalid_argument("parameter index must be in [0, 10], got " + core::toText(index));
   }
   return paramInfo()[static_cast<std::size_t>(index)].name;
 }
@@ -48,8 +59,8 @@ void checkLink(const LinkParams& l, const char* which) {
       !std::isfinite(l.com_offset_m) || !std::isfinite(l.length_m)) {
     throw std::invalid_argument(std::string(which) +
                                 ": mass and inertia must be finite and non-negative, got mass " +
-                                std::to_string(l.mass_kg) + " kg, inertia " +
-                                std::to_string(l.inertia_com_kgm2) + " kg m^2");
+                                core::toText(l.mass_kg) + " kg, inertia " +
+                                core::toText(l.inertia_com_kgm2) + " kg m^2");
   }
 }
 }  // namespace

@@ -1,5 +1,7 @@
 #include "exoid/ident/preprocess.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -38,27 +40,27 @@ int SignalOptions::decimationFactor(double sample_rate_hz) const {
 }
 
 void SignalOptions::validate() const {
-  if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + std::to_string(decimation));
-  if (block_samples < 1) throw std::invalid_argument("'block_samples' must be >= 1, got " + std::to_string(block_samples));
+  if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + core::toText(decimation));
+  if (block_samples < 1) throw std::invalid_argument("'block_samples' must be >= 1, got " + core::toText(block_samples));
   if (!(derivative_cutoff_hz >= 0.0) || !std::isfinite(derivative_cutoff_hz)) {
     throw std::invalid_argument("'derivative_cutoff_hz' must be >= 0 (0 = no pre-filter)");
   }
   if (filter_order < 1 || filter_order > 8) {
-    throw std::invalid_argument("'filter_order' must be in 1..8, got " + std::to_string(filter_order));
+    throw std::invalid_argument("'filter_order' must be in 1..8, got " + core::toText(filter_order));
   }
   if (!std::isfinite(edge_trim_s)) throw std::invalid_argument("'edge_trim_s' must be finite");
   if (base_terms == BaseTerms::kOn && processing != Processing::kParallel) {
     throw std::invalid_argument("'base_terms' = on needs the parallel processing (the paper's has no base-motion terms)");
   }
   if (!(cutoff_hz > 0.0)) {
-    throw std::invalid_argument("'cutoff_hz' must be > 0, got " + std::to_string(cutoff_hz));
+    throw std::invalid_argument("'cutoff_hz' must be > 0, got " + core::toText(cutoff_hz));
   }
 }
 
 void SignalOptions::validateFor(double sample_rate_hz) const {
   validate();
   if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
-    throw std::invalid_argument("the record's sample rate must be positive and finite, got " + std::to_string(sample_rate_hz) + " Hz");
+    throw std::invalid_argument("the record's sample rate must be positive and finite, got " + core::toText(sample_rate_hz) + " Hz");
   }
   if (sample_rate_hz > 1e6) {
     std::ostringstream msg;
@@ -130,9 +132,9 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
 JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
   const Eigen::Index keep = in.size() - 2 * trim;
   if (trim < 0 || keep < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(in.size()) + " samples, and the processing trims " +
-                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
-                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
+    throw std::invalid_argument("record too short: " + core::toText(in.size()) + " samples, and the processing trims " +
+                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
   }
   JointSignals s;
   s.t_s = in.t_s.segment(trim, keep);
@@ -244,13 +246,13 @@ ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Ei
 
 void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
   if (n - 2 * trim < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string(n) + " samples, and the processing trims " +
-                                std::to_string(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
-                                "needs 20 more: at least " + std::to_string(2 * trim + 20) + " samples");
+    throw std::invalid_argument("record too short: " + core::toText(n) + " samples, and the processing trims " +
+                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
   }
   if ((n - 2 * trim + r - 1) / r < 20) {
-    throw std::invalid_argument("record too short: " + std::to_string((n - 2 * trim + r - 1) / r) +
-                                " rows after trimming and decimating by " + std::to_string(r) + "; need >= 20 (lower 'decimation')");
+    throw std::invalid_argument("record too short: " + core::toText((n - 2 * trim + r - 1) / r) +
+                                " rows after trimming and decimating by " + core::toText(r) + "; need >= 20 (lower 'decimation')");
   }
 }
 

@@ -1,6 +1,7 @@
 #include "exoid/ident/pso.hpp"
 
-#include "exoid/ident/random.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/core/random.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <algorithm>
@@ -15,7 +16,7 @@ const char* toString(BoundaryPolicy p) { return p == BoundaryPolicy::kClamp ? "c
 void PsoOptions::validate() const {
   auto fail = [](const char* name, const std::string& range, double v) {
     throw std::invalid_argument(std::string("'") + name + "' must be " + range + ", got " +
-                                std::to_string(v));
+                                core::toText(v));
   };
   if (swarm_size < 2) fail("swarm_size", ">= 2", swarm_size);
   if (max_iterations < 1) fail("max_iterations", ">= 1", static_cast<double>(max_iterations));
@@ -34,7 +35,7 @@ PsoResult minimizePso(const BatchCost& cost, const Box& box, const PsoOptions& o
   const Eigen::Index p = box.dim();
   const Eigen::Index S = o.swarm_size;
   const Eigen::VectorXd vmax = o.velocity_fraction * (box.upper - box.lower);
-  Rng rng(o.seed);
+  core::Rng rng(o.seed);
 
   Eigen::MatrixXd x(p, S), v(p, S);
   for (Eigen::Index j = 0; j < S; ++j) {
@@ -116,10 +117,10 @@ PsoResult minimizePso(const BatchCost& cost, const Box& box, const PsoOptions& o
   if (!failed) {
     if (gbest_f < o.cost_tolerance) {
       r.summary.status = Status::kConverged;
-      r.summary.message = "best cost below cost_tolerance after " + std::to_string(it) + " iterations";
+      r.summary.message = "best cost below cost_tolerance after " + core::toText(it) + " iterations";
     } else {
       r.summary.status = Status::kMaxIterations;
-      r.summary.message = "stopped at max_iterations = " + std::to_string(o.max_iterations);
+      r.summary.message = "stopped at max_iterations = " + core::toText(o.max_iterations);
     }
   }
   r.summary.wall_time_s = clock.seconds();

@@ -1,5 +1,7 @@
 #include "exoid/ident/regressor.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -9,26 +11,26 @@ namespace exoid::ident {
 void LegConstants::validate() const {
   if (!(std::isfinite(thigh_length_m) && thigh_length_m > 0.0)) {
     throw std::invalid_argument("thigh length must be finite and > 0 m, got " +
-                                std::to_string(thigh_length_m));
+                                core::toText(thigh_length_m));
   }
   if (!(std::isfinite(gravity_mps2) && gravity_mps2 > 0.0)) {
     throw std::invalid_argument("gravity must be finite and > 0 m/s^2, got " +
-                                std::to_string(gravity_mps2));
+                                core::toText(gravity_mps2));
   }
 }
 
 void JointSignals::validate() const {
   const Eigen::Index n = t_s.size();
   if (q_rad.rows() != n || qd_radps.rows() != n || qdd_radps2.rows() != n || tau_Nm.rows() != n) {
-    throw std::invalid_argument("joint signals: expected " + std::to_string(n) +
-                                " rows in q, qd, qdd and tau, got " + std::to_string(q_rad.rows()) +
-                                ", " + std::to_string(qd_radps.rows()) + ", " +
-                                std::to_string(qdd_radps2.rows()) + ", " +
-                                std::to_string(tau_Nm.rows()));
+    throw std::invalid_argument("joint signals: expected " + core::toText(n) +
+                                " rows in q, qd, qdd and tau, got " + core::toText(q_rad.rows()) +
+                                ", " + core::toText(qd_radps.rows()) + ", " +
+                                core::toText(qdd_radps2.rows()) + ", " +
+                                core::toText(tau_Nm.rows()));
   }
   if (base.rows() != 0 && base.rows() != n) {
-    throw std::invalid_argument("joint signals: expected 0 or " + std::to_string(n) + " rows of base motion, got " +
-                                std::to_string(base.rows()));
+    throw std::invalid_argument("joint signals: expected 0 or " + core::toText(n) + " rows of base motion, got " +
+                                core::toText(base.rows()));
   }
   if (!t_s.allFinite() || !q_rad.allFinite() || !qd_radps.allFinite() || !qdd_radps2.allFinite() ||
       !tau_Nm.allFinite() || !base.allFinite()) {

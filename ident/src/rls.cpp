@@ -1,5 +1,6 @@
 #include "exoid/ident/rls.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/ident/stopwatch.hpp"
 
 #include <cmath>
@@ -10,11 +11,11 @@ namespace exoid::ident {
 
 void RlsOptions::validate() const {
   if (!(forgetting > 0.0 && forgetting <= 1.0)) {
-    throw std::invalid_argument("'forgetting' must be in (0, 1], got " + std::to_string(forgetting));
+    throw std::invalid_argument("'forgetting' must be in (0, 1], got " + core::toText(forgetting));
   }
   if (!(initial_covariance > 0.0 && std::isfinite(initial_covariance))) {
     throw std::invalid_argument("'initial_covariance' must be finite and > 0, got " +
-                                std::to_string(initial_covariance));
+                                core::toText(initial_covariance));
   }
 }
 
@@ -22,10 +23,10 @@ RecursiveLeastSquares::RecursiveLeastSquares(Eigen::Index p, const RlsOptions& o
                                              const Eigen::VectorXd& initial_estimate)
     : options_(options) {
   options_.validate();
-  if (p <= 0) throw std::invalid_argument("RLS: parameter count must be > 0, got " + std::to_string(p));
+  if (p <= 0) throw std::invalid_argument("RLS: parameter count must be > 0, got " + core::toText(p));
   if (initial_estimate.size() != 0 && initial_estimate.size() != p) {
-    throw std::invalid_argument("RLS: initial estimate has " + std::to_string(initial_estimate.size()) +
-                                " entries, expected " + std::to_string(p));
+    throw std::invalid_argument("RLS: initial estimate has " + core::toText(initial_estimate.size()) +
+                                " entries, expected " + core::toText(p));
   }
   x_ = initial_estimate.size() ? initial_estimate : Eigen::VectorXd::Zero(p);
   P_ = Eigen::MatrixXd::Identity(p, p) * options_.initial_covariance;
@@ -74,8 +75,8 @@ void RecursiveLeastSquares::update(const Eigen::Ref<const Eigen::Matrix<double, 
 
 RlsResult runRls(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const RlsOptions& options) {
   if (H.rows() != y.size() || H.rows() == 0) {
-    throw std::invalid_argument("RLS: regressor has " + std::to_string(H.rows()) +
-                                " rows and the torque vector " + std::to_string(y.size()));
+    throw std::invalid_argument("RLS: regressor has " + core::toText(H.rows()) +
+                                " rows and the torque vector " + core::toText(y.size()));
   }
   if (!H.allFinite() || !y.allFinite()) throw std::invalid_argument("RLS: input contains NaN or Inf");
   Stopwatch clock;
@@ -90,7 +91,7 @@ RlsResult runRls(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const RlsOp
   r.summary.initial_cost = y.cwiseAbs().sum();
   if (r.x.allFinite()) {
     r.summary.status = Status::kConverged;
-    r.summary.message = "processed " + std::to_string(H.rows()) + " samples";
+    r.summary.message = "processed " + core::toText(H.rows()) + " samples";
   } else {
     r.summary.status = Status::kFailed;
     r.summary.message = "estimate became non-finite";
@@ -103,13 +104,13 @@ RlsResult runRls(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const RlsOp
 void FluctuationOptions::validate() const {
   if (!(burn_in_fraction >= 0.0 && burn_in_fraction < 1.0)) {
     throw std::invalid_argument("'burn_in_fraction' must be in [0, 1), got " +
-                                std::to_string(burn_in_fraction));
+                                core::toText(burn_in_fraction));
   }
   if (!(margin_fraction >= 0.0 && std::isfinite(margin_fraction))) {
-    throw std::invalid_argument("'margin_fraction' must be >= 0, got " + std::to_string(margin_fraction));
+    throw std::invalid_argument("'margin_fraction' must be >= 0, got " + core::toText(margin_fraction));
   }
   if (!(min_width > 0.0 && std::isfinite(min_width))) {
-    throw std::invalid_argument("'min_width' must be > 0, got " + std::to_string(min_width));
+    throw std::invalid_argument("'min_width' must be > 0, got " + core::toText(min_width));
   }
 }
 
@@ -119,7 +120,7 @@ Box fluctuationRange(const Eigen::Ref<const Eigen::MatrixXd>& history, const Flu
   const auto first = static_cast<Eigen::Index>(std::floor(o.burn_in_fraction * static_cast<double>(n)));
   if (n == 0 || first >= n) {
     throw std::invalid_argument("fluctuation range: no estimates left after the burn-in (" +
-                                std::to_string(n) + " updates)");
+                                core::toText(n) + " updates)");
   }
   const auto kept = history.rightCols(n - first);
   Box box{kept.rowwise().minCoeff(), kept.rowwise().maxCoeff()};

@@ -1,5 +1,7 @@
 #include "exoid/ident/segmental.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -26,7 +28,7 @@ SegmentalProblem kneeStage(const ProcessedRecord& r) {
 SegmentalProblem hipStage(const ProcessedRecord& r, const Eigen::Ref<const Eigen::VectorXd>& x_knee) {
   if (x_knee.size() != kGroupSize) {
     throw std::invalid_argument("segmental hip stage: expected 5 knee parameters, got " +
-                                std::to_string(x_knee.size()));
+                                core::toText(x_knee.size()));
   }
   return {r.hip.middleCols(kThighFirst, kGroupSize), r.tau_Nm.col(0) - r.hip.middleCols(kShankFirst, kGroupSize) * x_knee};
 }

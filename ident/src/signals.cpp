@@ -2,6 +2,8 @@
 // sosfilt_zi and sosfiltfilt; see signals.hpp).
 #include "exoid/ident/signals.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -22,13 +24,6 @@ constexpr int kMaxOrder = 12;
 // across columns, so the compiler can run the block in one SIMD register.
 constexpr int kLanes = 4;
 using Lanes = Eigen::Array<double, kLanes, 1>;
-
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
 
 // --- Butterworth design --------------------------------------------------------------------
 
@@ -81,13 +76,13 @@ void validateSos(const SosFilter& f) {
   for (Eigen::Index s = 0; s < f.sections(); ++s) {
     for (Eigen::Index k = 0; k < 6; ++k) {
       if (!std::isfinite(f.sos(s, k))) {
-        throw std::invalid_argument("sos(" + std::to_string(s) + ", " + std::to_string(k) +
-                                    ") must be finite, got " + str(f.sos(s, k)));
+        throw std::invalid_argument("sos(" + core::toText(s) + ", " + core::toText(k) +
+                                    ") must be finite, got " + core::formatNumber(f.sos(s, k), 12));
       }
     }
     if (f.sos(s, 3) != 1.0) {
-      throw std::invalid_argument("sos(" + std::to_string(s) + ", 3) (a0 of section " + std::to_string(s) +
-                                  ") must be 1, got " + str(f.sos(s, 3)));
+      throw std::invalid_argument("sos(" + core::toText(s) + ", 3) (a0 of section " + core::toText(s) +
+                                  ") must be 1, got " + core::formatNumber(f.sos(s, 3), 12));
     }
   }
 }
@@ -103,7 +98,7 @@ std::vector<double> steadyStateZi(const SosFilter& f) {
     const double a1 = f.sos(s, 4), a2 = f.sos(s, 5);
     const double a_sum = 1.0 + a1 + a2;
     if (a_sum == 0.0) {
-      throw std::invalid_argument("section " + std::to_string(s) +
+      throw std::invalid_argument("section " + core::toText(s) +
                                   " has a pole at z = 1 (1 + a1 + a2 = 0): no steady state");
     }
     const double g = (b0 + b1 + b2) / a_sum;
@@ -156,10 +151,10 @@ const char* toString(Differentiation d) {
 
 Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentiation method) {
   if (x.rows() < 2) {
-    throw std::invalid_argument("x must have at least 2 rows (samples), got " + std::to_string(x.rows()));
+    throw std::invalid_argument("x must have at least 2 rows (samples), got " + core::toText(x.rows()));
   }
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) {
-    throw std::invalid_argument("dt_s must be positive and finite, got " + str(dt_s));
+    throw std::invalid_argument("dt_s must be positive and finite, got " + core::formatNumber(dt_s, 12));
   }
   const Eigen::Index n = x.rows();
   Eigen::MatrixXd dx(n, x.cols());
@@ -181,7 +176,7 @@ Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentia
       break;
     default:
       throw std::invalid_argument("unknown Differentiation method " +
-                                  std::to_string(static_cast<int>(method)));
+                                  core::toText(static_cast<int>(method)));
   }
   dx.row(n - 1) = (x.row(n - 1) - x.row(n - 2)) / dt_s;
   return dx;
@@ -189,16 +184,16 @@ Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentia
 
 SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz) {
   if (order < 1 || order > kMaxOrder) {
-    throw std::invalid_argument("order must be in [1, " + std::to_string(kMaxOrder) + "], got " +
-                                std::to_string(order));
+    throw std::invalid_argument("order must be in [1, " + core::toText(kMaxOrder) + "], got " +
+                                core::toText(order));
   }
   if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
-    throw std::invalid_argument("sample_rate_hz must be positive and finite, got " + str(sample_rate_hz));
+    throw std::invalid_argument("sample_rate_hz must be positive and finite, got " + core::formatNumber(sample_rate_hz, 12));
   }
   const double nyquist_hz = sample_rate_hz / 2.0;
   if (!(cutoff_hz > 0.0 && cutoff_hz < nyquist_hz)) {
-    throw std::invalid_argument("cutoff_hz must be in (0, " + str(nyquist_hz) + ") Hz, got " +
-                                str(cutoff_hz));
+    throw std::invalid_argument("cutoff_hz must be in (0, " + core::formatNumber(nyquist_hz, 12) + ") Hz, got " +
+                                core::formatNumber(cutoff_hz, 12));
   }
 
   // scipy.signal.iirfilter: normalise to fs = 2, prewarp, scale the analog prototype (buttap)
@@ -297,9 +292,9 @@ Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
   const Eigen::Index pad = padLength(f);
   const Eigen::Index n = x.rows();
   if (n <= pad) {
-    throw std::invalid_argument("x must have more rows (samples) than padlen = " + std::to_string(pad) +
-                                " for " + std::to_string(f.sections()) + " sections, got " +
-                                std::to_string(n));
+    throw std::invalid_argument("x must have more rows (samples) than padlen = " + core::toText(pad) +
+                                " for " + core::toText(f.sections()) + " sections, got " +
+                                core::toText(n));
   }
   const std::vector<double> zi = steadyStateZi(f);
   const Eigen::Index sections = f.sections();

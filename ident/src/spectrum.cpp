@@ -2,6 +2,8 @@
 // detrend) and the share of the variance above a frequency; see spectrum.hpp.
 #include "exoid/ident/spectrum.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <unsupported/Eigen/FFT>
 
 #include <algorithm>
@@ -23,27 +25,20 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 // of DC: no spectrum to speak of.
 constexpr Eigen::Index kMinSegmentSamples = 8;
 
-std::string str(double v) {
-  std::ostringstream os;
-  os.precision(12);
-  os << v;
-  return os.str();
-}
-
 void validateRate(double sample_rate_hz) {
   if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
-    throw std::invalid_argument("sample_rate_hz must be positive and finite, got " + str(sample_rate_hz));
+    throw std::invalid_argument("sample_rate_hz must be positive and finite, got " + core::formatNumber(sample_rate_hz, 12));
   }
 }
 
 void validateSamples(const Eigen::Ref<const Eigen::VectorXd>& x) {
   if (x.size() < kMinSegmentSamples) {
-    throw std::invalid_argument("x must have at least " + std::to_string(kMinSegmentSamples) +
-                                " samples, got " + std::to_string(x.size()));
+    throw std::invalid_argument("x must have at least " + core::toText(kMinSegmentSamples) +
+                                " samples, got " + core::toText(x.size()));
   }
   for (Eigen::Index i = 0; i < x.size(); ++i) {
     if (!std::isfinite(x[i])) {
-      throw std::invalid_argument("x[" + std::to_string(i) + "] must be finite, got " + str(x[i]));
+      throw std::invalid_argument("x[" + core::toText(i) + "] must be finite, got " + core::formatNumber(x[i], 12));
     }
   }
 }
@@ -55,8 +50,8 @@ Eigen::Index segmentSamples(Eigen::Index n, double sample_rate_hz, const WelchOp
   const auto nperseg = static_cast<Eigen::Index>(std::llround(wanted));
   if (nperseg < kMinSegmentSamples) {
     throw std::invalid_argument("segment_s * sample_rate_hz must round to at least " +
-                                std::to_string(kMinSegmentSamples) + " samples, got " + str(wanted) +
-                                " (segment_s = " + str(options.segment_s) + ")");
+                                core::toText(kMinSegmentSamples) + " samples, got " + core::formatNumber(wanted, 12) +
+                                " (segment_s = " + core::formatNumber(options.segment_s, 12) + ")");
   }
   return nperseg;
 }
@@ -108,10 +103,10 @@ double shareAbove(double f_k, double df, double nyquist_hz, double f_hz) {
 
 void WelchOptions::validate() const {
   if (!(segment_s > 0.0) || !std::isfinite(segment_s)) {
-    throw std::invalid_argument("'segment_s' must be positive and finite, got " + str(segment_s));
+    throw std::invalid_argument("'segment_s' must be positive and finite, got " + core::formatNumber(segment_s, 12));
   }
   if (!(overlap >= 0.0 && overlap < 1.0)) {
-    throw std::invalid_argument("'overlap' must be in [0, 1), got " + str(overlap));
+    throw std::invalid_argument("'overlap' must be in [0, 1), got " + core::formatNumber(overlap, 12));
   }
 }
 
@@ -144,7 +139,7 @@ double varianceFractionAbove(const Eigen::Ref<const Eigen::VectorXd>& x, double 
   validateRate(sample_rate_hz);
   const double nyquist_hz = sample_rate_hz / 2.0;
   if (!(f_hz > 0.0 && f_hz < nyquist_hz)) {  // also rejects NaN
-    throw std::invalid_argument("f_hz must be in (0, " + str(nyquist_hz) + ") Hz, got " + str(f_hz));
+    throw std::invalid_argument("f_hz must be in (0, " + core::formatNumber(nyquist_hz, 12) + ") Hz, got " + core::formatNumber(f_hz, 12));
   }
   const PowerSpectrum p = welchPsd(x, sample_rate_hz, options);
   double total = 0.0, above = 0.0;

@@ -1,6 +1,7 @@
 #include "exoid/render/clip.hpp"
 
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/render/png.hpp"
 #include "exoid/render/video_writer.hpp"
 
@@ -28,10 +29,10 @@ void ClipOptions::validate() const {
   render.validate();
   overlay.validate();
   if (!std::isfinite(fps) || fps <= 0.0 || fps > 240.0) {
-    throw std::invalid_argument("'fps' must be in (0, 240], got " + std::to_string(fps));
+    throw std::invalid_argument("'fps' must be in (0, 240], got " + core::toText(fps));
   }
   if (!std::isfinite(base_motion_gain) || base_motion_gain < 0.0) {
-    throw std::invalid_argument("'base_motion_gain' must be >= 0, got " + std::to_string(base_motion_gain));
+    throw std::invalid_argument("'base_motion_gain' must be >= 0, got " + core::toText(base_motion_gain));
   }
 }
 
@@ -45,7 +46,7 @@ TrackRenderer::TrackRenderer(const Track& track, const ClipOptions& options)
 
 double TrackRenderer::frameTime_s(int k) const {
   if (k < 0 || k >= frames_) {
-    throw std::invalid_argument("frame " + std::to_string(k) + " outside [0, " + std::to_string(frames_) + ")");
+    throw std::invalid_argument("frame " + core::toText(k) + " outside [0, " + core::toText(frames_) + ")");
   }
   return track_.t_s.front() + static_cast<double>(k) / options_.fps;
 }
@@ -78,8 +79,8 @@ ClipSummary renderVideo(const Track& track, const ClipOptions& options, const st
   // Preflight, before the (slow) renderer exists: ffmpeg on PATH, output folder writable, even size.
   requireFfmpeg(options.ffmpeg);
   if (options.render.width % 2 != 0 || options.render.height % 2 != 0) {
-    throw std::invalid_argument("video size must be even (H.264 yuv420p), got " + std::to_string(options.render.width) +
-                                "x" + std::to_string(options.render.height));
+    throw std::invalid_argument("video size must be even (H.264 yuv420p), got " + core::toText(options.render.width) +
+                                "x" + core::toText(options.render.height));
   }
   core::checkOutputWritable(out_path);
 

@@ -1,5 +1,7 @@
 #include "exoid/render/image.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
@@ -11,8 +13,8 @@ namespace {
 void checkImage(const Image& image, const char* what) {
   if (image.width <= 0 || image.height <= 0 || image.rgb.size() != image.byteCount()) {
     throw std::invalid_argument(std::string(what) + ": expected a non-empty image with width*height*3 = " +
-                                std::to_string(image.byteCount()) + " bytes, got " + std::to_string(image.width) +
-                                "x" + std::to_string(image.height) + " with " + std::to_string(image.rgb.size()));
+                                core::toText(image.byteCount()) + " bytes, got " + core::toText(image.width) +
+                                "x" + core::toText(image.height) + " with " + core::toText(image.rgb.size()));
   }
 }
 }  // namespace
@@ -34,9 +36,9 @@ double meanAbsDifference(const Image& a, const Image& b) {
   checkImage(a, "meanAbsDifference");
   checkImage(b, "meanAbsDifference");
   if (a.width != b.width || a.height != b.height) {
-    throw std::invalid_argument("meanAbsDifference: sizes differ (" + std::to_string(a.width) + "x" +
-                                std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
-                                std::to_string(b.height) + ")");
+    throw std::invalid_argument("meanAbsDifference: sizes differ (" + core::toText(a.width) + "x" +
+                                core::toText(a.height) + " vs " + core::toText(b.width) + "x" +
+                                core::toText(b.height) + ")");
   }
   unsigned long long sum = 0;
   for (std::size_t i = 0; i < a.rgb.size(); ++i) sum += static_cast<unsigned long long>(std::abs(a.rgb[i] - b.rgb[i]));

@@ -1,5 +1,7 @@
 #include "exoid/render/mp4_check.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cstdint>
 #include <fstream>
 #include <set>
@@ -24,9 +26,9 @@ std::string mp4Problem(const std::string& path) {
   std::uint64_t at = 0;
   while (at < size) {
     unsigned char head[16];
-    if (size - at < 8) return "it ends inside a box header at byte " + std::to_string(at);
+    if (size - at < 8) return "it ends inside a box header at byte " + core::toText(at);
     in.seekg(static_cast<std::streamoff>(at));
-    if (!in.read(reinterpret_cast<char*>(head), 8)) return "read error at byte " + std::to_string(at);
+    if (!in.read(reinterpret_cast<char*>(head), 8)) return "read error at byte " + core::toText(at);
     std::uint64_t box = bigEndian(head, 4);
     const std::string type(reinterpret_cast<const char*>(head) + 4, 4);
     if (box == 1) {  // 64-bit size follows the type
@@ -35,10 +37,10 @@ std::string mp4Problem(const std::string& path) {
     } else if (box == 0) {  // the box extends to the end of the file
       box = size - at;
     }
-    if (box < 8) return "box '" + type + "' at byte " + std::to_string(at) + " has an impossible size";
+    if (box < 8) return "box '" + type + "' at byte " + core::toText(at) + " has an impossible size";
     if (box > size - at) {
-      return "box '" + type + "' at byte " + std::to_string(at) + " needs " + std::to_string(box) + " bytes, the file has " +
-             std::to_string(size - at) + " left (truncated)";
+      return "box '" + type + "' at byte " + core::toText(at) + " needs " + core::toText(box) + " bytes, the file has " +
+             core::toText(size - at) + " left (truncated)";
     }
     seen.insert(type);
     at += box;

@@ -1,5 +1,6 @@
 #include "exoid/render/offscreen_renderer.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
 
 #include <GL/osmesa.h>
@@ -34,23 +35,23 @@ int fontScaleFor(int height) {
 void RenderOptions::validate() const {
   if (width < 16 || height < 16 || static_cast<long>(width) * height > kMaxPixels) {
     throw std::invalid_argument("image size must be at least 16x16 and at most 8192*8192 pixels, got " +
-                                std::to_string(width) + "x" + std::to_string(height));
+                                core::toText(width) + "x" + core::toText(height));
   }
   if (shadow_map_size < 256 || shadow_map_size > 8192) {
-    throw std::invalid_argument("'shadow_map_size' must be in [256, 8192], got " + std::to_string(shadow_map_size));
+    throw std::invalid_argument("'shadow_map_size' must be in [256, 8192], got " + core::toText(shadow_map_size));
   }
   if (multisamples < 0 || multisamples > 8) {
-    throw std::invalid_argument("'multisamples' must be in [0, 8], got " + std::to_string(multisamples));
+    throw std::invalid_argument("'multisamples' must be in [0, 8], got " + core::toText(multisamples));
   }
   if (!std::isfinite(camera.distance_m) || camera.distance_m <= 0.0) {
-    throw std::invalid_argument("'camera.distance_m' must be positive, got " + std::to_string(camera.distance_m));
+    throw std::invalid_argument("'camera.distance_m' must be positive, got " + core::toText(camera.distance_m));
   }
   for (double v : camera.lookat) {
     if (!std::isfinite(v)) throw std::invalid_argument("'camera.lookat' must be finite");
   }
   if (!std::isfinite(camera.azimuth_deg) || !std::isfinite(camera.elevation_deg) || std::abs(camera.elevation_deg) >= 90.0) {
     throw std::invalid_argument("camera angles must be finite with |elevation| < 90 deg, got elevation " +
-                                std::to_string(camera.elevation_deg));
+                                core::toText(camera.elevation_deg));
   }
 }
 
@@ -72,9 +73,9 @@ struct OffscreenRenderer::Impl {
       GLint max_w = 0, max_h = 0;
       OSMesaGetIntegerv(OSMESA_MAX_WIDTH, &max_w);
       OSMesaGetIntegerv(OSMESA_MAX_HEIGHT, &max_h);
-      throw std::runtime_error("cannot make the OSMesa context current on a " + std::to_string(width) + "x" +
-                               std::to_string(height) + " buffer" +
-                               (max_w > 0 ? " (OSMesa maximum " + std::to_string(max_w) + "x" + std::to_string(max_h) + ")"
+      throw std::runtime_error("cannot make the OSMesa context current on a " + core::toText(width) + "x" +
+                               core::toText(height) + " buffer" +
+                               (max_w > 0 ? " (OSMesa maximum " + core::toText(max_w) + "x" + core::toText(max_h) + ")"
                                           : std::string()));
     }
   }

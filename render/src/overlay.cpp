@@ -1,5 +1,7 @@
 #include "exoid/render/overlay.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,11 +40,11 @@ std::array<double, 2> rangeOf(std::initializer_list<const std::vector<double>*> 
 
 void OverlayOptions::validate() const {
   if (!std::isfinite(plot_window_s) || plot_window_s <= 0.0) {
-    throw std::invalid_argument("'plot_window_s' must be positive, got " + std::to_string(plot_window_s));
+    throw std::invalid_argument("'plot_window_s' must be positive, got " + core::toText(plot_window_s));
   }
   if (max_plot_points < 2 || max_plot_points > 1000) {
     throw std::invalid_argument("'max_plot_points' must be in [2, 1000] (mjMAXLINEPNT), got " +
-                                std::to_string(max_plot_points));
+                                core::toText(max_plot_points));
   }
 }
 
@@ -66,7 +68,7 @@ OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options
 Overlay OverlayBuilder::at(std::size_t row) const {
   Overlay o;
   const Track& tr = track_;
-  if (row >= tr.size()) throw std::invalid_argument("overlay row " + std::to_string(row) + " >= " + std::to_string(tr.size()));
+  if (row >= tr.size()) throw std::invalid_argument("overlay row " + core::toText(row) + " >= " + core::toText(tr.size()));
   const bool pred = tr.hasPrediction();
   if (options_.text) {
     std::string& l = o.text_left;

@@ -1,6 +1,8 @@
 // PNG (ISO/IEC 15948): signature, IHDR, one IDAT (zlib stream of filter-0 rows), IEND.
 #include "exoid/render/png.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <zlib.h>
 
 #include <stdexcept>
@@ -33,8 +35,8 @@ void putChunk(std::string& out, const char type[4], const std::string& data) {
 std::string encodePng(const Image& image) {
   if (image.width <= 0 || image.height <= 0 || image.rgb.size() != image.byteCount()) {
     throw std::invalid_argument("encodePng: expected a non-empty image with width*height*3 bytes, got " +
-                                std::to_string(image.width) + "x" + std::to_string(image.height) + " with " +
-                                std::to_string(image.rgb.size()) + " bytes");
+                                core::toText(image.width) + "x" + core::toText(image.height) + " with " +
+                                core::toText(image.rgb.size()) + " bytes");
   }
   const std::size_t row_bytes = static_cast<std::size_t>(image.width) * 3;
   std::vector<Bytef> raw;

@@ -1,5 +1,7 @@
 #include "exoid/render/track.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -12,12 +14,12 @@ namespace {
 void checkColumn(const std::vector<double>& v, std::size_t n, const char* name, bool optional, bool nan_ok = false) {
   if (optional && v.empty()) return;
   if (v.size() != n) {
-    throw std::invalid_argument(std::string("track column '") + name + "': expected " + std::to_string(n) +
-                                " values (as t_s), got " + std::to_string(v.size()));
+    throw std::invalid_argument(std::string("track column '") + name + "': expected " + core::toText(n) +
+                                " values (as t_s), got " + core::toText(v.size()));
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(v[i]) && !(nan_ok && std::isnan(v[i]))) {
-      throw std::invalid_argument(std::string("track column '") + name + "': value " + std::to_string(i) +
+      throw std::invalid_argument(std::string("track column '") + name + "': value " + core::toText(i) +
                                   " is not finite");
     }
   }
@@ -32,7 +34,7 @@ std::vector<double> column(const sim::Table& t, const std::string& name) {
 
 void Track::validate() const {
   const std::size_t n = t_s.size();
-  if (n < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + std::to_string(n));
+  if (n < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + core::toText(n));
   checkColumn(t_s, n, "t_s", false);
   checkColumn(q_hip_rad, n, "q_hip_rad", false);
   checkColumn(q_knee_rad, n, "q_knee_rad", false);
@@ -50,20 +52,20 @@ void Track::validate() const {
   if (tau_hip_pred_Nm.empty() != tau_knee_pred_Nm.empty()) throw std::invalid_argument("track: give both predicted torques or neither");
   if (hasPrediction() && !hasTorque()) throw std::invalid_argument("track: predicted torques need the measured torques");
   const double dt = sampleInterval_s();
-  if (!(dt > 0.0)) throw std::invalid_argument("track: time must increase (t_s.front() = " + std::to_string(t_s.front()) +
-                                                ", t_s.back() = " + std::to_string(t_s.back()) + ")");
+  if (!(dt > 0.0)) throw std::invalid_argument("track: time must increase (t_s.front() = " + core::toText(t_s.front()) +
+                                                ", t_s.back() = " + core::toText(t_s.back()) + ")");
   for (std::size_t i = 1; i < n; ++i) {
     const double step = t_s[i] - t_s[i - 1];
     if (std::abs(step - dt) > 0.01 * dt) {
-      throw std::invalid_argument("track: time is not uniformly sampled: t_s[" + std::to_string(i) + "] - t_s[" +
-                                  std::to_string(i - 1) + "] = " + std::to_string(step) + " s, mean interval " +
-                                  std::to_string(dt) + " s");
+      throw std::invalid_argument("track: time is not uniformly sampled: t_s[" + core::toText(i) + "] - t_s[" +
+                                  core::toText(i - 1) + "] = " + core::toText(step) + " s, mean interval " +
+                                  core::toText(dt) + " s");
     }
   }
 }
 
 double Track::sampleInterval_s() const {
-  if (t_s.size() < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + std::to_string(t_s.size()));
+  if (t_s.size() < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + core::toText(t_s.size()));
   return (t_s.back() - t_s.front()) / static_cast<double>(t_s.size() - 1);
 }
 
@@ -109,13 +111,13 @@ Track trackFromSimulation(const sim::SimResult& result, const std::string& title
 }
 
 int frameCount(const Track& track, double fps) {
-  if (!std::isfinite(fps) || fps <= 0.0) throw std::invalid_argument("'fps' must be positive, got " + std::to_string(fps));
+  if (!std::isfinite(fps) || fps <= 0.0) throw std::invalid_argument("'fps' must be positive, got " + core::toText(fps));
   const double frames = std::floor(track.duration_s() * fps + 1e-9);
   if (frames < 1.0) {
-    throw std::invalid_argument("the record (" + std::to_string(track.duration_s()) + " s) is shorter than one frame at " +
-                                std::to_string(fps) + " fps");
+    throw std::invalid_argument("the record (" + core::toText(track.duration_s()) + " s) is shorter than one frame at " +
+                                core::toText(fps) + " fps");
   }
-  if (frames > 1e7) throw std::invalid_argument("too many frames: " + std::to_string(frames));
+  if (frames > 1e7) throw std::invalid_argument("too many frames: " + core::toText(frames));
   return static_cast<int>(frames);
 }
 

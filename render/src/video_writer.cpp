@@ -1,6 +1,7 @@
 #include "exoid/render/video_writer.hpp"
 
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/render/mp4_check.hpp"
 
 #include <cerrno>
@@ -26,12 +27,6 @@ namespace {
 bool isExecutableFile(const std::string& p) {
   struct stat st {};
   return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(p.c_str(), X_OK) == 0;
-}
-
-std::string fpsText(double fps) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", fps);
-  return buf;
 }
 
 // Writes all bytes to a pipe without dying of SIGPIPE if the reader is gone: SIGPIPE is blocked
@@ -95,11 +90,11 @@ std::string requireFfmpeg(const std::string& name) {
 VideoWriter::VideoWriter(const std::string& out_path, int width, int height, double fps, const std::string& ffmpeg)
     : out_path_(out_path), tmp_path_(core::temporaryPathFor(out_path)), width_(width), height_(height) {
   if (width <= 0 || height <= 0 || width % 2 != 0 || height % 2 != 0) {
-    throw std::invalid_argument("video size must be positive and even (H.264 yuv420p), got " + std::to_string(width) +
-                                "x" + std::to_string(height));
+    throw std::invalid_argument("video size must be positive and even (H.264 yuv420p), got " + core::toText(width) +
+                                "x" + core::toText(height));
   }
   if (!std::isfinite(fps) || fps <= 0.0 || fps > 240.0) {
-    throw std::invalid_argument("'fps' must be in (0, 240], got " + fpsText(fps));
+    throw std::invalid_argument("'fps' must be in (0, 240], got " + core::formatNumber(fps, 10));
   }
   ffmpeg_ = requireFfmpeg(ffmpeg);
   core::checkOutputWritable(out_path_);
@@ -115,8 +110,8 @@ VideoWriter::VideoWriter(const std::string& out_path, int width, int height, dou
     ::close(log_fd_);
     throw std::runtime_error(std::string("cannot create a pipe to ffmpeg: ") + std::strerror(errno));
   }
-  const std::string size = std::to_string(width) + "x" + std::to_string(height);
-  const std::string rate = fpsText(fps);
+  const std::string size = core::toText(width) + "x" + core::toText(height);
+  const std::string rate = core::formatNumber(fps, 10);
   std::vector<std::string> args{ffmpeg_, "-y", "-nostdin", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
                                 "-s", size, "-r", rate, "-i", "-", "-pix_fmt", "yuv420p", "-c:v", "libx264",
                                 "-preset", "veryfast", "-f", "mp4", tmp_path_};
@@ -165,8 +160,8 @@ void VideoWriter::abort() noexcept {
 namespace {
 
 std::string exitText(int status) {
-  if (WIFEXITED(status)) return "it exited with code " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return std::string("it was killed by signal ") + std::to_string(WTERMSIG(status));
+  if (WIFEXITED(status)) return "it exited with code " + core::toText(WEXITSTATUS(status));
+  if (WIFSIGNALED(status)) return std::string("it was killed by signal ") + core::toText(WTERMSIG(status));
   return "it stopped";
 }
 
@@ -194,9 +189,9 @@ std::string VideoWriter::ffmpegMessages() const {
 void VideoWriter::write(const Image& frame) {
   if (pipe_fd_ < 0) throw std::logic_error("VideoWriter::write after finish");
   if (frame.width != width_ || frame.height != height_ || frame.rgb.size() != frame.byteCount()) {
-    throw std::invalid_argument("VideoWriter::write: expected a " + std::to_string(width_) + "x" +
-                                std::to_string(height_) + " frame, got " + std::to_string(frame.width) + "x" +
-                                std::to_string(frame.height));
+    throw std::invalid_argument("VideoWriter::write: expected a " + core::toText(width_) + "x" +
+                                core::toText(height_) + " frame, got " + core::toText(frame.width) + "x" +
+                                core::toText(frame.height));
   }
   if (!writeAll(pipe_fd_, frame.rgb.data(), frame.rgb.size())) {
     ::close(pipe_fd_);
@@ -222,8 +217,8 @@ void VideoWriter::finish() {
   }
   pid_ = -1;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const std::string how = WIFEXITED(status) ? "exit code " + std::to_string(WEXITSTATUS(status))
-                                              : "signal " + std::to_string(WTERMSIG(status));
+    const std::string how = WIFEXITED(status) ? "exit code " + core::toText(WEXITSTATUS(status))
+                                              : "signal " + core::toText(WTERMSIG(status));
     const std::string messages = ffmpegMessages();
     abort();
     throw std::runtime_error("'" + ffmpeg_ + "' failed (" + how + ") writing '" + out_path_ + "': " + messagesOrHint(messages));

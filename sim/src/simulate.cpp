@@ -1,5 +1,6 @@
 #include "exoid/sim/simulate.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/sim/four_bar.hpp"
 #include "exoid/sim/imu.hpp"
 #include "exoid/sim/inverse_dynamics.hpp"
@@ -40,12 +41,6 @@ const char* const kColNames[kNumCols] = {
     "q_hip_ref", "q_knee_ref", "base_x", "base_z", "base_pitch", "loop_error",
     "tau_hip_cmd", "tau_knee_cmd", "base_acc_x", "base_acc_z", "base_gyro_y"};
 const int kShortCols[] = {kT, kQHip, kQKnee, kTauHip, kTauKnee, kQHipRef, kQKneeRef, kBaseAccX, kBaseAccZ, kBaseGyroY};
-
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 template <class T>
 [[noreturn]] void badField(const char* field, const T& value, const char* expected) {
@@ -352,31 +347,31 @@ struct Simulator::Impl {
     meta("source", std::string("exoid sim (MuJoCo ") + mj_versionString() + ")");
     meta("model", cfg.model_path);
     meta("model_fnv1a64", r.model_fnv1a64);
-    meta("trajectory", cfg.trajectory == 0 ? std::string("fourier") : std::to_string(cfg.trajectory));
+    meta("trajectory", cfg.trajectory == 0 ? std::string("fourier") : core::toText(cfg.trajectory));
     meta("hip_locked", traj->hipLocked() ? "true" : "false");
-    meta("seed", std::to_string(cfg.seed));
-    meta("dt_s", num(cfg.dt_s));
-    meta("duration_s", num(cfg.duration_s));
-    meta("ramp_s", num(cfg.ramp_s));
+    meta("seed", core::toText(cfg.seed));
+    meta("dt_s", core::formatNumber(cfg.dt_s, 17));
+    meta("duration_s", core::formatNumber(cfg.duration_s, 17));
+    meta("ramp_s", core::formatNumber(cfg.ramp_s, 17));
     meta("record_after_ramp", cfg.record_after_ramp ? "true" : "false");
-    meta("thigh_length_m", num(r.truth.thigh_length_m));
-    meta("gravity_mps2", num(r.truth.gravity_mps2));
-    meta("noise_q_deg", num(cfg.sensors.noise_q_deg));
-    meta("quantisation_deg", num(cfg.sensors.quantisation_deg));
-    meta("noise_tau_Nm", num(cfg.sensors.noise_tau_Nm));
-    meta("vibration_level", num(cfg.variant.vibration_level));
-    meta("cylinder_mass_scale", num(cfg.variant.cylinder_mass_scale));
+    meta("thigh_length_m", core::formatNumber(r.truth.thigh_length_m, 17));
+    meta("gravity_mps2", core::formatNumber(r.truth.gravity_mps2, 17));
+    meta("noise_q_deg", core::formatNumber(cfg.sensors.noise_q_deg, 17));
+    meta("quantisation_deg", core::formatNumber(cfg.sensors.quantisation_deg, 17));
+    meta("noise_tau_Nm", core::formatNumber(cfg.sensors.noise_tau_Nm, 17));
+    meta("vibration_level", core::formatNumber(cfg.variant.vibration_level, 17));
+    meta("cylinder_mass_scale", core::formatNumber(cfg.variant.cylinder_mass_scale, 17));
     meta("feedforward", cfg.feedforward ? "true" : "false");
     // The tracking law, so that methods that simulate the closed loop (IDIM-IV) can rebuild it.
-    const auto pair = [](const Eigen::Vector2d& v) { return num(v[0]) + "," + num(v[1]); };
+    const auto pair = [](const Eigen::Vector2d& v) { return core::formatNumber(v[0], 17) + "," + core::formatNumber(v[1], 17); };
     meta("controller_kp_Nm_per_rad", pair(cfg.gains.kp_Nm_per_rad));
     meta("controller_ki_Nm_per_rad_s", pair(cfg.gains.ki_Nm_per_rad_s));
     meta("controller_kd_Nms_per_rad", pair(cfg.gains.kd_Nms_per_rad));
-    meta("controller_derivative_cutoff_Hz", num(cfg.gains.derivative_cutoff_Hz));
-    meta("controller_integral_limit_Nm", num(cfg.gains.integral_limit_Nm));
-    meta("hip_actuator_bandwidth_Hz", num(cfg.actuators.hip_bandwidth_Hz));
-    meta("knee_actuator_bandwidth_Hz", num(cfg.actuators.knee_bandwidth_Hz));
-    meta("torque_sensor_bandwidth_Hz", num(cfg.sensors.tau_bandwidth_Hz));
+    meta("controller_derivative_cutoff_Hz", core::formatNumber(cfg.gains.derivative_cutoff_Hz, 17));
+    meta("controller_integral_limit_Nm", core::formatNumber(cfg.gains.integral_limit_Nm, 17));
+    meta("hip_actuator_bandwidth_Hz", core::formatNumber(cfg.actuators.hip_bandwidth_Hz, 17));
+    meta("knee_actuator_bandwidth_Hz", core::formatNumber(cfg.actuators.knee_bandwidth_Hz, 17));
+    meta("torque_sensor_bandwidth_Hz", core::formatNumber(cfg.sensors.tau_bandwidth_Hz, 17));
     meta("units", "s, rad, rad/s, rad/s^2, N m, m");
     s.wall_time_s = setup_time_s + loop_time_s +
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

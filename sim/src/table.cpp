@@ -1,6 +1,7 @@
 #include "exoid/sim/table.hpp"
 
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -30,8 +31,8 @@ bool Table::has(const std::string& name) const {
 
 std::string tableCsv(const Table& t) {
   if (static_cast<Eigen::Index>(t.names.size()) != t.values.cols()) {
-    throw std::invalid_argument("table: " + std::to_string(t.names.size()) + " names for " +
-                                std::to_string(t.values.cols()) + " columns");
+    throw std::invalid_argument("table: " + core::toText(t.names.size()) + " names for " +
+                                core::toText(t.values.cols()) + " columns");
   }
   std::string out;
   out.reserve(static_cast<std::size_t>(t.values.size()) * 24 + 1024);

@@ -1,5 +1,7 @@
 #include "exoid/sim/truth.hpp"
 
+#include "exoid/core/params.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,14 +10,23 @@
 
 namespace exoid::sim {
 
+static_assert(kNumParams == core::kNumParams, "sim's truths are in core's parameter order");
+
+// From the one table ident shares (core/params.hpp).
 const std::array<const char*, kNumParams>& paramNames() {
-  static const std::array<const char*, kNumParams> n = {"Mxt", "Myt", "Jt", "fc1", "fv1",
-                                                        "Mxs", "Mys", "Js", "fc2", "fv2"};
+  static const std::array<const char*, kNumParams> n = [] {
+    std::array<const char*, kNumParams> out{};
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = core::kParams[i].name;
+    return out;
+  }();
   return n;
 }
 const std::array<const char*, kNumParams>& paramUnits() {
-  static const std::array<const char*, kNumParams> u = {"kg m", "kg m", "kg m^2", "N m", "N m s/rad",
-                                                        "kg m", "kg m", "kg m^2", "N m", "N m s/rad"};
+  static const std::array<const char*, kNumParams> u = [] {
+    std::array<const char*, kNumParams> out{};
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = core::kParams[i].unit;
+    return out;
+  }();
   return u;
 }
 

@@ -2,7 +2,7 @@
 // bookkeeping, the Cramer-Rao floor no trajectory can beat, and designs that beat the paper's
 // trajectories on the criterion they optimise.
 #include "exoid/ident/excitation.hpp"
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -73,7 +73,7 @@ TEST(Excitation, CrbFloorBoundsEveryColumnInsideTheLimits) {
   EXPECT_DOUBLE_EQ(floor[kFv1], 1.0 / 3.0);
   EXPECT_DOUBLE_EQ(floor[kJt], 1.0 / std::hypot(20.0, 0.0));
   EXPECT_DOUBLE_EQ(floor[kJs], 1.0 / std::hypot(25.0, 45.0));
-  Rng rng(7);
+  core::Rng rng(7);
   ParamVector reached = ParamVector::Zero();
   for (int i = 0; i < 200000; ++i) {
     Eigen::Vector2d q, qd, qdd;

@@ -5,7 +5,7 @@
 // numbers to hard-code).
 #include "exoid/ident/spectrum.hpp"
 
-#include "exoid/ident/random.hpp"
+#include "exoid/core/random.hpp"
 
 #include "test_support.hpp"
 
@@ -129,7 +129,7 @@ bool tonesAddUp(const std::vector<Tone>& ts, Eigen::Index nperseg) {
 
 // Gaussian white noise of standard deviation sigma (Box-Muller, cosine branch).
 Eigen::VectorXd whiteNoise(Eigen::Index n, double sigma, std::uint64_t seed) {
-  Rng rng(seed);
+  core::Rng rng(seed);
   Eigen::VectorXd x(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double u1 = 1.0 - rng.uniform(), u2 = rng.uniform();  // u1 in (0, 1]

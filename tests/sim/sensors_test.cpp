@@ -14,38 +14,11 @@ constexpr double kDt = 1e-3;  // s, the simulator's sample interval
 // are fixed, so the tests are deterministic anyway.
 constexpr double kSigmas = 5.0;
 
-TEST(RandomTest, SplitmixReferenceValue) {
-  std::uint64_t s = 0;
-  EXPECT_EQ(splitmix64(s), 0xe220a8397b1dcdafull);  // reference output for state 0
-}
-
-TEST(RandomTest, UniformAndNormalMoments) {
-  Rng rng(42);
-  double su = 0, sn = 0, sn2 = 0;
-  for (int i = 0; i < kN; ++i) {
-    const double u = rng.uniform();
-    ASSERT_GE(u, 0.0);
-    ASSERT_LT(u, 1.0);
-    su += u;
-    const double z = rng.normal();
-    sn += z;
-    sn2 += z * z;
-  }
-  EXPECT_NEAR(su / kN, 0.5, kSigmas * std::sqrt(1.0 / 12 / kN));
-  EXPECT_NEAR(sn / kN, 0.0, kSigmas / std::sqrt(kN));
-  EXPECT_NEAR(sn2 / kN, 1.0, kSigmas * std::sqrt(2.0 / kN));  // var of z^2 is 2
-}
-
-TEST(RandomTest, SameSeedSameStreamDifferentSeedDiffers) {
-  Rng a(7), b(7), c(8);
-  bool differs = false;
-  for (int i = 0; i < 100; ++i) {
-    const auto x = a.next();
-    EXPECT_EQ(x, b.next());
-    differs |= x != c.next();
-  }
-  EXPECT_TRUE(differs);
+// The generator itself is tested in tests/core/random_test.cpp; here, the simulator's streams.
+TEST(RandomStreams, EachNoiseSourceHasItsOwnStream) {
   EXPECT_NE(streamSeed(7, kStreamEncoder), streamSeed(7, kStreamTorque));
+  EXPECT_NE(streamSeed(7, kStreamFloor), streamSeed(7, kStreamImu));
+  EXPECT_EQ(streamSeed(7, kStreamEncoder), core::deriveSeed(7, 1));
 }
 
 TEST(SensorsTest, QuantisationOnlyIsUniformWithinHalfACount) {

@@ -62,7 +62,7 @@ struct SweepConfig {
   void validate() const;
   std::vector<SweepCondition> conditions() const;
   int numCells() const { return static_cast<int>(conditions().size()); }
-  /// Seed of job (cell, replicate): Rng::derive(Rng::derive(master_seed, c), replicate) with c
+  /// Seed of job (cell, replicate): core::deriveSeed(core::deriveSeed(master_seed, c), replicate) with c
   /// the cell's index among the cells of one trajectories level (= cell with one level).
   std::uint64_t jobSeed(int cell, int replicate) const;
   /// The protocol run of a job.

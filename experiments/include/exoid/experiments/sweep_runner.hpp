@@ -4,6 +4,7 @@
 // Folder layout: config.json (resolved configuration; a resume must match it), shard.json,
 // runs/job-CCCCC-RRRR.json (one per finished job, written via temporary + rename), and the
 // outputs runs.csv, summary.{csv,json,md}, timing.json, *.png.
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/sweep_config.hpp"
 #include "exoid/experiments/sweep_job.hpp"
 
@@ -18,7 +19,7 @@ namespace exoid::experiments {
 struct ShardSpec {
   int index = 0;
   int count = 1;
-  std::string text() const { return std::to_string(index) + "/" + std::to_string(count); }
+  std::string text() const { return core::toText(index) + "/" + core::toText(count); }
 };
 /// "K/N" with 0 <= K < N; throws std::invalid_argument otherwise.
 ShardSpec parseShard(const std::string& s);
