@@ -158,7 +158,8 @@ Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
   return e;
 }
 
-void run(const IdentifyArgs& a) {
+// The command line's combinations: one kind of input, what each method needs of it.
+void checkArguments(const IdentifyArgs& a, const std::vector<ident::Method>& methods) {
   const bool single = !a.data.empty();
   const bool segmental = !a.knee_data.empty() || !a.both_data.empty();
   if (single == segmental) {
@@ -171,7 +172,6 @@ void run(const IdentifyArgs& a) {
     throw CLI::ValidationError("--knee-armature", "needs --data: a record where the hip moves, fitted with both equations (with "
                                "the hip fixed the armature's column is Js's, and Js enters the hip equation without it)");
   }
-  const std::vector<ident::Method> methods = resolveMethods(a.methods);
   a.methods_options.validate();
   a.iv.validate();
   const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
@@ -182,21 +182,12 @@ void run(const IdentifyArgs& a) {
     throw CLI::ValidationError("--method idim-iv", "takes one record per role for now (its instruments simulate each record "
                                "under its controller); stack records with the other methods");
   }
-  std::map<std::string, ident::ParamVector> truths;
-  if (!a.truth.empty()) truths = readTruthFile(a.truth);
+}
 
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
-  Role primary, knee;
-  primary.files = single ? a.data : a.both_data;
-  knee.files = a.knee_data;
-  for (Role* role : {&primary, &knee}) {
-    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
-  }
-  std::string constants_origin;
-  const ident::LegConstants c =
-      resolveConstants(a.constants, primary.data.front(), &constants_origin, log.thigh_length_m, log.gravity_mps2);
-  // Records that say their own Lt must agree with the one used.
-  for (Role* role : {&primary, &knee}) {
+// Records that say their own Lt must agree with the one used.
+void checkThighLengths(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const Role& primary,
+                       const Role& knee) {
+  for (const Role* role : {&primary, &knee}) {
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       if (const auto lt = role->data[k].metadata("thigh_length_m"); lt && !a.constants.thigh_length_m && !log.thigh_length_m) {
         if (std::abs(std::stod(*lt) - c.thigh_length_m) > 1e-12) {
@@ -206,7 +197,11 @@ void run(const IdentifyArgs& a) {
       }
     }
   }
-  std::cout << "constants: Lt " << fmt(c.thigh_length_m) << " m, g " << fmt(c.gravity_mps2) << " m/s^2 (" << constants_origin << ")\n";
+}
+
+// Each role's records processed and stacked, with how well they excite the parameters.
+void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, bool segmental, Role& primary,
+                  Role& knee) {
   for (Role* role : {&knee, &primary}) {
     std::vector<ident::ProcessedRecord> rows;
     for (std::size_t k = 0; k < role->files.size(); ++k) {
@@ -234,24 +229,18 @@ void run(const IdentifyArgs& a) {
     }
     std::cout << '\n';
   }
-  const ident::ProcessedRecord& r_primary = primary.rows;
-  const ident::ProcessedRecord& r_knee = knee.rows;
-  // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
-  ident::ClosedLoopRecord cl_primary, cl_knee;
-  if (iv) {
-    cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), r_primary, a.controller, false);
-    if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), r_knee, a.controller, true);
-  }
+}
 
-  // The PSO baseline's box from the data: 10 x the largest |LS estimate| (a fixed +-50 is absurd
-  // for a 0.3 kg arm and tiny for a heavy leg).
-  ident::MethodOptions mo = a.methods_options;
+// The PSO baseline's box from the data, unless --wide-box was given.
+void sizePsoBox(const IdentifyArgs& a, const std::vector<ident::Method>& methods, bool segmental, const Role& primary,
+                const Role& knee, ident::MethodOptions& mo) {
+  // 10 x the largest |LS estimate| (a fixed +-50 is absurd for a 0.3 kg arm and tiny for a heavy leg).
   if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
       a.wide_box_option->count() == 0) {
-    const ident::SegmentalProblem all = ident::bothEquations(r_primary);
+    const ident::SegmentalProblem all = ident::bothEquations(primary.rows);
     double biggest = ident::solveLeastSquares(all.H, all.y, mo.ls).x.cwiseAbs().maxCoeff();
     if (segmental) {
-      const ident::SegmentalProblem k = ident::kneeStage(r_knee);
+      const ident::SegmentalProblem k = ident::kneeStage(knee.rows);
       biggest = std::max(biggest, ident::solveLeastSquares(k.H, k.y, mo.ls).x.cwiseAbs().maxCoeff());
     }
     if (!(biggest > 0) || !std::isfinite(biggest)) {
@@ -262,72 +251,61 @@ void run(const IdentifyArgs& a) {
               << "--wide-box sets it)\n";
   }
 
-  std::vector<MethodOutcome> outcomes;
-  for (ident::Method m : methods) {
-    if (m == ident::Method::kIdimIv) {
-      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv, a.knee_armature)
-                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
-      continue;
-    }
-    outcomes.push_back(single ? identifyAll(m, r_primary, mo, a.knee_armature) : identifySegmented(m, r_knee, r_primary, mo));
-  }
-  std::vector<std::pair<std::string, std::vector<Validation>>> validations;
-  for (const std::string& file : a.validate) {
-    const ident::ProcessedRecord rv = ident::processRecord(readLog(file, log), c, a.signals);
-    std::vector<Validation> v;
-    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
-    validations.emplace_back(file, std::move(v));
-  }
+}
 
-  printResults(outcomes, validations, truths);
-
-  if (!a.json_out.empty()) {
-    nlohmann::json j;
-    j["tool"] = toolJson();
-    j["command"] = "identify";
-    j["strategy"] = single ? "all_parameters_one_record" : "segmental";
-    j["inputs"] = single ? nlohmann::json{{"data", a.data}}
-                         : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
-    if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
-    nlohmann::json sampling = nlohmann::json::object();
-    for (const Role* role : {&knee, &primary}) {
-      for (std::size_t k = 0; k < role->files.size(); ++k) {
-        const ident::SamplingReport& sr = role->data[k].sampling;
-        sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
-                                    {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
-                                    {"rows_used", role->data[k].size()}};
-      }
+void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
+                       const Role& primary, const Role& knee, const ident::MethodOptions& mo,
+                       const std::vector<MethodOutcome>& outcomes,
+                       const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
+                       const std::map<std::string, ident::ParamVector>& truths) {
+  const bool single = !a.data.empty();
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["command"] = "identify";
+  j["strategy"] = single ? "all_parameters_one_record" : "segmental";
+  j["inputs"] = single ? nlohmann::json{{"data", a.data}}
+                       : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
+  if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
+  nlohmann::json sampling = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      const ident::SamplingReport& sr = role->data[k].sampling;
+      sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
+                                  {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
+                                  {"rows_used", role->data[k].size()}};
     }
-    j["inputs"]["sampling"] = sampling;
-    // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
-    j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
-                           (a.signals.base_terms == ident::BaseTerms::kOn ||
-                            (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary.data.front())));
-    j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
-    j["signal_options"] = toJson(a.signals);
-    j["method_options"] = toJson(mo);
-    j["seed"] = a.methods_options.rls_pso.pso.seed;
-    j["methods"] = nlohmann::json::object();
-    for (std::size_t k = 0; k < outcomes.size(); ++k) {
-      nlohmann::json mj = toJson(outcomes[k], a.history);
-      for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
-      for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
-      j["methods"][ident::toString(outcomes[k].method)] = mj;
-    }
-    // The first method's estimate at top level, for tools that expect one answer.
-    j["method"] = ident::toString(outcomes.front().method);
-    j["parameters"] = paramsJson(outcomes.front().x);
-    j["status"] = outcomes.front().usable() && outcomes.front().implausible.empty() ? "usable" : "not_usable";
-    if (!truths.empty()) {
-      j["truth"] = nlohmann::json::object();
-      for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
-    }
-    writeJsonFile(a.json_out, j);
   }
+  j["inputs"]["sampling"] = sampling;
+  // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
+  j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
+                         (a.signals.base_terms == ident::BaseTerms::kOn ||
+                          (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary.data.front())));
+  j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
+  j["signal_options"] = toJson(a.signals);
+  j["method_options"] = toJson(mo);
+  j["seed"] = a.methods_options.rls_pso.pso.seed;
+  j["methods"] = nlohmann::json::object();
+  for (std::size_t k = 0; k < outcomes.size(); ++k) {
+    nlohmann::json mj = toJson(outcomes[k], a.history);
+    for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
+    for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
+    j["methods"][ident::toString(outcomes[k].method)] = mj;
+  }
+  // The first method's estimate at top level, for tools that expect one answer.
+  j["method"] = ident::toString(outcomes.front().method);
+  j["parameters"] = paramsJson(outcomes.front().x);
+  j["status"] = outcomes.front().usable() && outcomes.front().implausible.empty() ? "usable" : "not_usable";
+  if (!truths.empty()) {
+    j["truth"] = nlohmann::json::object();
+    for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
+  }
+  writeJsonFile(a.json_out, j);
+}
+
+// Why the results must not be used (empty: usable). A swarm that ends on its box's bound was
+// stopped by the box, not by the cost: not usable for PSO; a warning for RLS-PSO (whose box is its method).
+std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
   std::string problems;
-  // A swarm that ends on its box's bound was stopped by the box, not by the cost: the box does not
-  // hold the optimum in that direction. Not usable for PSO; a warning for RLS-PSO (whose box is
-  // its method).
   for (const MethodOutcome& m : outcomes) {
     if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) continue;
     for (const Stage& st : m.stages) {
@@ -354,7 +332,60 @@ void run(const IdentifyArgs& a) {
       problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": physically implausible: " + v;
     }
   }
-  if (!problems.empty()) throw UnusableResult(problems);
+  return problems;
+}
+
+
+void run(const IdentifyArgs& a) {
+  const std::vector<ident::Method> methods = resolveMethods(a.methods);
+  checkArguments(a, methods);
+  const bool single = !a.data.empty(), segmental = !single;
+  const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
+  std::map<std::string, ident::ParamVector> truths;
+  if (!a.truth.empty()) truths = readTruthFile(a.truth);
+
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
+  Role primary, knee;
+  primary.files = single ? a.data : a.both_data;
+  knee.files = a.knee_data;
+  for (Role* role : {&primary, &knee}) {
+    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
+  }
+  std::string constants_origin;
+  const ident::LegConstants c =
+      resolveConstants(a.constants, primary.data.front(), &constants_origin, log.thigh_length_m, log.gravity_mps2);
+  checkThighLengths(a, log, c, primary, knee);
+  std::cout << "constants: Lt " << fmt(c.thigh_length_m) << " m, g " << fmt(c.gravity_mps2) << " m/s^2 (" << constants_origin << ")\n";
+  processRoles(a, log, c, segmental, primary, knee);
+  // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
+  ident::ClosedLoopRecord cl_primary, cl_knee;
+  if (iv) {
+    cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), primary.rows, a.controller, false);
+    if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), knee.rows, a.controller, true);
+  }
+  ident::MethodOptions mo = a.methods_options;
+  sizePsoBox(a, methods, segmental, primary, knee, mo);
+
+  std::vector<MethodOutcome> outcomes;
+  for (ident::Method m : methods) {
+    if (m == ident::Method::kIdimIv) {
+      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv, a.knee_armature)
+                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
+    } else {
+      outcomes.push_back(single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, knee.rows, primary.rows, mo));
+    }
+  }
+  std::vector<std::pair<std::string, std::vector<Validation>>> validations;
+  for (const std::string& file : a.validate) {
+    const ident::ProcessedRecord rv = ident::processRecord(readLog(file, log), c, a.signals);
+    std::vector<Validation> v;
+    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
+    validations.emplace_back(file, std::move(v));
+  }
+
+  printResults(outcomes, validations, truths);
+  if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths);
+  if (const std::string problems = problemsOf(outcomes); !problems.empty()) throw UnusableResult(problems);
 }
 
 }  // namespace

@@ -332,8 +332,10 @@ void optimisedArmSection(std::ostream& md, const ProtocolResult& p, const Protoc
 
 }  // namespace
 
-void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out, const ProtocolResult* optimised) {
-  std::filesystem::create_directories(out.dir);
+namespace {
+
+// results.json (with the optimised arm's), estimates*.csv, validation.csv and the plotted series.
+void writeDataFiles(const ProtocolResult& r, const ReproduceOutputs& out, const ProtocolResult* optimised) {
   writeJsonFile(out.dir + "/results.json", resultsJson(r));
   writeEstimatesCsv(r, out.dir + "/estimates.csv");
   if (optimised) {
@@ -354,20 +356,10 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
     }
   });
   writeSeries(r, out.dir);
-  const std::vector<std::string> figures = {"fig_validation_knee.png", "fig_validation_hip.png", "fig_convergence.png",
-                                            "fig_validation_errors.png", "fig_parameter_errors.png"};
-  if (out.plots) runPlotScript("reproduce_plots.py", {out.dir});
-  std::string media;
-#ifdef EXOID_WITH_RENDER
-  if (out.media) media = renderMedia(r, out.dir);
-#endif
+}
 
-  std::ostringstream md;
+void setupSection(std::ostream& md, const ProtocolResult& r) {
   const auto& c = r.config;
-  md << "# exoid reproduce: the RLS-PSO paper against ground truth\n\n";
-  md << "exoid " << toolJson()["version"].get<std::string>() << " (" << toolJson()["revision"].get<std::string>() << "), "
-     << r.records[0].sim.mujoco_version << ", seed " << c.seed << ", " << fmt(r.wall_time_s, 3) << " s.\n\n";
-  md << "## Verdict\n\n" << verdict(r) << "\n\n";
   md << "## Setup\n\n";
   md << "- Simulated APAL leg (`" << c.sim.model_path << "`): four-bar knee cylinder mass scale " << c.sim.variant.cylinder_mass_scale
      << ", pedestal vibration level " << c.sim.variant.vibration_level << ", PID tracking at 1 kHz"
@@ -408,10 +400,9 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
         "  vibration-free torques at the exact states of records 1 (knee) and 3 (hip): the best the 2-link model can do;\n"
         "  *four-bar band* = X(q2) with cylinder and rod lumped into the links, min/max over the records' knee range.\n"
         "  Errors below are against the best fit unless said otherwise.\n\n";
-  md << "## Knee parameters (paper Tables 3-4; identified on trajectory 1)\n\n";
-  blockTable(md, r, ident::kShankFirst, kPaperKnee, 4, "knee");
-  md << "\n## Hip parameters (paper Tables 5-6; identified on trajectory 3)\n\n";
-  blockTable(md, r, ident::kThighFirst, kPaperHip, 2, "hip");
+}
+
+void truthInBoxSection(std::ostream& md, const ProtocolResult& r) {
   md << "\n## Is the truth inside the RLS box?\n\n";
   for (const VariantScore& s : r.scores) {
     if (s.variant != Variant::kRlsPso) continue;
@@ -429,6 +420,9 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
       md << '\n';
     }
   }
+}
+
+void validationSection(std::ostream& md, const ProtocolResult& r) {
   md << "\n## Validation torque error (paper Figs. 10, 13): mean +- std of |error|, N m\n\n";
   TextTable v({"method", "knee (train 1, validate 2)", "paper knee", "hip (train 3, validate 4)", "paper hip", "knee RMS", "hip RMS"});
   for (const VariantScore& s : r.scores) {
@@ -444,6 +438,9 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
               fixed(s.hip_validation.rms, 4)});
   }
   v.printMarkdown(md);
+}
+
+void scoresSection(std::ostream& md, const ProtocolResult& r) {
   md << "\n## Scores against ground truth\n\n"
         "Torque-space error: ||Y (x - x*)|| / ||Y x*|| per joint on " << ident::kValidationStates
      << " fixed validation states (hip -90..30 deg, knee 0..110 deg, |qd| <= 3 rad/s, |qdd| <= 30 rad/s^2; "
@@ -468,6 +465,9 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
                plausibleText(s.outcome), fmt(s.outcome.wallTime_s(), 3)});
   }
   pe.printMarkdown(md);
+}
+
+void crbSection(std::ostream& md, const ProtocolResult& r) {
   md << "\n## Errors in units of each method's Cramer-Rao bound\n\n"
         "(x - x*) / sigma, sigma = the noise-limited std of the parameter for the regressor the method fits, after its "
         "own processing and for its own structure (segmental or stacked; `experiments::noiseStd`), at the records' "
@@ -490,8 +490,10 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
   zt.printMarkdown(md);
   md << "\nThe bounds themselves (sigma, SI units):\n\n";
   ct.printMarkdown(md);
-  if (optimised) optimisedArmSection(md, r, *optimised);
-  if (out.plots) {
+}
+
+void figuresSection(std::ostream& md) {
+  {
     md << "\n## Figures\n\n";
     md << "Measured vs identified torque on the validation trajectories (paper Figs. 9, 12):\n\n"
           "![knee validation](fig_validation_knee.png)\n\n![hip validation](fig_validation_hip.png)\n\n";
@@ -499,6 +501,36 @@ void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out,
     md << "Validation error per method (paper Figs. 10, 13):\n\n![validation errors](fig_validation_errors.png)\n\n";
     md << "Relative parameter error per method against the best-fit truth:\n\n![parameter errors](fig_parameter_errors.png)\n";
   }
+}
+
+}  // namespace
+
+void writeReproduceOutputs(const ProtocolResult& r, const ReproduceOutputs& out, const ProtocolResult* optimised) {
+  std::filesystem::create_directories(out.dir);
+  writeDataFiles(r, out, optimised);
+  if (out.plots) runPlotScript("reproduce_plots.py", {out.dir});
+  std::string media;
+#ifdef EXOID_WITH_RENDER
+  if (out.media) media = renderMedia(r, out.dir);
+#endif
+
+  std::ostringstream md;
+  const auto& c = r.config;
+  md << "# exoid reproduce: the RLS-PSO paper against ground truth\n\n";
+  md << "exoid " << toolJson()["version"].get<std::string>() << " (" << toolJson()["revision"].get<std::string>() << "), "
+     << r.records[0].sim.mujoco_version << ", seed " << c.seed << ", " << fmt(r.wall_time_s, 3) << " s.\n\n";
+  md << "## Verdict\n\n" << verdict(r) << "\n\n";
+  setupSection(md, r);
+  md << "## Knee parameters (paper Tables 3-4; identified on trajectory 1)\n\n";
+  blockTable(md, r, ident::kShankFirst, kPaperKnee, 4, "knee");
+  md << "\n## Hip parameters (paper Tables 5-6; identified on trajectory 3)\n\n";
+  blockTable(md, r, ident::kThighFirst, kPaperHip, 2, "hip");
+  truthInBoxSection(md, r);
+  validationSection(md, r);
+  scoresSection(md, r);
+  crbSection(md, r);
+  if (optimised) optimisedArmSection(md, r, *optimised);
+  if (out.plots) figuresSection(md);
   if (!media.empty()) md << "\n## The leg\n\n" << media;
   md << "\n## Files\n\n`results.json` (everything, with the PSO histories), `estimates.csv`, `validation.csv`, "
         "`series_*.csv` (the plotted series).\n";

@@ -159,9 +159,285 @@ double physicalBound(const std::string& column) {
   return 1e6;                                       // torques, N m
 }
 
-// The reader proper. `open` returns a fresh chunk reader (read(buffer) -> bool) for each of two
-// passes: the first counts the data rows, so every column is allocated once at its final size
-// and parsed straight into place.
+// The reader proper, one step per member: the header (names, column map, required columns,
+// allocation), each data row, then text columns, units and the time axis.
+class LogParser {
+ public:
+  LogParser(const std::string& source, const CsvReadOptions& options, Eigen::Index rows)
+      : source_(source), options_(options), rows_(rows) {}
+
+  void line(const csv::Line& line) {
+    if (line.comment) {
+      d_.comments.emplace_back(line.text);
+    } else if (header_line_ == 0) {
+      header(line);
+    } else if (row_ < rows_) {
+      dataRow(line);
+    }
+  }
+
+  Dataset finish() {
+    if (header_line_ == 0) {
+      throw DatasetError(source_, 0, 0, "empty file: expected a header line 't,q_hip,q_knee,tau_hip,tau_knee' followed by data rows");
+    }
+    if (row_ < options_.min_rows) {
+      throw DatasetError(source_, 0, 0,
+                         "expected at least " + core::toText(options_.min_rows) + " data rows, got " + core::toText(row_));
+    }
+    dropTextColumns();
+    applyUnits();
+    return timeAxis();
+  }
+
+ private:
+  void header(const csv::Line& line) {
+    header_line_ = line.number;
+    readNames(line);
+    mapColumns();
+    indexColumns();
+    allocate();
+  }
+
+  void readNames(const csv::Line& line) {
+    for (std::string_view c : line.cells) names_.emplace_back(csv::trimBlanks(c));
+    // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first name.
+    if (!names_.empty() && names_.front().rfind("\xEF\xBB\xBF", 0) == 0) names_.front().erase(0, 3);
+    // Another separator: say so, instead of "missing required column 't'" for a one-column header.
+    if (names_.size() == 1) {
+      for (const auto& [sep, what] : {std::pair<char, const char*>{'\t', "tabs"}, {';', "semicolons"}, {' ', "spaces"}}) {
+        if (names_.front().find(sep) != std::string::npos) {
+          throw DatasetError(source_, header_line_, 0,
+                             std::string("the header has no commas but is separated by ") + what +
+                                 ": exoid reads comma-separated files (convert it, e.g. tr '" + (sep == '\t' ? "\\t" : std::string(1, sep)) +
+                                 "' ',' < in > out.csv, minding decimal commas)");
+        }
+      }
+    }
+    if (names_.size() > 1 && names_.back().empty()) {  // "a,b,c," on every line
+      names_.pop_back();
+      trailing_comma_ = true;
+    }
+  }
+
+  // The log's names -> exoid's, as the format maps them.
+  void mapColumns() {
+    for (const auto& [ours, theirs] : options_.format.columns) {
+      const auto it = std::find(names_.begin(), names_.end(), theirs);
+      if (it == names_.end()) {
+        throw DatasetError(source_, header_line_, 0,
+                           "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(names_));
+      }
+      if (ours != theirs && std::find(names_.begin(), names_.end(), ours) != names_.end()) {
+        throw DatasetError(source_, header_line_, static_cast<long>(std::find(names_.begin(), names_.end(), ours) - names_.begin()) + 1,
+                           "column '" + ours + "' is in the header and also mapped from '" + theirs + "': which one is meant?");
+      }
+      *it = ours;
+    }
+  }
+
+  void indexColumns() {
+    for (std::size_t c = 0; c < names_.size(); ++c) {
+      const long col = static_cast<long>(c) + 1;
+      if (names_[c].empty()) throw DatasetError(source_, header_line_, col, "empty column name in header");
+      if (!index_.emplace(names_[c], static_cast<long>(c)).second) {
+        throw DatasetError(source_, header_line_, col, "duplicate column '" + names_[c] + "'");
+      }
+    }
+    for (const char* r : kRequired) {
+      if (!index_.count(r)) {
+        throw DatasetError(source_, header_line_, 0,
+                           std::string("missing required column '") + r + "' (required: t,q_hip,q_knee,tau_hip,tau_knee; "
+                           "a log with its own names needs a column map, e.g. --columns t=time,q_hip=pos_meas1,...); the "
+                           "header has: " + listNames(names_));
+      }
+    }
+    for (const auto& [a, b] : {std::pair<const char*, const char*>{"qd_hip", "qd_knee"}, {"qdd_hip", "qdd_knee"}}) {
+      if (index_.count(a) != index_.count(b)) {
+        throw DatasetError(source_, header_line_, 0,
+                           std::string("missing column '") + (index_.count(a) ? b : a) + "': derivative columns come in hip/knee pairs");
+      }
+    }
+  }
+
+  // Every column at its final size (the first pass counted the rows): parsed straight into place.
+  void allocate() {
+    ncol_ = names_.size();
+    const Eigen::Index n = std::max<Eigen::Index>(rows_, 0);
+    d_.t_s.resize(n);
+    d_.q_rad.resize(n, 2);
+    d_.tau_Nm.resize(n, 2);
+    if (index_.count("qd_hip")) d_.qd_radps = Eigen::MatrixX2d(n, 2);
+    if (index_.count("qdd_hip")) d_.qdd_radps2 = Eigen::MatrixX2d(n, 2);
+    for (std::size_t c = 0; c < ncol_; ++c) {
+      if (!isKnown(names_[c])) d_.extra_names.push_back(names_[c]);
+    }
+    d_.extra.resize(n, static_cast<Eigen::Index>(d_.extra_names.size()));
+    std::map<std::string, double*> where = {{"t", d_.t_s.data()},
+                                            {"q_hip", d_.q_rad.col(0).data()},
+                                            {"q_knee", d_.q_rad.col(1).data()},
+                                            {"tau_hip", d_.tau_Nm.col(0).data()},
+                                            {"tau_knee", d_.tau_Nm.col(1).data()}};
+    if (d_.qd_radps) where.insert({{"qd_hip", d_.qd_radps->col(0).data()}, {"qd_knee", d_.qd_radps->col(1).data()}});
+    if (d_.qdd_radps2) where.insert({{"qdd_hip", d_.qdd_radps2->col(0).data()}, {"qdd_knee", d_.qdd_radps2->col(1).data()}});
+    for (std::size_t k = 0; k < d_.extra_names.size(); ++k) where[d_.extra_names[k]] = d_.extra.col(static_cast<Eigen::Index>(k)).data();
+    for (std::size_t c = 0; c < ncol_; ++c) {
+      target_.push_back(where.at(names_[c]));
+      known_.push_back(isKnown(names_[c]));
+    }
+    row_lines_.reserve(static_cast<std::size_t>(n));
+  }
+
+  void dataRow(const csv::Line& line) {
+    std::size_t cells = line.cells.size();
+    if (trailing_comma_ && cells == ncol_ + 1 && csv::trimBlanks(line.cells.back()).empty()) --cells;
+    if (cells != ncol_) {
+      throw DatasetError(source_, line.number, 0,
+                         "expected " + core::toText(ncol_) + " cells as in the header, got " + core::toText(cells));
+    }
+    for (std::size_t c = 0; c < ncol_; ++c) {
+      if (!target_[c]) continue;
+      double v = 0.0;
+      const bool ok = parseNumber(line.cells[c], v);
+      const long col = static_cast<long>(c) + 1;
+      if (!known_[c]) {
+        if (!ok || !std::isfinite(v)) target_[c] = nullptr;  // an extra column that is not a number: dropped
+        if (!target_[c]) continue;
+      } else if (!ok || !std::isfinite(v)) {
+        throw DatasetError(source_, line.number, col,
+                           "column '" + names_[c] + "': expected a " + std::string(ok ? "finite " : "") + "number, got '" +
+                               std::string(csv::trimBlanks(line.cells[c])) + "'");
+      } else if (std::abs(v) > physicalBound(names_[c])) {
+        throw DatasetError(source_, line.number, col,
+                           "column '" + names_[c] + "': " + std::string(csv::trimBlanks(line.cells[c])) +
+                               " is not a physical value (|" + names_[c] + "| <= " + core::formatNumber(physicalBound(names_[c])) +
+                               " in the log's units)");
+      }
+      target_[c][row_] = v;
+    }
+    row_lines_.push_back(line.number);
+    ++row_;
+  }
+
+  // Extra columns found to hold text: dropped from the numbers, named in text_columns.
+  void dropTextColumns() {
+    std::vector<std::string> numeric_names;
+    std::vector<Eigen::Index> keep;
+    for (std::size_t c = 0, k = 0; c < ncol_; ++c) {
+      if (known_[c]) continue;
+      if (target_[c]) {
+        numeric_names.push_back(names_[c]);
+        keep.push_back(static_cast<Eigen::Index>(k));
+      } else {
+        d_.text_columns.push_back(names_[c]);
+      }
+      ++k;
+    }
+    if (d_.text_columns.empty()) return;
+    Eigen::MatrixXd kept(row_, static_cast<Eigen::Index>(keep.size()));
+    for (std::size_t k = 0; k < keep.size(); ++k) kept.col(static_cast<Eigen::Index>(k)) = d_.extra.col(keep[k]);
+    d_.extra = std::move(kept);
+    d_.extra_names = numeric_names;
+  }
+
+  // Units and signs, in place.
+  void applyUnits() {
+    const LogFormat& f = options_.format;
+    if (f.time_scale_s != 1.0) d_.t_s *= f.time_scale_s;
+    if (f.angle_scale_rad != 1.0) {
+      d_.q_rad *= f.angle_scale_rad;
+      if (d_.qd_radps) *d_.qd_radps *= f.angle_scale_rad;
+      if (d_.qdd_radps2) *d_.qdd_radps2 *= f.angle_scale_rad;
+    }
+    d_.tau_Nm.col(0) *= f.torque_sign[0];
+    d_.tau_Nm.col(1) *= f.torque_sign[1];
+  }
+
+  // Time strictly increasing; uniform, or resampled onto a uniform grid (strict: refused).
+  Dataset timeAxis() {
+    const std::vector<double> dts = intervals();
+    SamplingReport& rep = d_.sampling;
+    rep.rows_read = static_cast<long>(row_);
+    rep.median_dt_s = median(dts);
+    rep.min_dt_s = *std::min_element(dts.begin(), dts.end());
+    const auto longest = std::max_element(dts.begin(), dts.end());
+    rep.max_dt_s = *longest;
+    rep.max_dt_line = row_lines_[static_cast<std::size_t>(longest - dts.begin()) + 1];
+    long first_off = -1;
+    for (std::size_t i = 0; i < dts.size(); ++i) {
+      if (std::abs(dts[i] - rep.median_dt_s) > options_.dt_rel_tolerance * rep.median_dt_s) {
+        ++rep.intervals_off;
+        if (first_off < 0) first_off = static_cast<long>(i) + 1;
+      }
+    }
+    if (rep.intervals_off == 0) return std::move(d_);
+    if (options_.sampling == SamplingMode::kStrict) {
+      char buf[240];
+      std::snprintf(buf, sizeof buf,
+                    "sampling is not uniform: interval %.9g s differs from the median %.9g s by more than %.3g %% (%ld "
+                    "such intervals; without strict sampling the record would be resampled)",
+                    dts[static_cast<std::size_t>(first_off - 1)], rep.median_dt_s, 100.0 * options_.dt_rel_tolerance,
+                    rep.intervals_off);
+      throw DatasetError(source_, row_lines_[static_cast<std::size_t>(first_off)], timeColumn(), buf);
+    }
+    checkGaps(dts, static_cast<std::size_t>(longest - dts.begin()));
+    const SamplingReport kept = rep;
+    Dataset r = resampleUniform(d_, rep.median_dt_s);
+    r.sampling = kept;
+    r.sampling.resampled = true;
+    if (r.size() < options_.min_rows) {
+      throw DatasetError(source_, 0, 0, "expected at least " + core::toText(options_.min_rows) +
+                                            " rows after resampling, got " + core::toText(r.size()));
+    }
+    return r;
+  }
+
+  std::vector<double> intervals() const {
+    std::vector<double> dts(static_cast<std::size_t>(row_ - 1));
+    for (Eigen::Index i = 1; i < row_; ++i) {
+      const double dt = d_.t_s[i] - d_.t_s[i - 1];
+      if (!(dt > 0.0)) {
+        throw DatasetError(source_, row_lines_[static_cast<std::size_t>(i)], timeColumn(),
+                           "time must be strictly increasing: t = " + core::toText(d_.t_s[i]) +
+                               " s after t = " + core::toText(d_.t_s[i - 1]) + " s");
+      }
+      dts[static_cast<std::size_t>(i - 1)] = dt;
+    }
+    return dts;
+  }
+
+  // Resampling bridges short gaps only: a longer one is a break in the log.
+  void checkGaps(const std::vector<double>& dts, std::size_t k) const {
+    const SamplingReport& rep = d_.sampling;
+    const double max_gap = options_.max_gap_s > 0 ? options_.max_gap_s : 10.0 * rep.median_dt_s;
+    if (dts[k] <= max_gap) return;
+    char buf[300];
+    std::snprintf(buf, sizeof buf,
+                  "a gap of %.6g s between lines %ld and %ld (t = %.6g .. %.6g s) is longer than the %.6g s resampling "
+                  "bridges (the median interval is %.6g s): split the log there, or raise the limit",
+                  dts[k], row_lines_[k], row_lines_[k + 1], d_.t_s[static_cast<Eigen::Index>(k)],
+                  d_.t_s[static_cast<Eigen::Index>(k + 1)], max_gap, rep.median_dt_s);
+    throw DatasetError(source_, row_lines_[k + 1], timeColumn(), buf);
+  }
+
+  long timeColumn() const { return index_.at("t") + 1; }
+
+  const std::string& source_;
+  const CsvReadOptions& options_;
+  const Eigen::Index rows_;  // data lines the first pass counted
+  Dataset d_;
+  std::vector<std::string> names_;
+  long header_line_ = 0;
+  bool trailing_comma_ = false;
+  std::map<std::string, long> index_;  // exoid name -> 0-based column
+  std::vector<double*> target_;        // per column: where its values go (nullptr: a text column)
+  std::vector<bool> known_;
+  std::vector<long> row_lines_;
+  std::size_t ncol_ = 0;
+  Eigen::Index row_ = 0;
+};
+
+// `open` returns a fresh chunk reader (read(buffer) -> bool) for each of two passes: the first
+// counts the data rows, so every column is allocated once at its final size.
 template <typename Open>
 Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& options) {
   try {
@@ -176,241 +452,13 @@ Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& o
   } catch (const csv::SyntaxError& e) {
     throw DatasetError(source, e.line, e.column, e.what);
   }
-  Dataset d;
-  std::vector<std::string> names;
-  long header_line = 0;
-  bool trailing_comma = false;
-  std::map<std::string, long> index;  // exoid name -> 0-based column
-  std::vector<double*> target;        // per column: where its values go (nullptr: a text column)
-  std::vector<bool> known;
-  std::vector<long> row_lines;
-  std::size_t ncol = 0;
-  Eigen::Index row = 0;
-
-  const auto onHeader = [&](const csv::Line& line) {
-    header_line = line.number;
-    for (std::string_view c : line.cells) names.emplace_back(csv::trimBlanks(c));
-    // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first name.
-    if (!names.empty() && names.front().rfind("\xEF\xBB\xBF", 0) == 0) names.front().erase(0, 3);
-    // Another separator: say so, instead of "missing required column 't'" for a one-column header.
-    if (names.size() == 1) {
-      for (const auto& [sep, what] : {std::pair<char, const char*>{'\t', "tabs"}, {';', "semicolons"}, {' ', "spaces"}}) {
-        if (names.front().find(sep) != std::string::npos) {
-          throw DatasetError(source, header_line, 0,
-                             std::string("the header has no commas but is separated by ") + what +
-                                 ": exoid reads comma-separated files (convert it, e.g. tr '" + (sep == '\t' ? "\\t" : std::string(1, sep)) +
-                                 "' ',' < in > out.csv, minding decimal commas)");
-        }
-      }
-    }
-    if (names.size() > 1 && names.back().empty()) {  // "a,b,c," on every line
-      names.pop_back();
-      trailing_comma = true;
-    }
-    // The log's names -> exoid's, as the format maps them.
-    for (const auto& [ours, theirs] : options.format.columns) {
-      const auto it = std::find(names.begin(), names.end(), theirs);
-      if (it == names.end()) {
-        throw DatasetError(source, header_line, 0, "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(names));
-      }
-      if (ours != theirs && std::find(names.begin(), names.end(), ours) != names.end()) {
-        throw DatasetError(source, header_line, static_cast<long>(std::find(names.begin(), names.end(), ours) - names.begin()) + 1,
-                           "column '" + ours + "' is in the header and also mapped from '" + theirs + "': which one is meant?");
-      }
-      *it = ours;
-    }
-    for (std::size_t c = 0; c < names.size(); ++c) {
-      const long col = static_cast<long>(c) + 1;
-      if (names[c].empty()) throw DatasetError(source, header_line, col, "empty column name in header");
-      if (!index.emplace(names[c], static_cast<long>(c)).second) {
-        throw DatasetError(source, header_line, col, "duplicate column '" + names[c] + "'");
-      }
-    }
-    for (const char* r : kRequired) {
-      if (!index.count(r)) {
-        throw DatasetError(source, header_line, 0,
-                           std::string("missing required column '") + r + "' (required: t,q_hip,q_knee,tau_hip,tau_knee; "
-                           "a log with its own names needs a column map, e.g. --columns t=time,q_hip=pos_meas1,...); the "
-                           "header has: " + listNames(names));
-      }
-    }
-    for (const auto& [a, b] : {std::pair<const char*, const char*>{"qd_hip", "qd_knee"}, {"qdd_hip", "qdd_knee"}}) {
-      if (index.count(a) != index.count(b)) {
-        throw DatasetError(source, header_line, 0,
-                           std::string("missing column '") + (index.count(a) ? b : a) + "': derivative columns come in hip/knee pairs");
-      }
-    }
-    ncol = names.size();
-    const Eigen::Index n = std::max<Eigen::Index>(rows, 0);
-    d.t_s.resize(n);
-    d.q_rad.resize(n, 2);
-    d.tau_Nm.resize(n, 2);
-    if (index.count("qd_hip")) d.qd_radps = Eigen::MatrixX2d(n, 2);
-    if (index.count("qdd_hip")) d.qdd_radps2 = Eigen::MatrixX2d(n, 2);
-    for (std::size_t c = 0; c < ncol; ++c) {
-      if (!isKnown(names[c])) d.extra_names.push_back(names[c]);
-    }
-    d.extra.resize(n, static_cast<Eigen::Index>(d.extra_names.size()));
-    std::map<std::string, double*> where = {{"t", d.t_s.data()},
-                                            {"q_hip", d.q_rad.col(0).data()},
-                                            {"q_knee", d.q_rad.col(1).data()},
-                                            {"tau_hip", d.tau_Nm.col(0).data()},
-                                            {"tau_knee", d.tau_Nm.col(1).data()}};
-    if (d.qd_radps) where.insert({{"qd_hip", d.qd_radps->col(0).data()}, {"qd_knee", d.qd_radps->col(1).data()}});
-    if (d.qdd_radps2) where.insert({{"qdd_hip", d.qdd_radps2->col(0).data()}, {"qdd_knee", d.qdd_radps2->col(1).data()}});
-    for (std::size_t k = 0; k < d.extra_names.size(); ++k) where[d.extra_names[k]] = d.extra.col(static_cast<Eigen::Index>(k)).data();
-    for (std::size_t c = 0; c < ncol; ++c) {
-      target.push_back(where.at(names[c]));
-      known.push_back(isKnown(names[c]));
-    }
-    row_lines.reserve(static_cast<std::size_t>(n));
-  };
-
-  const auto onRow = [&](const csv::Line& line) {
-    std::size_t cells = line.cells.size();
-    if (trailing_comma && cells == ncol + 1 && csv::trimBlanks(line.cells.back()).empty()) --cells;
-    if (cells != ncol) {
-      throw DatasetError(source, line.number, 0,
-                         "expected " + core::toText(ncol) + " cells as in the header, got " + core::toText(cells));
-    }
-    for (std::size_t c = 0; c < ncol; ++c) {
-      if (!target[c]) continue;
-      double v = 0.0;
-      const bool ok = parseNumber(line.cells[c], v);
-      if (!known[c]) {
-        if (!ok || !std::isfinite(v)) {  // an extra column that is not a number: ignored
-          target[c] = nullptr;
-          continue;
-        }
-      } else if (!ok || !std::isfinite(v)) {
-        const long col = static_cast<long>(c) + 1;
-        throw DatasetError(source, line.number, col,
-                           "column '" + names[c] + "': expected a " + std::string(ok ? "finite " : "") + "number, got '" +
-                               std::string(csv::trimBlanks(line.cells[c])) + "'");
-      }
-      if (known[c] && std::abs(v) > physicalBound(names[c])) {
-        throw DatasetError(source, line.number, static_cast<long>(c) + 1,
-                           "column '" + names[c] + "': " + std::string(csv::trimBlanks(line.cells[c])) +
-                               " is not a physical value (|" + names[c] + "| <= " + core::formatNumber(physicalBound(names[c])) +
-                               " in the log's units)");
-      }
-      target[c][row] = v;
-    }
-    row_lines.push_back(line.number);
-    ++row;
-  };
-
+  LogParser parser(source, options, rows);
   try {
-    splitter.run(open(), [&](const csv::Line& line) {
-      if (line.comment) {
-        d.comments.emplace_back(line.text);
-      } else if (header_line == 0) {
-        onHeader(line);
-      } else if (row < rows) {
-        onRow(line);
-      }
-    });
+    splitter.run(open(), [&](const csv::Line& line) { parser.line(line); });
   } catch (const csv::SyntaxError& e) {
     throw DatasetError(source, e.line, e.column, e.what);
   }
-  if (header_line == 0) {
-    throw DatasetError(source, 0, 0,
-                       "empty file: expected a header line 't,q_hip,q_knee,tau_hip,tau_knee' "
-                       "followed by data rows");
-  }
-  const Eigen::Index n = row;
-  if (n < options.min_rows) {
-    throw DatasetError(source, 0, 0,
-                       "expected at least " + core::toText(options.min_rows) + " data rows, got " + core::toText(n));
-  }
-  // Extra columns found to hold text: dropped.
-  {
-    std::vector<std::string> numeric_names;
-    std::vector<Eigen::Index> keep;
-    for (std::size_t c = 0, k = 0; c < ncol; ++c) {
-      if (known[c]) continue;
-      if (target[c]) {
-        numeric_names.push_back(names[c]);
-        keep.push_back(static_cast<Eigen::Index>(k));
-      } else {
-        d.text_columns.push_back(names[c]);
-      }
-      ++k;
-    }
-    if (!d.text_columns.empty()) {
-      Eigen::MatrixXd kept(n, static_cast<Eigen::Index>(keep.size()));
-      for (std::size_t k = 0; k < keep.size(); ++k) kept.col(static_cast<Eigen::Index>(k)) = d.extra.col(keep[k]);
-      d.extra = std::move(kept);
-      d.extra_names = numeric_names;
-    }
-  }
-  // Units and signs, in place.
-  const LogFormat& f = options.format;
-  if (f.time_scale_s != 1.0) d.t_s *= f.time_scale_s;
-  if (f.angle_scale_rad != 1.0) {
-    d.q_rad *= f.angle_scale_rad;
-    if (d.qd_radps) *d.qd_radps *= f.angle_scale_rad;
-    if (d.qdd_radps2) *d.qdd_radps2 *= f.angle_scale_rad;
-  }
-  d.tau_Nm.col(0) *= f.torque_sign[0];
-  d.tau_Nm.col(1) *= f.torque_sign[1];
-
-  // Time strictly increasing; uniform, or resampled onto a uniform grid.
-  const long t_col = index.at("t") + 1;
-  std::vector<double> dts(static_cast<std::size_t>(n - 1));
-  for (Eigen::Index i = 1; i < n; ++i) {
-    const double dt = d.t_s[i] - d.t_s[i - 1];
-    if (!(dt > 0.0)) {
-      throw DatasetError(source, row_lines[static_cast<std::size_t>(i)], t_col,
-                         "time must be strictly increasing: t = " + core::toText(d.t_s[i]) +
-                             " s after t = " + core::toText(d.t_s[i - 1]) + " s");
-    }
-    dts[static_cast<std::size_t>(i - 1)] = dt;
-  }
-  SamplingReport& rep = d.sampling;
-  rep.rows_read = static_cast<long>(n);
-  rep.median_dt_s = median(dts);
-  rep.min_dt_s = *std::min_element(dts.begin(), dts.end());
-  const auto longest = std::max_element(dts.begin(), dts.end());
-  rep.max_dt_s = *longest;
-  rep.max_dt_line = row_lines[static_cast<std::size_t>(longest - dts.begin()) + 1];
-  long first_off = -1;
-  for (std::size_t i = 0; i < dts.size(); ++i) {
-    if (std::abs(dts[i] - rep.median_dt_s) > options.dt_rel_tolerance * rep.median_dt_s) {
-      ++rep.intervals_off;
-      if (first_off < 0) first_off = static_cast<long>(i) + 1;
-    }
-  }
-  if (rep.intervals_off == 0) return d;
-  if (options.sampling == SamplingMode::kStrict) {
-    const double dt = dts[static_cast<std::size_t>(first_off - 1)];
-    char buf[240];
-    std::snprintf(buf, sizeof buf,
-                  "sampling is not uniform: interval %.9g s differs from the median %.9g s by more than %.3g %% (%ld "
-                  "such intervals; without strict sampling the record would be resampled)",
-                  dt, rep.median_dt_s, 100.0 * options.dt_rel_tolerance, rep.intervals_off);
-    throw DatasetError(source, row_lines[static_cast<std::size_t>(first_off)], t_col, buf);
-  }
-  const double max_gap = options.max_gap_s > 0 ? options.max_gap_s : 10.0 * rep.median_dt_s;
-  if (rep.max_dt_s > max_gap) {
-    const auto k = static_cast<std::size_t>(longest - dts.begin());
-    char buf[300];
-    std::snprintf(buf, sizeof buf,
-                  "a gap of %.6g s between lines %ld and %ld (t = %.6g .. %.6g s) is longer than the %.6g s resampling "
-                  "bridges (the median interval is %.6g s): split the log there, or raise the limit",
-                  rep.max_dt_s, row_lines[k], row_lines[k + 1], d.t_s[static_cast<Eigen::Index>(k)],
-                  d.t_s[static_cast<Eigen::Index>(k + 1)], max_gap, rep.median_dt_s);
-    throw DatasetError(source, row_lines[k + 1], t_col, buf);
-  }
-  const SamplingReport kept = rep;
-  Dataset r = resampleUniform(d, rep.median_dt_s);
-  r.sampling = kept;
-  r.sampling.resampled = true;
-  if (r.size() < options.min_rows) {
-    throw DatasetError(source, 0, 0, "expected at least " + core::toText(options.min_rows) + " rows after resampling, got " +
-                                         core::toText(r.size()));
-  }
-  return r;
+  return parser.finish();
 }
 
 }  // namespace

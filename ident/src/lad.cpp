@@ -189,6 +189,209 @@ double stepLength(const Eigen::VectorXd& x1, const Eigen::VectorXd& dx1, const E
   return rate > kStepFraction ? kStepFraction / rate : 1.0;
 }
 
+// The scaled problem: columns to unit norm, b to unit mean |b|; x = b_scale * D y.
+struct ScaledProblem {
+  ScaledProblem(const Eigen::MatrixXd& A, const Eigen::VectorXd& b)
+      : D(columnScales(A)), As(A * D.asDiagonal()), b_scale(b.cwiseAbs().mean() > 0.0 ? b.cwiseAbs().mean() : 1.0), bs(b / b_scale) {}
+  Eigen::VectorXd unscale(const Eigen::VectorXd& y) const { return b_scale * D.cwiseProduct(y); }
+  Eigen::VectorXd D;
+  Eigen::MatrixXd As;
+  double b_scale;
+  Eigen::VectorXd bs;
+};
+
+// u = 0 is dual feasible (bound 0) and x = 0 costs ||b||_1: an honest, unusable pair.
+LadResult rankDeficientResult(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                              const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, const Stopwatch& clock) {
+  LadResult result;
+  const Eigen::Index p = A.cols();
+  result.x = Eigen::VectorXd::Zero(p);
+  result.cost = l1Cost(A, b, result.x);
+  result.dual_bound = 0.0;
+  result.dual = Eigen::VectorXd::Zero(A.rows());
+  result.gap = result.cost;
+  result.summary.status = Status::kRankDeficient;
+  result.summary.message = rankDeficiencyMessage(qr, p);
+  result.summary.initial_cost = result.cost;
+  result.summary.final_cost = result.cost;
+  result.summary.wall_time_s = clock.seconds();
+  return result;
+}
+
+// Frisch-Newton interior point with Mehrotra's predictor-corrector on the scaled problem. The
+// iterate: y (primal), a and s (u = a - s, the dual), w and z (the residual's positive and
+// negative parts). Every vector is allocated once: nothing in iterate() allocates.
+class InteriorPoint {
+ public:
+  InteriorPoint(const ScaledProblem& sp, const Eigen::VectorXd& y_ls, double tol, int max_iterations)
+      : y(y_ls), sp_(sp), n_(sp.As.rows()), p_(sp.As.cols()), tol_(tol), max_iterations_(max_iterations) {
+    // Start: y at least squares, a = s = 1/2 (u = 0), w - z = r with both >= delta > 0 (a tenth
+    // of the mean |residual|: fewer iterations than 0.01 or 1 over a sweep of problems). Both
+    // equality constraints hold exactly, so the iteration only has to drive complementarity down.
+    r = sp.bs - sp.As * y;
+    const double delta = std::max(0.1 * r.cwiseAbs().mean(), 1e-3);
+    a = Eigen::VectorXd::Constant(n_, 0.5);
+    s = Eigen::VectorXd::Constant(n_, 0.5);
+    w = r.cwiseMax(0.0).array() + delta;
+    z = (-r).cwiseMax(0.0).array() + delta;
+    for (Eigen::VectorXd* v : {&q, &rd, &rhat, &ra, &rs, &tmp, &da, &dz, &dw}) v->resize(n_);
+    QA.resize(n_, p_);
+    M.resize(p_, p_);
+    for (Eigen::VectorXd* v : {&rp, &rhs, &dy}) v->resize(p_);
+    best_y = y;
+    // What double precision can resolve in the scaled cost at y (see roundingLevel).
+    As_col_l1 = sp.As.cwiseAbs().colwise().sum();
+    bs_l1 = sp.bs.lpNorm<1>();
+  }
+
+  /// Iterates until the gap test, the limit or a breakdown; returns why it stopped.
+  std::string run() {
+    for (;;) {
+      if (const std::string why = stopTest(); !why.empty()) return why;
+      ++iterations;
+      if (!normalEquations()) return "singular normal equations at iteration " + core::toText(iterations);
+      predictorCorrector();
+    }
+  }
+
+  long iterations = 0;
+  Eigen::VectorXd y, best_y, r, a, s, w, z;
+
+ private:
+  // Residuals and the stopping test on the current iterate ("" = go on); tracks the best y.
+  std::string stopTest() {
+    const Eigen::MatrixXd& As = sp_.As;
+    r = sp_.bs;
+    r.noalias() -= As * y;
+    rd = r - w + z;
+    tmp = a - s;
+    rp.noalias() = As.transpose() * tmp;
+    rp *= -0.5;
+    const double cost = r.cwiseAbs().sum();
+    const double gap = cost - sp_.bs.dot(tmp);
+    mu_ = (a.dot(z) + s.dot(w)) / (2.0 * static_cast<double>(n_));
+    if (!std::isfinite(gap) || !std::isfinite(mu_)) return "non-finite iterate at iteration " + core::toText(iterations);
+    if (cost < best_cost_) {
+      best_cost_ = cost;
+      best_y = y;
+    }
+    const double rounding = static_cast<double>(p_ + 1) * kEps * (bs_l1 + As_col_l1.dot(y.cwiseAbs()));
+    if (gap <= std::max(0.5 * tol_ * std::max(1.0 / sp_.b_scale, cost), rounding)) return "gap below tolerance";
+    if (iterations >= max_iterations_) return "iteration limit";
+    return {};
+  }
+
+  // Normal equations M = As^T Q As; LLT, else LDLT, else LLT with a tiny ridge. False if singular.
+  bool normalEquations() {
+    const Eigen::MatrixXd& As = sp_.As;
+    q = (w.cwiseQuotient(s) + z.cwiseQuotient(a)).cwiseInverse();
+    QA = q.asDiagonal() * As;
+    for (Eigen::Index j = 0; j < p_; ++j) {
+      for (Eigen::Index k = j; k < p_; ++k) M(k, j) = M(j, k) = QA.col(j).dot(As.col(k));
+    }
+    llt_.compute(M);
+    use_ldlt_ = llt_.info() != Eigen::Success;
+    if (!use_ldlt_) return true;
+    ldlt_.compute(M);
+    if (ldlt_.info() == Eigen::Success && (ldlt_.vectorD().array() > 0.0).all()) return true;
+    M.diagonal().array() += 1e3 * kEps * M.diagonal().maxCoeff();
+    llt_.compute(M);
+    use_ldlt_ = false;
+    return llt_.info() == Eigen::Success;
+  }
+
+  // The Newton direction (da, dy, dz, dw; ds = -da) for the feasibility residuals rp, rd and the
+  // complementarity right-hand sides ra (pairs a z) and rs (pairs s w), by eliminating dz, dw:
+  //   dz = (ra - z da) / a,  dw = (rs + w da) / s,  da = q (rhat - As dy),
+  //   rhat = rd + ra / a - rs / s,  (As^T Q As) dy = As^T Q rhat - rp.
+  void direction() {
+    rhat = rd + ra.cwiseQuotient(a) - rs.cwiseQuotient(s);
+    rhs.noalias() = QA.transpose() * rhat;
+    rhs -= rp;
+    if (use_ldlt_) {
+      dy = ldlt_.solve(rhs);
+    } else {
+      dy = llt_.solve(rhs);
+    }
+    tmp.noalias() = sp_.As * dy;
+    da = q.cwiseProduct(rhat - tmp);
+    dz = (ra - z.cwiseProduct(da)).cwiseQuotient(a);
+    dw = (rs + w.cwiseProduct(da)).cwiseQuotient(s);
+  }
+
+  void predictorCorrector() {
+    const double nd = static_cast<double>(n_);
+    // Predictor (affine scaling): drive every product to zero.
+    ra = -a.cwiseProduct(z);
+    rs = -s.cwiseProduct(w);
+    direction();
+    double alpha_p = stepLength(a, da, s, da, -1.0);
+    double alpha_d = stepLength(z, dz, w, dw, 1.0);
+    const double mu_aff = ((a + alpha_p * da).dot(z + alpha_d * dz) + (s - alpha_p * da).dot(w + alpha_d * dw)) / (2.0 * nd);
+    const double sigma_mu = std::pow(mu_aff / mu_, 3) * mu_;
+    // Mehrotra corrector: target sigma mu, with the predictor's second-order term.
+    ra = (sigma_mu - a.cwiseProduct(z).array()).matrix() - da.cwiseProduct(dz);
+    rs = (sigma_mu - s.cwiseProduct(w).array()).matrix() + da.cwiseProduct(dw);
+    direction();
+    alpha_p = stepLength(a, da, s, da, -1.0);
+    alpha_d = stepLength(z, dz, w, dw, 1.0);
+    a += alpha_p * da;
+    s -= alpha_p * da;
+    y += alpha_d * dy;
+    z += alpha_d * dz;
+    w += alpha_d * dw;
+  }
+
+  const ScaledProblem& sp_;
+  const Eigen::Index n_, p_;
+  const double tol_;
+  const int max_iterations_;
+  double mu_ = 0.0, best_cost_ = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd q, rd, rhat, ra, rs, tmp, da, dz, dw, rp, rhs, dy;
+  Eigen::MatrixXd QA, M;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+  bool use_ldlt_ = false;
+  Eigen::RowVectorXd As_col_l1;
+  double bs_l1 = 0.0;
+};
+
+// Certificate: the interior point's own (x, u), then its purified vertex; keep the lower cost
+// and the higher bound (each bound is valid on its own). Returns whether x is the vertex.
+bool certify(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const ScaledProblem& sp,
+             const Eigen::ColPivHouseholderQR<Eigen::MatrixXd>& qr, InteriorPoint& ip, LadResult& result, bool& exact_dual) {
+  Eigen::VectorXd u_ip = ip.a - ip.s;
+  if (!u_ip.allFinite()) u_ip.setZero();  // after a numerical breakdown: u = 0 is feasible
+  ip.r = sp.bs - sp.As * ip.best_y;
+  result.x = sp.unscale(ip.best_y);
+  result.cost = l1Cost(A, b, result.x);
+  const Vertex vertex = purify(A, b, sp.As, ip.r, u_ip);
+  bool at_vertex = false;
+  if (vertex.found) {
+    const double cost_v = l1Cost(A, b, vertex.x);
+    if (cost_v <= result.cost) {
+      result.x = vertex.x;
+      result.cost = cost_v;
+      at_vertex = true;
+    }
+  }
+  double bound = dualBound(A, b, sp.As, qr, result.x, u_ip);
+  result.dual = u_ip;
+  if (vertex.found) {
+    Eigen::VectorXd uv = vertex.u;
+    const double bound_v = dualBound(A, b, sp.As, qr, result.x, uv);
+    if (bound_v > bound) {
+      bound = bound_v;
+      result.dual = std::move(uv);
+    }
+  }
+  // Weak duality makes cost >= bound; a difference below zero is rounding and is reported as 0.
+  result.dual_bound = std::min(bound, result.cost);
+  result.gap = result.cost - result.dual_bound;
+  exact_dual = vertex.found && at_vertex && vertex.max_basic_u <= 1.0;
+  return at_vertex;
+}
+
 }  // namespace
 
 void LadOptions::validate() const {
@@ -206,207 +409,28 @@ LadResult solveLeastAbsoluteDeviations(const Eigen::MatrixXd& A, const Eigen::Ve
   options.validate();
   lad_detail::checkProblem("least absolute deviations", A, b);
   const Stopwatch clock;
-  const Eigen::Index n = A.rows();
-  const Eigen::Index p = A.cols();
-  const double tol = options.gap_tolerance;
-  LadResult result;
-
-  // Scaled problem: columns to unit norm, b to unit mean |b|; x = b_scale * D y.
-  const Eigen::VectorXd D = columnScales(A);
-  const Eigen::MatrixXd As = A * D.asDiagonal();
-  const double mean_abs_b = b.cwiseAbs().mean();
-  const double b_scale = mean_abs_b > 0.0 ? mean_abs_b : 1.0;
-  const Eigen::VectorXd bs = b / b_scale;
-  const auto unscale = [&](const Eigen::VectorXd& y) -> Eigen::VectorXd {
-    return b_scale * D.cwiseProduct(y);
-  };
-
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(As);
+  const ScaledProblem sp(A, b);
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(sp.As);
   qr.setThreshold(kRankTolerance);
-  if (qr.rank() < p) {
-    // u = 0 is dual feasible (bound 0) and x = 0 costs ||b||_1: an honest, unusable pair.
-    result.x = Eigen::VectorXd::Zero(p);
-    result.cost = l1Cost(A, b, result.x);
-    result.dual_bound = 0.0;
-    result.dual = Eigen::VectorXd::Zero(n);
-    result.gap = result.cost;
-    result.summary.status = Status::kRankDeficient;
-    result.summary.message = rankDeficiencyMessage(qr, p);
-    result.summary.initial_cost = result.cost;
-    result.summary.final_cost = result.cost;
-    result.summary.wall_time_s = clock.seconds();
-    return result;
-  }
+  if (qr.rank() < A.cols()) return rankDeficientResult(A, b, qr, clock);
 
-  // Start: y at least squares, a = s = 1/2 (u = 0), w - z = r with both >= delta > 0 (a tenth
-  // of the mean |residual|: fewer iterations than 0.01 or 1 over a sweep of problems). Both
-  // equality constraints hold exactly, so the iteration only has to drive complementarity down.
-  Eigen::VectorXd y = qr.solve(bs);
-  Eigen::VectorXd r = bs - As * y;
-  result.summary.initial_cost = l1Cost(A, b, unscale(y));
-  const double delta = std::max(0.1 * r.cwiseAbs().mean(), 1e-3);
-  Eigen::VectorXd a = Eigen::VectorXd::Constant(n, 0.5);
-  Eigen::VectorXd s = Eigen::VectorXd::Constant(n, 0.5);
-  Eigen::VectorXd w = r.cwiseMax(0.0).array() + delta;
-  Eigen::VectorXd z = (-r).cwiseMax(0.0).array() + delta;
+  LadResult result;
+  InteriorPoint ip(sp, qr.solve(sp.bs), options.gap_tolerance, options.max_iterations);
+  result.summary.initial_cost = l1Cost(A, b, sp.unscale(ip.y));
+  const std::string stop_reason = ip.run();
+  bool exact_dual = false;
+  const bool at_vertex = certify(A, b, sp, qr, ip, result, exact_dual);
 
-  // Workspace, allocated once: nothing in the loop below allocates.
-  Eigen::VectorXd q(n), rd(n), rhat(n), ra(n), rs(n), tmp(n);
-  Eigen::VectorXd da(n), dz(n), dw(n);
-  Eigen::MatrixXd QA(n, p);
-  Eigen::MatrixXd M(p, p);
-  Eigen::VectorXd rp(p), rhs(p), dy(p), best_y = y;
-  Eigen::LLT<Eigen::MatrixXd> llt(p);
-  Eigen::LDLT<Eigen::MatrixXd> ldlt(p);
-  bool use_ldlt = false;
-  double best_cost = std::numeric_limits<double>::infinity();
-  const double nd = static_cast<double>(n);
-  std::string stop_reason;
-  long iterations = 0;
-  // What double precision can resolve in the scaled cost at y (see roundingLevel).
-  const Eigen::RowVectorXd As_col_l1 = As.cwiseAbs().colwise().sum();
-  const double bs_l1 = bs.lpNorm<1>();
-  const double rounding_factor = static_cast<double>(p + 1) * kEps;
-
-  // The Newton direction (da, dy, dz, dw; ds = -da) for the feasibility residuals rp, rd and the
-  // complementarity right-hand sides ra (pairs a z) and rs (pairs s w), by eliminating dz, dw:
-  //   dz = (ra - z da) / a,  dw = (rs + w da) / s,  da = q (rhat - As dy),
-  //   rhat = rd + ra / a - rs / s,  (As^T Q As) dy = As^T Q rhat - rp.
-  const auto direction = [&]() {
-    rhat = rd + ra.cwiseQuotient(a) - rs.cwiseQuotient(s);
-    rhs.noalias() = QA.transpose() * rhat;
-    rhs -= rp;
-    if (use_ldlt) {
-      dy = ldlt.solve(rhs);
-    } else {
-      dy = llt.solve(rhs);
-    }
-    tmp.noalias() = As * dy;
-    da = q.cwiseProduct(rhat - tmp);
-    dz = (ra - z.cwiseProduct(da)).cwiseQuotient(a);
-    dw = (rs + w.cwiseProduct(da)).cwiseQuotient(s);
-  };
-
-  for (;;) {
-    // Residuals and the stopping test on the current iterate.
-    r = bs;
-    r.noalias() -= As * y;
-    rd = r - w + z;
-    tmp = a - s;
-    rp.noalias() = As.transpose() * tmp;
-    rp *= -0.5;
-    const double cost = r.cwiseAbs().sum();
-    const double gap = cost - bs.dot(tmp);
-    const double mu = (a.dot(z) + s.dot(w)) / (2.0 * nd);
-    if (!std::isfinite(gap) || !std::isfinite(mu)) {
-      stop_reason = "non-finite iterate at iteration " + core::toText(iterations);
-      break;
-    }
-    if (cost < best_cost) {
-      best_cost = cost;
-      best_y = y;
-    }
-    const double rounding = rounding_factor * (bs_l1 + As_col_l1.dot(y.cwiseAbs()));
-    if (gap <= std::max(0.5 * tol * std::max(1.0 / b_scale, cost), rounding)) {
-      stop_reason = "gap below tolerance";
-      break;
-    }
-    if (iterations >= options.max_iterations) {
-      stop_reason = "iteration limit";
-      break;
-    }
-    ++iterations;
-
-    // Normal equations M = As^T Q As; LLT, else LDLT, else LLT with a tiny ridge.
-    q = (w.cwiseQuotient(s) + z.cwiseQuotient(a)).cwiseInverse();
-    QA = q.asDiagonal() * As;
-    for (Eigen::Index j = 0; j < p; ++j) {
-      for (Eigen::Index k = j; k < p; ++k) M(k, j) = M(j, k) = QA.col(j).dot(As.col(k));
-    }
-    llt.compute(M);
-    use_ldlt = llt.info() != Eigen::Success;
-    if (use_ldlt) {
-      ldlt.compute(M);
-      if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) {
-        M.diagonal().array() += 1e3 * kEps * M.diagonal().maxCoeff();
-        llt.compute(M);
-        use_ldlt = false;
-        if (llt.info() != Eigen::Success) {
-          stop_reason = "singular normal equations at iteration " + core::toText(iterations);
-          break;
-        }
-      }
-    }
-
-    // Predictor (affine scaling): drive every product to zero.
-    ra = -a.cwiseProduct(z);
-    rs = -s.cwiseProduct(w);
-    direction();
-    double alpha_p = stepLength(a, da, s, da, -1.0);
-    double alpha_d = stepLength(z, dz, w, dw, 1.0);
-    const double mu_aff = ((a + alpha_p * da).dot(z + alpha_d * dz) +
-                           (s - alpha_p * da).dot(w + alpha_d * dw)) /
-                          (2.0 * nd);
-    const double sigma_mu = std::pow(mu_aff / mu, 3) * mu;
-
-    // Mehrotra corrector: target sigma mu, with the predictor's second-order term.
-    ra = (sigma_mu - a.cwiseProduct(z).array()).matrix() - da.cwiseProduct(dz);
-    rs = (sigma_mu - s.cwiseProduct(w).array()).matrix() + da.cwiseProduct(dw);
-    direction();
-    alpha_p = stepLength(a, da, s, da, -1.0);
-    alpha_d = stepLength(z, dz, w, dw, 1.0);
-
-    a += alpha_p * da;
-    s -= alpha_p * da;
-    y += alpha_d * dy;
-    z += alpha_d * dz;
-    w += alpha_d * dw;
-  }
-
-  // Certificate: the interior point's own (x, u), then its purified vertex; keep the lower cost
-  // and the higher bound (each bound is valid on its own).
-  Eigen::VectorXd u_ip = a - s;
-  if (!u_ip.allFinite()) u_ip.setZero();  // after a numerical breakdown: u = 0 is feasible
-  r = bs - As * best_y;
-  result.x = unscale(best_y);
-  result.cost = l1Cost(A, b, result.x);
-  const Vertex vertex = purify(A, b, As, r, u_ip);
-  bool at_vertex = false;
-  if (vertex.found) {
-    const double cost_v = l1Cost(A, b, vertex.x);
-    if (cost_v <= result.cost) {
-      result.x = vertex.x;
-      result.cost = cost_v;
-      at_vertex = true;
-    }
-  }
-  double bound = dualBound(A, b, As, qr, result.x, u_ip);
-  result.dual = u_ip;
-  if (vertex.found) {
-    Eigen::VectorXd uv = vertex.u;
-    const double bound_v = dualBound(A, b, As, qr, result.x, uv);
-    if (bound_v > bound) {
-      bound = bound_v;
-      result.dual = std::move(uv);
-    }
-  }
-  // Weak duality makes cost >= bound; a difference below zero is rounding and is reported as 0.
-  result.dual_bound = std::min(bound, result.cost);
-  result.gap = result.cost - result.dual_bound;
-
-  const double allowed = std::max(tol * std::max(1.0, std::abs(result.cost)),
-                                  roundingLevel(A, b, result.x));
-  result.summary.iterations = iterations;
+  const double allowed = std::max(options.gap_tolerance * std::max(1.0, std::abs(result.cost)), roundingLevel(A, b, result.x));
+  result.summary.iterations = ip.iterations;
   result.summary.final_cost = result.cost;
   result.summary.status = result.gap <= allowed ? Status::kConverged : Status::kMaxIterations;
   result.summary.message = (result.summary.status == Status::kConverged ? "converged" : "stopped") +
-                           std::string(" after ") + core::toText(iterations) +
+                           std::string(" after ") + core::toText(ip.iterations) +
                            " interior-point iterations (" + stop_reason + "); gap " +
                            core::formatNumber(result.gap, 10) + (result.gap <= allowed ? " <= " : " > ") +
                            core::formatNumber(allowed, 10) + (at_vertex ? "; purified to a vertex" : "");
-  if (vertex.found && at_vertex && vertex.max_basic_u <= 1.0) {
-    result.summary.message += " with an exact basic dual";
-  }
+  if (exact_dual) result.summary.message += " with an exact basic dual";
   result.summary.wall_time_s = clock.seconds();
   return result;
 }
