@@ -111,7 +111,8 @@ LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz) {
       // Flags override the profile name by name.
       for (const auto& [ours, theirs] : ident::parseColumnMap(f.columns)) {
         auto& cols = in.csv.format.columns;
-        const auto it = std::find_if(cols.begin(), cols.end(), [&](const auto& p) { return p.first == ours; });
+        const std::string& name = ours;  // a lambda may not capture a structured binding in C++17 (clang)
+        const auto it = std::find_if(cols.begin(), cols.end(), [&](const auto& p) { return p.first == name; });
         if (it == cols.end()) {
           cols.emplace_back(ours, theirs);
         } else {
