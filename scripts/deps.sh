@@ -12,6 +12,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev libtomlplusplus-dev
   libpagmo-dev
   python3-matplotlib python3-numpy python3-dev pybind11-dev python3-pytest
+  strace
   slurm-wlm
 )
 
