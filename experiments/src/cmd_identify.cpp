@@ -1,4 +1,5 @@
 // `exoid identify`: identify the 10 parameters from CSV logs with one or more methods.
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/controller_io.hpp"
 #include "exoid/experiments/identification.hpp"
@@ -339,6 +340,7 @@ std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
 void run(const IdentifyArgs& a) {
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   checkArguments(a, methods);
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const bool single = !a.data.empty(), segmental = !single;
   const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
   std::map<std::string, ident::ParamVector> truths;

@@ -156,6 +156,12 @@ void run(RenderArgs& a) {
   a.clip.overlay_enabled = !a.no_overlay;
   a.clip.overlay.plot = !a.no_plot;
   a.clip.validate();
+  if (!still && (a.clip.render.width % 2 != 0 || a.clip.render.height % 2 != 0)) {
+    throw std::invalid_argument("an H.264 video needs an even width and height (yuv420p), got " + core::toText(a.clip.render.width) +
+                                "x" + core::toText(a.clip.render.height) + ": e.g. --width " +
+                                core::toText(a.clip.render.width + a.clip.render.width % 2) + " --height " +
+                                core::toText(a.clip.render.height + a.clip.render.height % 2));
+  }
   // Fail fast, before simulating or rendering: ffmpeg present, output folder writable.
   if (!still) render::requireFfmpeg(a.clip.ffmpeg);
   core::checkOutputWritable(a.out);

@@ -1,4 +1,5 @@
 // `exoid simulate` and `exoid truth`.
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/options.hpp"
@@ -27,6 +28,8 @@ struct SimulateArgs {
 };
 
 void runSimulate(const SimulateArgs& a) {
+  core::checkOutputWritable(a.out);  // before the simulation, not after it
+  core::checkOutputWritable(sidecarPath(a.out));
   const sim::SimResult r = sim::simulate(a.config);
   const ident::Dataset d = toDataset(r);
   const nlohmann::json side = simulationSidecar(r, d);
@@ -58,6 +61,14 @@ void runTruth(TruthArgs a) {
     throw CLI::ValidationError("truth", "give one of --model FILE.xml or --urdf FILE.urdf, not both");
   }
   if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
+  // A file of the other kind: say which option reads it (the MJCF loader's error would not).
+  const auto endsWith = [](const std::string& s, const char* suffix) {
+    const std::string x(suffix);
+    return s.size() >= x.size() && s.compare(s.size() - x.size(), x.size(), x) == 0;
+  };
+  if (endsWith(a.model, ".urdf")) throw CLI::ValidationError("--model", "'" + a.model + "' is a URDF: read it with --urdf " + a.model);
+  if (endsWith(a.urdf, ".xml")) throw CLI::ValidationError("--urdf", "'" + a.urdf + "' looks like MJCF: read it with --model " + a.urdf);
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
   sim::Truth t;
   if (!a.urdf.empty()) {
     t = sim::truthFromUrdf(a.urdf);

@@ -31,7 +31,8 @@ Method parseMethod(const std::string& name) {
     if (name == toString(m)) return m;
   }
   if (name == toString(Method::kIdimIv)) return Method::kIdimIv;
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad or idim-iv)");
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad or idim-iv; the "
+                              "command line also takes all = every method but idim-iv)");
 }
 
 void MethodOptions::validate() const {

@@ -109,3 +109,51 @@ TEST(InputErrors, ARecordTooShortForTheProcessingSaysHowLongItMustBe) {
 
 }  // namespace
 }  // namespace exoid
+
+namespace exoid {
+namespace {
+
+TEST(CommandLineMessages, AnUnknownCommandIsNamedWithTheNearestAndTheList) {
+  Outcome o = run({"frobnicate"});
+  EXPECT_EQ(o.rc, 2);
+  EXPECT_NE(o.text.find("unknown command 'frobnicate'"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("commands: identify, identifiability"), std::string::npos) << o.text;
+  o = run({"simulat", "--out", "x.csv"});
+  EXPECT_NE(o.text.find("did you mean 'simulate'?"), std::string::npos) << o.text;
+}
+
+TEST(CommandLineMessages, AFileOfTheOtherKindNamesTheOptionThatReadsIt) {
+  const Outcome o = run({"truth", "--model", std::string(EXOID_SOURCE_DIR) + "/models/apal_leg.urdf"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("is a URDF: read it with --urdf"), std::string::npos) << o.text;
+}
+
+TEST(CommandLineMessages, AnUnknownMethodListsAllToo) {
+  const std::string log = writeLog("m.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-3);
+  const Outcome o = run({"identify", "--data", log, "--thigh-length", "0.45", "--method", "foo"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("unknown method 'foo'"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("all = every method but idim-iv"), std::string::npos) << o.text;
+}
+
+TEST(CommandLineMessages, OutputPathsAreCheckedBeforeTheWork) {
+  const std::string log = writeLog("j.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-3);
+  Outcome o = run({"identify", "--data", log, "--thigh-length", "0.45", "--json", "/nonexistent-exoid/out.json"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("folder '/nonexistent-exoid' does not exist"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("condition number"), std::string::npos) << "it identified first: " << o.text;
+  o = run({"simulate", "--out", "/nonexistent-exoid/x.csv"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("folder '/nonexistent-exoid' does not exist"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("tracking error"), std::string::npos) << "it simulated first: " << o.text;
+}
+
+TEST(CommandLineMessages, AnOddVideoSizeIsRefusedBeforeSimulating) {
+  const Outcome o = run({"render", "--width", "641", "--out", scratch("odd.mp4")});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("needs an even width and height (yuv420p), got 641x"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("simulated"), std::string::npos) << "it simulated first: " << o.text;
+}
+
+}  // namespace
+}  // namespace exoid
