@@ -59,7 +59,6 @@ void commitTemporary(const std::string& tmp, const std::string& path) {
 }
 
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write) {
-  removeStaleTemporaries(path);
   const std::string tmp = temporaryPathFor(path);
   const TemporaryFileGuard guard(tmp);
   try {
@@ -102,6 +101,7 @@ void checkOutputWritable(const std::string& path) {
   }
   ::close(fd);
   ::unlink(tmp.c_str());
+  removeStaleTemporaries(path);  // once per output, before the work: not a folder scan per write
 }
 
 }  // namespace exoid::core

@@ -47,7 +47,7 @@ struct RenderArgs {
   ident::SignalOptions signals;
 };
 
-bool endsWith(const std::string& s, const std::string& suffix) {
+bool endsWithIgnoringCase(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
          std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(), [](char a, char b) { return std::tolower(a) == b; });
 }
@@ -141,10 +141,10 @@ render::Track trackFromSimulation(const RenderArgs& a) {
 
 void run(RenderArgs& a) {
   const bool still = a.frame_opt && a.frame_opt->count() > 0;
-  if (still && !endsWith(a.out, ".png")) {
+  if (still && !endsWithIgnoringCase(a.out, ".png")) {
     throw std::invalid_argument("--frame writes a PNG still: give --out FILE.png (got '" + a.out + "')");
   }
-  if (!still && !endsWith(a.out, ".mp4")) {
+  if (!still && !endsWithIgnoringCase(a.out, ".mp4")) {
     throw std::invalid_argument("a video is written as H.264 MP4: give --out FILE.mp4 (got '" + a.out +
                                 "'), or --frame T --out FILE.png for a still");
   }

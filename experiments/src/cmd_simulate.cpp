@@ -62,10 +62,6 @@ void runTruth(TruthArgs a) {
   }
   if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
   // A file of the other kind: say which option reads it (the MJCF loader's error would not).
-  const auto endsWith = [](const std::string& s, const char* suffix) {
-    const std::string x(suffix);
-    return s.size() >= x.size() && s.compare(s.size() - x.size(), x.size(), x) == 0;
-  };
   if (endsWith(a.model, ".urdf")) throw CLI::ValidationError("--model", "'" + a.model + "' is a URDF: read it with --urdf " + a.model);
   if (endsWith(a.urdf, ".xml")) throw CLI::ValidationError("--urdf", "'" + a.urdf + "' looks like MJCF: read it with --model " + a.urdf);
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);

@@ -159,9 +159,6 @@ std::string gunzip(const std::string& path) {
   if (n < 0) throw ident::DatasetError(path, 0, 0, "not a readable gzip file: " + msg);
   return out;
 }
-bool endsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 }  // namespace
 
 ident::Dataset readLog(const std::string& path, const LogInput& in) {

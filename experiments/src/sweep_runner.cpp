@@ -107,21 +107,29 @@ nlohmann::json completionRecord(const fs::path& dir) {
   }
 }
 
-long failedRuns(const std::vector<nlohmann::json>& jobs, std::string& example) {
-  long failed = 0;
+// How many of a folder's runs failed, and the first one's message.
+struct RunFailures {
+  long failed = 0, runs = 0;
+  std::string example;
+};
+
+RunFailures failuresOf(const std::vector<nlohmann::json>& jobs) {
+  RunFailures f;
+  f.runs = static_cast<long>(jobs.size());
   for (const nlohmann::json& j : jobs) {
-    if (j.value("status", "") != "ok" && !failed++) {
-      example = "cell " + core::toText(j.value("cell", -1)) + " replicate " + core::toText(j.value("replicate", -1)) +
-                ": " + j.value("message", std::string("(no message)"));
+    if (j.value("status", "") != "ok" && !f.failed++) {
+      f.example = "cell " + core::toText(j.value("cell", -1)) + " replicate " + core::toText(j.value("replicate", -1)) +
+                  ": " + j.value("message", std::string("(no message)"));
     }
   }
-  return failed;
+  return f;
 }
 
 // Writes the tables, the plots, `timing` and then the completion marker (a plot failure is a
-// warning, and the marker says the plots are missing, so a rerun retries them).
-void writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const fs::path& dir, bool plots,
-                  const nlohmann::json& timing, std::ostream& log) {
+// warning, and the marker says the plots are missing, so a rerun retries them). The marker keeps
+// the failures, so a rerun with nothing to do reports them without reading every run again.
+RunFailures writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const fs::path& dir, bool plots,
+                         const nlohmann::json& timing, std::ostream& log) {
   std::error_code ec;
   fs::remove(dir / kMarker, ec);
   writeSweepTables(layout, jobs, dir.string());
@@ -136,21 +144,19 @@ void writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::json>& 
     testKillPoint("sweep-plots");
   }
   writeJsonFile((dir / "timing.json").string(), timing);
-  std::string example;
-  const long failed = failedRuns(jobs, example);
-  writeJsonFile((dir / kMarker).string(), {{"runs", jobs.size()}, {"failed_runs", failed}, {"plots", plots_written},
+  const RunFailures failures = failuresOf(jobs);
+  writeJsonFile((dir / kMarker).string(), {{"runs", failures.runs}, {"failed_runs", failures.failed},
+                                           {"failure_example", failures.example}, {"plots", plots_written},
                                            {"outputs", {"runs.csv", "summary.json", "summary.csv", "summary.md", "timing.json"}},
                                            {"tool", toolJson()}});
+  return failures;
 }
 
 // A finished folder with failed runs still exits non-zero, however often it is rerun.
-void throwIfRunsFailed(const std::vector<nlohmann::json>& jobs, const fs::path& dir) {
-  std::string example;
-  const long failed = failedRuns(jobs, example);
-  if (failed == 0) return;
-  throw std::runtime_error(core::toText(failed) + " of " + core::toText(jobs.size()) + " runs failed (e.g. " + example +
-                           "); " + (static_cast<std::size_t>(failed) == jobs.size() ? "no run succeeded"
-                                                                                     : "the summary in " + dir.string() + " covers the rest"));
+void throwIfRunsFailed(const RunFailures& f, const fs::path& dir) {
+  if (f.failed == 0) return;
+  throw std::runtime_error(core::toText(f.failed) + " of " + core::toText(f.runs) + " runs failed (e.g. " + f.example + "); " +
+                           (f.failed == f.runs ? "no run succeeded" : "the summary in " + dir.string() + " covers the rest"));
 }
 
 // config.json must match (resume or merge into an existing folder); written when absent.
@@ -244,9 +250,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
     rep.nothing_to_do = true;
     log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
         << " are finished and its outputs complete; nothing to do.\n";
-    std::map<std::pair<int, int>, fs::path> mine;
-    for (const JobId& j : jobs) mine[{j.cell, j.replicate}] = done.at({j.cell, j.replicate});
-    throwIfRunsFailed(readJobs(mine), dir);
+    throwIfRunsFailed({marker.value("failed_runs", 0L), rep.jobs, marker.value("failure_example", std::string())}, dir);
     return rep;
   }
   const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
@@ -286,9 +290,12 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   if (error) std::rethrow_exception(error);
   rep.ran = static_cast<long>(pending.size());
 
-  const auto files = finishedJobs(dir);
+  // This shard's runs: those validated at the start and those just written (no second folder scan).
   std::map<std::pair<int, int>, fs::path> mine;
-  for (const JobId& j : jobs) mine[{j.cell, j.replicate}] = files.at({j.cell, j.replicate});
+  for (const JobId& j : jobs) {
+    const auto it = done.find({j.cell, j.replicate});
+    mine[{j.cell, j.replicate}] = it != done.end() ? it->second : dir / "runs" / jobFileName(j);
+  }
   const std::vector<nlohmann::json> records = readJobs(mine);
   rep.wall_time_s = clock.seconds();
   double job_time = 0.0;
@@ -299,10 +306,10 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
       {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s}, {"runs_per_minute", per_minute},
       {"identifications_per_minute", per_minute * static_cast<double>(config.methods.size())},
       {"sum_of_run_wall_times_s", job_time}};
-  writeOutputs(layout, records, dir, o.plots, timing, log);
+  const RunFailures failures = writeOutputs(layout, records, dir, o.plots, timing, log);
   log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s (" << fmt(per_minute, 4)
       << " runs/min); summary: " << (dir / "summary.md").string() << '\n';
-  throwIfRunsFailed(records, dir);
+  throwIfRunsFailed(failures, dir);
   return rep;
 }
 
@@ -360,10 +367,10 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
     if (!fs::exists(target)) writeJsonFile(target.string(), j);
   }
   writeJsonFile((dir / "shard.json").string(), {{"index", 0}, {"count", 1}});
-  writeOutputs(layout, jobs, dir, plots,
-               {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}}, log);
+  const RunFailures failures = writeOutputs(layout, jobs, dir, plots,
+                                            {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}}, log);
   log << "exoid merge: " << jobs.size() << " runs from " << shard_dirs.size() << " folders -> " << (dir / "summary.md").string() << '\n';
-  throwIfRunsFailed(jobs, dir);
+  throwIfRunsFailed(failures, dir);
 }
 
 }  // namespace exoid::experiments

@@ -49,5 +49,8 @@ void TextTable::printMarkdown(std::ostream& out) const {
 
 std::string fmt(double v, int significant) { return core::formatNumber(v, significant); }
 std::string fixed(double v, int decimals) { return core::formatFixed(v, decimals); }
+bool endsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
 
 }  // namespace exoid::experiments

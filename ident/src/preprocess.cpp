@@ -99,14 +99,28 @@ JointSignals recordedSignals(const Dataset& d) {
 }
 
 namespace {
-void checkLength(Eigen::Index n, Eigen::Index trim, int r);  // below, with the parallel processing's helpers
+
+// Enough rows left once the filter's edges are trimmed and the rows decimated (a clear message, not
+// a least-squares size error later).
+void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
+  if (n - 2 * trim < 20) {
+    throw std::invalid_argument("record too short: " + core::toText(n) + " samples, and the processing trims " +
+                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
+  }
+  if ((n - 2 * trim + r - 1) / r < 20) {
+    throw std::invalid_argument("record too short: " + core::toText((n - 2 * trim + r - 1) / r) +
+                                " rows after trimming and decimating by " + core::toText(r) + "; need >= 20 (lower 'decimation')");
+  }
+}
+
 }  // namespace
 
 JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
   const double dt = d.sampleInterval_s();
   const double fs = 1.0 / dt;
   o.validateFor(fs);
-  checkLength(d.size(), o.edgeTrimSamples(fs), 1);  // a clear message, not a least-squares size error later
+  checkLength(d.size(), o.edgeTrimSamples(fs), 1);
   const bool recorded = o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2;
   SosFilter lowpass;
   if (o.filter) lowpass = butterworthLowpass(o.filter_order, o.cutoff_hz, fs);
@@ -242,18 +256,6 @@ ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Ei
   }
   st.tau_Nm = out.tau_Nm;
   return out;
-}
-
-void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
-  if (n - 2 * trim < 20) {
-    throw std::invalid_argument("record too short: " + core::toText(n) + " samples, and the processing trims " +
-                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
-                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
-  }
-  if ((n - 2 * trim + r - 1) / r < 20) {
-    throw std::invalid_argument("record too short: " + core::toText((n - 2 * trim + r - 1) / r) +
-                                " rows after trimming and decimating by " + core::toText(r) + "; need >= 20 (lower 'decimation')");
-  }
 }
 
 }  // namespace

@@ -97,8 +97,7 @@ VideoWriter::VideoWriter(const std::string& out_path, int width, int height, dou
     throw std::invalid_argument("'fps' must be in (0, 240], got " + core::formatNumber(fps, 10));
   }
   ffmpeg_ = requireFfmpeg(ffmpeg);
-  core::checkOutputWritable(out_path_);
-  core::removeStaleTemporaries(out_path_);
+  core::checkOutputWritable(out_path_);  // also removes a SIGKILLed writer's temporaries
   tmp_guard_ = std::make_unique<core::TemporaryFileGuard>(tmp_path_);
 
   char log_template[] = "/tmp/exoid-ffmpeg-XXXXXX";
@@ -167,7 +166,7 @@ std::string exitText(int status) {
 
 // ffmpeg always says why it fails; silence means the program is not ffmpeg (e.g. --ffmpeg /bin/false).
 std::string messagesOrHint(const std::string& messages) {
-  return messages == "(no message)" ? "it printed nothing: is it ffmpeg? (--ffmpeg PATH, default: ffmpeg on PATH)" : messages;
+  return messages.empty() ? "it printed nothing: is it ffmpeg? (--ffmpeg PATH, default: ffmpeg on PATH)" : messages;
 }
 
 }  // namespace
@@ -183,7 +182,7 @@ std::string VideoWriter::ffmpegMessages() const {
     offset += n;
   }
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
-  return text.empty() ? std::string("(no message)") : text;
+  return text;
 }
 
 void VideoWriter::write(const Image& frame) {

@@ -26,7 +26,8 @@ void commitTemporary(const std::string& tmp, const std::string& path);
 
 /// Throws std::runtime_error, before any work, when `path` cannot be written: its folder is
 /// missing, is not a folder, or refuses a new file (probed: root ignores permission bits but not
-/// read-only mounts), or `path` is a folder. The message says which and why.
+/// read-only mounts), or `path` is a folder. The message says which and why. Also removes the
+/// temporaries of `path` that a killed writer left (removeStaleTemporaries).
 void checkOutputWritable(const std::string& path);
 
 }  // namespace exoid::core

@@ -21,7 +21,7 @@ class TemporaryFileGuard {
 };
 
 /// Removes the temporaries of `path` (temporaryPathFor's "<path>.tmp.<pid>.<n>") whose process
-/// no longer exists; returns how many. Called before writing `path`.
+/// no longer exists; returns how many. checkOutputWritable calls it before the work.
 int removeStaleTemporaries(const std::string& path);
 
 }  // namespace exoid::core

@@ -23,5 +23,7 @@ class TextTable {
 std::string fmt(double v, int significant = 5);
 /// Fixed decimals, "%.*f".
 std::string fixed(double v, int decimals = 4);
+/// Whether s ends with suffix (case-sensitive), e.g. a file name's extension.
+bool endsWith(const std::string& s, const std::string& suffix);
 
 }  // namespace exoid::experiments
