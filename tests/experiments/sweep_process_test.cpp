@@ -1,5 +1,6 @@
 // The real `exoid` binary as a child process: SIGKILL mid-sweep and resume; and the cluster
-// path, a local single-node Slurm (platform.md) running the sweep as a job array.
+// path, a local single-node Slurm running the sweep as a job array (skipped unless slurm-wlm is
+// installed: scripts/deps.sh --with-slurm).
 #include "sweep_test_support.hpp"
 
 #include <arpa/inet.h>
@@ -111,7 +112,7 @@ TEST(SweepProcess, KilledWhileWritingTablesOrPlotsTheRerunFinishesThem) {
   }
 }
 
-// ---- local single-node Slurm (platform.md, "A real single-node Slurm for tests") ----
+// ---- local single-node Slurm: the daemons started by hand on a scratch slurm.conf ----
 
 std::string findDaemon(const std::string& name) {
   for (const char* dir : {"/usr/sbin/", "/usr/bin/", "/usr/local/sbin/"}) {
@@ -206,7 +207,13 @@ class LocalSlurm {
 
 TEST(SweepProcess, SlurmJobArrayShardsMergeToTheSingleProcessResult) {
   if (findDaemon("slurmctld").empty() || findDaemon("slurmd").empty()) {
-    FAIL() << "slurmctld/slurmd not installed: run scripts/deps.sh (it installs slurm-wlm)";
+    // The cluster path is opt-in (its packages enable system services); CI opts in and sets
+    // EXOID_REQUIRE_SLURM so that a missing Slurm fails there instead of skipping.
+    const char* required = std::getenv("EXOID_REQUIRE_SLURM");
+    if (required != nullptr && std::string(required) == "1") {
+      FAIL() << "slurmctld/slurmd not installed and EXOID_REQUIRE_SLURM=1: run scripts/deps.sh --with-slurm";
+    }
+    GTEST_SKIP() << "slurmctld/slurmd not installed (the cluster path is opt-in: scripts/deps.sh --with-slurm)";
   }
   const std::string scratch = freshDir("slurm");
   const LocalSlurm slurm(scratch);
