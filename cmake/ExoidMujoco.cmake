@@ -1,5 +1,5 @@
 # MuJoCo 2.2.2 from Debian. Its exported target names /usr/include/libqhull_r as an include
-# directory (platform.md pitfall 1); drop it when libqhull-dev is absent so generation works.
+# directory (docs/mujoco.md note 1); drop it when libqhull-dev is absent so generation works.
 find_package(mujoco REQUIRED)
 get_target_property(_mj_inc mujoco::mujoco INTERFACE_INCLUDE_DIRECTORIES)
 set(_mj_keep)

@@ -97,7 +97,7 @@ OffscreenRenderer::OffscreenRenderer(mjModel* m, const RenderOptions& options)
   Impl& s = *impl_;
   s.width = options_.width;
   s.height = options_.height;
-  // The offscreen framebuffer's size comes from the model (platform.md): set before mjr_makeContext.
+  // The offscreen framebuffer's size comes from the model (docs/mujoco.md note 11): set before mjr_makeContext.
   m->vis.global.offwidth = s.width;
   m->vis.global.offheight = s.height;
   m->vis.quality.offsamples = options_.multisamples;

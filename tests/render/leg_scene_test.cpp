@@ -14,7 +14,7 @@ TEST(LegScene, PoseClosesTheLoopAndPlacesTheKnee) {
   scene.setPose({q1, q2, 0, 0, 0});
   const mjModel* m = scene.model();
   const mjData* d = scene.data();
-  // The analytic closure leaves the loop closed to round-off (platform.md: 1e-9 m at assembly).
+  // The analytic closure leaves the loop closed to round-off (docs/mujoco.md note 3: 1e-9 m at assembly).
   EXPECT_LT(sim::loopError(m, d, scene.indices()), 1e-9);
   // Knee = hip + R_y(q1) (0, 0, -0.45): x = -0.45 sin(q1), z = -0.45 cos(q1) relative to the hip.
   const double* hip = d->xpos + 3 * scene.indices().body_thigh;

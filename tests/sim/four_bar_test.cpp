@@ -25,7 +25,7 @@ TEST_F(FourBarTest, AnalyticClosureClosesTheLoopAtAnyKneeAngle) {
 }
 
 TEST_F(FourBarTest, WithoutClosureTheLoopIsOpen) {
-  // The reason setLegState exists (platform.md pitfall 3): knee moved, passive joints at 0.
+  // The reason setLegState exists (docs/mujoco.md note 3): knee moved, passive joints at 0.
   const LegModel leg = loadLeg(defaultModelPath());
   const mjModel* m = leg.model.get();
   DataPtr d = makeData(m);

@@ -1,7 +1,7 @@
 #pragma once
 // Headless rendering with OSMesa (llvmpipe): one object owns the GL context and its buffer, the
-// MuJoCo scene, camera, options and render context (platform.md: a context must be current
-// before mjr_makeContext; never EGL in this target).
+// MuJoCo scene, camera, options and render context (docs/mujoco.md notes 9-10: a context must be
+// current before mjr_makeContext; never EGL in this target).
 #include "exoid/render/image.hpp"
 #include "exoid/render/overlay.hpp"
 

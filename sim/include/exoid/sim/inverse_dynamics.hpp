@@ -7,7 +7,7 @@
 //   tau_knee = qfrc_inverse[knee] + dcyl/dq2 qfrc_inverse[cyl] + drod/dq2 qfrc_inverse[rod]
 //              + fc2 tanh(qd2/v0)
 // (the passive coordinates depend on q2 only). This is the motor torque a vibration-free rig
-// needs for the given joint motion; continuous-time dynamics (platform.md pitfall 5).
+// needs for the given joint motion; continuous-time dynamics (docs/mujoco.md note 5).
 #include "exoid/sim/four_bar.hpp"
 #include "exoid/sim/model.hpp"
 

@@ -1,5 +1,5 @@
 #pragma once
-// MuJoCo's error and warning hooks turned into C++ errors (platform.md pitfall 8): no
+// MuJoCo's error and warning hooks turned into C++ errors (docs/mujoco.md note 8): no
 // MUJOCO_LOG.TXT, no exit(1), no silent reset after a bad acceleration.
 #include <mujoco/mujoco.h>
 
