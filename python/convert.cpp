@@ -128,7 +128,7 @@ const std::map<std::string, Setter>& methodSetters() {
       {"range_margin_fraction", set<double>([](MethodOptions& o) -> auto& { return o.rls_pso.range.margin_fraction; })},
       {"range_min_width", set<double>([](MethodOptions& o) -> auto& { return o.rls_pso.range.min_width; })},
       {"ls_rank_tolerance", set<double>([](MethodOptions& o) -> auto& { return o.ls.rank_tolerance; })},
-      {"ls_warn_condition", set<double>([](MethodOptions& o) -> auto& { return o.ls.warn_condition; })},
+      {"ls_max_condition", set<double>([](MethodOptions& o) -> auto& { return o.ls.max_condition; })},
       {"lad_gap_tolerance", set<double>([](MethodOptions& o) -> auto& { return o.lad.gap_tolerance; })},
       {"lad_max_iterations", set<int>([](MethodOptions& o) -> auto& { return o.lad.max_iterations; })},
       {"wide_box_half_width", set<double>([](MethodOptions& o) -> auto& { return o.wide_box_half_width; })},
@@ -144,7 +144,7 @@ const char* const kMethodOptionsDoc =
     "pso_cost_tolerance=1e-2, pso_w_max=0.9, pso_w_min=0.4, pso_c1=2, pso_c2=2, pso_velocity_fraction=0.2, "
     "pso_boundary='clamp'|'reflect', cost='L1'|'L2' (PSO's cost), rls_forgetting=1, rls_initial_covariance=1e6, "
     "range_burn_in_fraction=0.1, range_margin_fraction=0, range_min_width=1e-6 (RLS-PSO's box), "
-    "ls_rank_tolerance=1e-8, ls_warn_condition=1e5, lad_gap_tolerance=1e-10, lad_max_iterations=100, "
+    "ls_rank_tolerance=1e-8, ls_max_condition=1e5, lad_gap_tolerance=1e-10, lad_max_iterations=100, "
     "wide_box_half_width=50 (the PSO baseline's box; `exoid identify` sizes it from the data unless given), "
     "report_optimality_gap=True.";
 

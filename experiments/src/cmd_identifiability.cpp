@@ -1,4 +1,5 @@
 // `exoid identifiability`: what a record can identify, before anyone runs an experiment.
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/log_input.hpp"
@@ -9,7 +10,10 @@
 #include "exoid/ident/identifiability_advice.hpp"
 #include "exoid/ident/preprocess.hpp"
 
+#include <filesystem>
 #include <iostream>
+#include <limits>
+#include <map>
 #include <memory>
 
 namespace exoid::experiments {
@@ -17,7 +21,7 @@ namespace exoid::experiments {
 namespace {
 
 struct Args {
-  std::string data, json_out;
+  std::string data, json_out, reference;
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
   LogInputFlags log;
@@ -31,6 +35,54 @@ struct Block {
   Eigen::VectorXd y;
 };
 
+// What the relative stds are relative to: --reference, else the truth exoid simulate stored beside
+// the record, else nothing (a record's own estimate is no yardstick: when it is absurd, any std
+// looks small against it).
+struct Reference {
+  ident::ParamVector x = ident::ParamVector::Constant(std::numeric_limits<double>::quiet_NaN());
+  std::string origin;  // empty: none
+};
+
+Reference pickReference(const std::map<std::string, ident::ParamVector>& truths, const std::string& file) {
+  // The rigid links before the best fit: a record's best fit is itself arbitrary in what the
+  // record cannot identify (fc1 with the hip locked), the physical parameters are not.
+  for (const char* key : {"truth", "rigid", "best_fit"}) {
+    if (const auto it = truths.find(key); it != truths.end()) {
+      return {it->second, std::string(key == std::string("truth") ? "the parameters" : key == std::string("best_fit")
+                                                                          ? "the best-fit truth"
+                                                                          : "the rigid-link truth") +
+                              " in " + file};
+    }
+  }
+  throw std::invalid_argument(file + ": no parameters found (expected {\"parameters\": {...}} or exoid's sidecar with "
+                              "truth.rigid / truth.best_fit)");
+}
+
+Reference resolveReference(const Args& a) {
+  if (!a.reference.empty()) return pickReference(readTruthFile(a.reference), a.reference);
+  for (const std::string ext : {".csv.gz", ".csv"}) {
+    if (a.data.size() <= ext.size() || a.data.compare(a.data.size() - ext.size(), ext.size(), ext) != 0) continue;
+    const std::string sidecar = a.data.substr(0, a.data.size() - ext.size()) + ".json";
+    if (!std::filesystem::exists(sidecar)) break;
+    // Only exoid's sidecar counts; any other JSON of that name is not a reference.
+    std::map<std::string, ident::ParamVector> truths;
+    try {
+      truths = readTruthFile(sidecar);
+    } catch (const std::invalid_argument&) {
+      break;
+    }
+    if (truths.count("rigid") || truths.count("best_fit")) return pickReference(truths, sidecar);
+    break;
+  }
+  return {};
+}
+
+Eigen::VectorXd pickValues(const ident::ParamVector& x, const std::vector<int>& cols) {
+  Eigen::VectorXd out(static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) out[static_cast<Eigen::Index>(k)] = x[cols[k]];
+  return out;
+}
+
 Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
   Eigen::MatrixXd out(H.rows(), static_cast<Eigen::Index>(cols.size()));
   for (std::size_t k = 0; k < cols.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = H.col(cols[k]);
@@ -38,6 +90,7 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
 }
 
 void run(const Args& a) {
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
   const ident::Dataset d = readLog(a.data, log);
   const ident::LegConstants c = resolveConstants(a.constants, d, nullptr, log.thigh_length_m, log.gravity_mps2);
@@ -60,7 +113,7 @@ void run(const Args& a) {
       {"hip equation, params 1-5", thigh, {{pick(Hh, thigh), path, sg}}, s.tau_Nm.col(0)},
       {"knee equation, params 6-10", shank, {{pick(Hk, shank), path, sg}}, s.tau_Nm.col(1)},
   };
-  // The hip block's torque keeps the knee part: its LS estimate only scales the relative stds.
+  const Reference ref = resolveReference(a);
   nlohmann::json j;
   j["tool"] = toolJson();
   j["command"] = "identifiability";
@@ -68,11 +121,15 @@ void run(const Args& a) {
   j["noise_tau_Nm"] = a.noise_tau_Nm;
   j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}};
   j["signal_options"] = toJson(a.signals);
+  j["reference"] = ref.origin.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"origin", ref.origin}, {"parameters", paramsJson(ref.x)}};
   std::cout << "Record " << a.data << ": " << s.size() << " samples; torque noise " << a.noise_tau_Nm
-            << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit; relative to the LS estimate of "
-               "the block)\n";
+            << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit).\n"
+            << (ref.origin.empty() ? "Relative stds: not shown, no reference (--reference FILE: the truth or your leg's "
+                                     "nominal parameters); the advice judges by collinearity."
+                                   : "Relative stds: relative to " + ref.origin + ".")
+            << '\n';
   for (Block& b : blocks) {
-    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y);
+    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, pickValues(ref.x, b.columns));
     std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
               << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
     nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};
@@ -93,7 +150,8 @@ void run(const Args& a) {
       const std::string n(ident::paramName(b.columns[k]));
       const bool finite = std::isfinite(r.crb_rel_std[i]);
       t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
-                finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf", fixed(r.collinearity_r2[i], 5)});
+                std::isnan(r.crb_rel_std[i]) ? "-" : finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf",
+                fixed(r.collinearity_r2[i], 5)});
       bj["crb_std"][n] = std::isfinite(r.crb_std[i]) ? nlohmann::json(r.crb_std[i]) : nlohmann::json(nullptr);
       bj["crb_rel_std"][n] = finite ? nlohmann::json(r.crb_rel_std[i]) : nlohmann::json(nullptr);
       bj["collinearity_r2"][n] = r.collinearity_r2[i];
@@ -122,12 +180,18 @@ void addIdentifiabilityCommand(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "identifiability",
       "Say what a record can identify: rank and condition number (columns scaled) of the stacked\n"
-      "and of each joint's regressor, unidentifiable parameters, Cramer-Rao relative std at a\n"
-      "torque noise level, and each column's collinearity (R^2 on the others).");
+      "and of each joint's regressor, unidentifiable parameters, Cramer-Rao std at a torque noise\n"
+      "level (relative to --reference or the record's simulated truth when known), and each\n"
+      "column's collinearity (R^2 on the others).");
   cmd->add_option("--data", args->data, "Dataset CSV")->required()->check(CLI::ExistingFile);
   cmd->add_option("--noise-tau", args->noise_tau_Nm, "Torque noise std for the Cramer-Rao bound, N m")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");
+  cmd->add_option("--reference", args->reference,
+                  "Parameters the relative stds are relative to: JSON {\"parameters\": {\"Mxt\": ..}} (your leg's\n"
+                  "nominal values) or an exoid sidecar / truth file. Default: the sidecar exoid simulate wrote\n"
+                  "beside the record (its rigid-link truth), else none (absolute stds only)")
+      ->check(CLI::ExistingFile);
   addConstantsOptions(*cmd, args->constants);
   addLogInputOptions(*cmd, args->log);
   addSignalOptions(*cmd, args->signals);

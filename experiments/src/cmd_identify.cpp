@@ -111,7 +111,8 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
     for (const Stage& st : m.stages) {
       const auto& e = st.estimate;
       std::cout << ident::toString(m.method) << " [" << st.name << "]: " << e.summary.message;
-      if (e.condition_number) std::cout << "; rank " << *e.rank << ", condition " << fmt(*e.condition_number, 4);
+      if (e.rank) std::cout << "; rank " << *e.rank;
+      if (e.condition_number) std::cout << "; condition " << fmt(*e.condition_number, 4);
       if (e.optimality_gap_rel) std::cout << "; L1 cost " << fmt(e.l1_cost, 8) << ", optimality gap " << fmt(100.0 * *e.optimality_gap_rel, 3) << " %";
       if (e.optimality_gap_box_rel) std::cout << " (over its box: " << fmt(100.0 * *e.optimality_gap_box_rel, 3) << " %)";
       std::cout << '\n';
@@ -254,6 +255,28 @@ void sizePsoBox(const IdentifyArgs& a, const std::vector<ident::Method>& methods
 
 }
 
+// Why one method's result must not be used (empty: usable), each reason named.
+std::vector<std::string> problemsOf(const MethodOutcome& m) {
+  std::vector<std::string> out;
+  const std::string method(ident::toString(m.method));
+  if (!m.usable()) out.push_back(method + ": " + m.problems());
+  for (const std::string& v : m.implausible) out.push_back(method + ": physically implausible: " + v);
+  // On a bound the box chose the value, not the data: the paper's RLS box as much as PSO's wide one.
+  for (const BoundHit& h : boxBoundHits(m)) {
+    out.push_back(method + " [" + h.stage + "]: " + describe(h) + ": the box does not hold the cost's optimum");
+  }
+  return out;
+}
+
+std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
+  std::string problems;
+  for (const MethodOutcome& m : outcomes) {
+    for (const std::string& p : problemsOf(m)) problems += (problems.empty() ? "" : "; ") + p;
+  }
+  return problems;
+}
+
+
 void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
                        const Role& primary, const Role& knee, const ident::MethodOptions& mo,
                        const std::vector<MethodOutcome>& outcomes,
@@ -288,6 +311,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["methods"] = nlohmann::json::object();
   for (std::size_t k = 0; k < outcomes.size(); ++k) {
     nlohmann::json mj = toJson(outcomes[k], a.history);
+    mj["problems"] = problemsOf(outcomes[k]);
     for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
     for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
     j["methods"][ident::toString(outcomes[k].method)] = mj;
@@ -295,47 +319,13 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   // The first method's estimate at top level, for tools that expect one answer.
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
-  j["status"] = outcomes.front().usable() && outcomes.front().implausible.empty() ? "usable" : "not_usable";
+  j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
     for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
   }
   writeJsonFile(a.json_out, j);
 }
-
-// Why the results must not be used (empty: usable). A swarm that ends on its box's bound was
-// stopped by the box, not by the cost: not usable for PSO; a warning for RLS-PSO (whose box is its method).
-std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
-  std::string problems;
-  for (const MethodOutcome& m : outcomes) {
-    if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) continue;
-    for (const Stage& st : m.stages) {
-      if (!st.estimate.box) continue;
-      const ident::Box& b = *st.estimate.box;
-      for (std::size_t k = 0; k < st.indices.size(); ++k) {
-        const auto K = static_cast<Eigen::Index>(k);
-        const double v = st.estimate.x[K], tol = 1e-9 * (b.upper[K] - b.lower[K]);
-        if (v > b.lower[K] + tol && v < b.upper[K] - tol) continue;
-        const std::string what = std::string(ident::toString(m.method)) + " [" + st.name + "]: " +
-                                 std::string(ident::paramName(st.indices[k])) + " = " + fmt(v) + " is on its box's bound [" +
-                                 fmt(b.lower[K]) + ", " + fmt(b.upper[K]) + "]: the box does not hold the cost's optimum";
-        if (m.method == ident::Method::kPso) {
-          problems += (problems.empty() ? "" : "; ") + what;
-        } else {
-          std::cout << "warning: " << what << '\n';
-        }
-      }
-    }
-  }
-  for (const MethodOutcome& m : outcomes) {
-    if (!m.usable()) problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": " + m.problems();
-    for (const std::string& v : m.implausible) {
-      problems += (problems.empty() ? "" : "; ") + std::string(ident::toString(m.method)) + ": physically implausible: " + v;
-    }
-  }
-  return problems;
-}
-
 
 void run(const IdentifyArgs& a) {
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
@@ -400,8 +390,10 @@ void addIdentifyCommand(CLI::App& app) {
       ".csv.gz; a lab's own columns and units through --profile or --columns).\n"
       "--data: all 10 parameters from both joint equations. --knee-data and --both-data: the paper's\n"
       "segmental strategy. Each is repeatable: the records of a role are processed one by one and\n"
-      "fitted together. Exit code 3 when a result must not be used (e.g. the record cannot identify a\n"
-      "parameter); outputs are still written.");
+      "fitted together. Exit code 3 when a result must not be used, naming why (outputs are still\n"
+      "written): a parameter the record cannot identify (rank), a regressor whose condition number\n"
+      "(columns scaled) exceeds --max-condition, a physically implausible estimate (Js <= 0, Jt <= Js,\n"
+      "negative friction), or a PSO / RLS-PSO estimate on its search box's bound.");
   cmd->add_option("--data", args->data, "Dataset CSV: identify all 10 parameters from both equations (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--knee-data", args->knee_data, "Segmental step 1: knee-only record, hip fixed (repeatable)")

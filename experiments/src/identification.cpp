@@ -33,6 +33,27 @@ std::string MethodOutcome::problems() const {
   return out;
 }
 
+std::vector<BoundHit> boxBoundHits(const MethodOutcome& m) {
+  std::vector<BoundHit> hits;
+  if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) return hits;
+  for (const Stage& st : m.stages) {
+    if (!st.estimate.box) continue;
+    const ident::Box& b = *st.estimate.box;
+    for (std::size_t k = 0; k < st.indices.size(); ++k) {
+      const auto K = static_cast<Eigen::Index>(k);
+      const double v = st.estimate.x[K], tol = 1e-9 * (b.upper[K] - b.lower[K]);
+      if (v > b.lower[K] + tol && v < b.upper[K] - tol) continue;
+      hits.push_back({st.name, st.indices[k], v, b.lower[K], b.upper[K]});
+    }
+  }
+  return hits;
+}
+
+std::string describe(const BoundHit& h) {
+  return std::string(ident::paramName(h.param)) + " = " + core::formatNumber(h.value, 6) + " is on its box's bound [" +
+         core::formatNumber(h.lower, 6) + ", " + core::formatNumber(h.upper, 6) + "]";
+}
+
 double MethodOutcome::wallTime_s() const {
   double t = 0.0;
   for (const Stage& s : stages) t += s.estimate.summary.wall_time_s;

@@ -134,6 +134,25 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
                  "Widen each side of the RLS box by this fraction of its width")->capture_default_str()->group(r);
   app.add_flag("!--no-optimality-gap", o.report_optimality_gap,
                "Skip the exact L1 optimum (each PSO run's optimality gap)")->group(g);
+  app.add_option("--max-condition", o.ls.max_condition,
+                 "Condition number of the column-scaled regressor above which an estimate (any method) is not\n"
+                 "usable: a relative torque error of 1/this can move it by 100 % (exit code 3)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            std::size_t used = 0;
+            double x = 0.0;
+            try {
+              x = std::stod(text, &used);
+            } catch (const std::exception&) {
+              used = 0;
+            }
+            if (used != text.size() || used == 0 || !(x > 1.0) || !std::isfinite(x)) {
+              return "expected a finite number > 1 (a condition number), got '" + text + "'";
+            }
+            return {};
+          },
+          "NUMBER > 1"))
+      ->capture_default_str()->group("Usability");
 }
 
 void addConstantsOptions(CLI::App& app, ConstantsFlags& f) {
@@ -219,7 +238,7 @@ nlohmann::json toJson(const ident::MethodOptions& o) {
            {{"forgetting", o.rls_pso.rls.forgetting}, {"initial_covariance", o.rls_pso.rls.initial_covariance},
             {"burn_in_fraction", o.rls_pso.range.burn_in_fraction},
             {"margin_fraction", o.rls_pso.range.margin_fraction}}},
-          {"ls", {{"rank_tolerance", o.ls.rank_tolerance}, {"warn_condition", o.ls.warn_condition}}},
+          {"ls", {{"rank_tolerance", o.ls.rank_tolerance}, {"max_condition", o.ls.max_condition}}},
           {"lad", {{"gap_tolerance", o.lad.gap_tolerance}, {"max_iterations", o.lad.max_iterations}}},
           {"report_optimality_gap", o.report_optimality_gap}};
 }

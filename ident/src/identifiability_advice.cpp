@@ -66,6 +66,14 @@ std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const I
     if (unidentifiable[static_cast<std::size_t>(j)]) {
       out.push_back(name(j) + " cannot be identified from this record: its column is a combination of the others (most "
                     "nearly " + name(q) + "'s, |cos| = " + core::formatFixed(std::abs(G(j, q)), 6) + "). It needs " + needs(param) + ".");
+    } else if (std::isnan(r.crb_rel_std[j])) {  // no reference to be relative to: collinearity alone
+      if (r.collinearity_r2[j] > o.poor_collinearity) {
+        out.push_back(name(j) + " is poorly determined: " + core::formatNumber(100.0 * r.collinearity_r2[j], 4) +
+                      " % of its column is explained by the others (most by " + name(q) + ", |cos| = " +
+                      core::formatFixed(std::abs(G(j, q)), 4) + "), so its std is " +
+                      core::formatNumber(1.0 / std::sqrt(1.0 - r.collinearity_r2[j]), 3) +
+                      "x an unconfounded column's. It needs " + needs(param) + ".");
+      }
     } else if (!(r.crb_rel_std[j] <= o.poor_relative_std)) {
       out.push_back(name(j) + " is poorly determined: relative std " + percent(r.crb_rel_std[j]) + " at this noise; " +
                     core::formatNumber(100.0 * r.collinearity_r2[j], 4) + " % of its column is explained by the others (most by " +
@@ -89,8 +97,10 @@ std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const I
                   core::formatFixed(std::abs(G(a, b)), 6) + "). A designed trajectory separates them: `exoid excite`.");
   }
   if (out.empty()) {
-    out.push_back("Well excited: condition number " + core::formatNumber(r.condition_number, 4) + ", every parameter within " +
-                  percent(o.poor_relative_std) + " relative std at this noise.");
+    const bool relative = p > 0 && !std::isnan(r.crb_rel_std[0]);
+    out.push_back("Well excited: condition number " + core::formatNumber(r.condition_number, 4) + ", every parameter " +
+                  (relative ? "within " + percent(o.poor_relative_std) + " relative std at this noise."
+                            : "with at most " + percent(o.poor_collinearity) + " of its column explained by the others."));
   }
   return out;
 }

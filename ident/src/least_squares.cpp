@@ -6,20 +6,40 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
-#include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace exoid::ident {
 
 void LsOptions::validate() const {
-  if (!(warn_condition > 1.0)) {
-    throw std::invalid_argument("'warn_condition' must be > 1, got " + core::toText(warn_condition));
+  if (!(max_condition > 1.0)) {
+    throw std::invalid_argument("'max_condition' must be > 1, got " + core::toText(max_condition));
   }
   if (!(rank_tolerance > 0.0 && rank_tolerance < 1.0)) {
     throw std::invalid_argument("'rank_tolerance' must be in (0, 1), got " +
                                 core::toText(rank_tolerance));
   }
+}
+
+std::string illConditionedMessage(double condition, double max_condition) {
+  return "ill-conditioned: condition number " + core::formatNumber(condition, 4) + " of the column-scaled regressor > " +
+         core::formatNumber(max_condition, 4) + " (max_condition): a relative torque error of 1/" +
+         core::formatNumber(max_condition, 4) + " can move the estimate by 100 %; `exoid identifiability` says which "
+         "motion would separate the parameters";
+}
+
+double scaledConditionNumber(const Eigen::MatrixXd& H) {
+  const Eigen::Index p = H.cols();
+  if (p == 0 || H.rows() < p) {
+    throw std::invalid_argument("condition number: need at least as many rows as columns, got " + core::toText(H.rows()) +
+                                " x " + core::toText(p));
+  }
+  // Singular values of the p x p triangular factor equal those of the scaled matrix.
+  Eigen::HouseholderQR<Eigen::MatrixXd> qr(H * columnScales(H).asDiagonal());
+  const Eigen::MatrixXd R = qr.matrixQR().topRows(p).template triangularView<Eigen::Upper>();
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+  return sv[p - 1] > 0.0 ? sv[0] / sv[p - 1] : std::numeric_limits<double>::infinity();
 }
 
 Eigen::VectorXd columnScales(const Eigen::MatrixXd& H) {
@@ -76,13 +96,9 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
   } else {
     r.summary.status = Status::kConverged;
     r.summary.message = "full rank";
-    if (r.condition_number > options.warn_condition) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf,
-                    "; WARNING: ill-conditioned (condition %.3g > %.3g): noise and model error dominate "
-                    "the estimate; see `exoid identifiability`",
-                    r.condition_number, options.warn_condition);
-      r.summary.message += buf;
+    if (r.condition_number > options.max_condition) {
+      r.summary.status = Status::kIllConditioned;
+      r.summary.message = illConditionedMessage(r.condition_number, options.max_condition);
     }
   }
   r.summary.wall_time_s = clock.seconds();

@@ -48,6 +48,16 @@ void MethodOptions::validate() const {
 }
 
 namespace {
+// The regressor's conditioning limits every estimator alike (a search does not add information):
+// a usable estimate from an ill-conditioned regressor becomes kIllConditioned.
+void holdToConditionBound(Estimate& e, const Eigen::MatrixXd& H, double max_condition) {
+  if (!e.condition_number) e.condition_number = scaledConditionNumber(H);
+  if (!usable(e.summary.status) || !(*e.condition_number > max_condition)) return;
+  e.summary.message = illConditionedMessage(*e.condition_number, max_condition) + " (the method itself: " +
+                      toString(e.summary.status) + ", " + e.summary.message + ")";
+  e.summary.status = Status::kIllConditioned;
+}
+
 void fromPso(Estimate& e, PsoResult&& pso) {
   e.x = std::move(pso.x);
   e.summary = pso.summary;
@@ -104,6 +114,7 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
       break;
     case Method::kIdimIv: break;  // rejected above
   }
+  holdToConditionBound(e, H, o.ls.max_condition);
   e.l1_cost = (y - H * e.x).cwiseAbs().sum();
   const auto gap = [&](double optimum) { return optimum > 0.0 ? (e.l1_cost - optimum) / optimum : 0.0; };
   if (lad && usable(lad->summary.status)) {

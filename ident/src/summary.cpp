@@ -7,6 +7,7 @@ const char* toString(Status s) {
     case Status::kConverged: return "converged";
     case Status::kMaxIterations: return "max_iterations";
     case Status::kRankDeficient: return "rank_deficient";
+    case Status::kIllConditioned: return "ill_conditioned";
     case Status::kFailed: return "failed";
   }
   return "unknown";

@@ -174,6 +174,81 @@ TEST(IdentifiabilityCli, ReportsRankDeficientHipOnTrajectory1) {
   EXPECT_NE(advice.find("It needs"), std::string::npos) << advice;
 }
 
+std::string writeTruthFile(const std::string& name) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  nlohmann::json t;
+  const ident::ParamVector x = ident::toParamVector(ident::defaultLeg());
+  for (int i = 0; i < ident::kNumParams; ++i) t["parameters"][std::string(ident::paramName(i))] = x[i];
+  std::ofstream(path) << t.dump();
+  return path;
+}
+
+TEST(IdentifiabilityCli, RelativeStdsAreRelativeToAReferenceNeverToTheRecordsOwnEstimate) {
+  // The review saw "Mxt CRB rel std 0.55 %" relative to an absurd estimate (Mxt 5.2e5). Without a
+  // reference the relative column is not shown; with one it is crb_std / |reference|.
+  const std::string csv = writeRecord(3, true, "traj3_reference.csv");
+  const std::string out = ::testing::TempDir() + "/reference.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--json", out}), 0);
+  const std::string text = testing::internal::GetCapturedStdout();
+  EXPECT_NE(text.find("Relative stds: not shown, no reference"), std::string::npos) << text;
+  nlohmann::json j = readJson(out);
+  EXPECT_TRUE(j["reference"].is_null());
+  for (const auto& [name, v] : j["blocks"][0]["crb_rel_std"].items()) EXPECT_TRUE(v.is_null()) << name;
+
+  const std::string truth = writeTruthFile("reference_truth.json");
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--reference", truth, "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  j = readJson(out);
+  EXPECT_NE(j["reference"]["origin"].get<std::string>().find(truth), std::string::npos);
+  const ident::ParamVector x = ident::toParamVector(ident::defaultLeg());
+  for (int i = 0; i < ident::kNumParams; ++i) {
+    const std::string n(ident::paramName(i));
+    const double crb = j["blocks"][0]["crb_std"][n].get<double>();
+    EXPECT_NEAR(j["blocks"][0]["crb_rel_std"][n].get<double>(), crb / std::abs(x[i]), 1e-12 * crb / std::abs(x[i])) << n;
+  }
+}
+
+TEST(IdentifyCli, ConditioningBeyondMaxConditionExitsThreeNamingIt) {
+  // Exact data, so the estimate is right; but the bound is the user's (here 10 against ~400):
+  // above it any method's estimate is reported not usable, with the condition and the bound.
+  const std::string csv = writeRecord(3, true, "traj3_condition.csv");
+  const std::string out = ::testing::TempDir() + "/traj3_condition.json";
+  for (const char* method : {"ls", "lad"}) {
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", method, "--no-filter", "--max-condition", "10", "--json", out}), 3)
+        << method;
+    testing::internal::GetCapturedStdout();
+    const std::string err = testing::internal::GetCapturedStderr();
+    EXPECT_NE(err.find("ill-conditioned: condition number"), std::string::npos) << err;
+    EXPECT_NE(err.find("> 10 (max_condition)"), std::string::npos) << err;
+    const nlohmann::json j = readJson(out);
+    EXPECT_EQ(j["status"], "not_usable");
+    EXPECT_EQ(j["methods"][method]["stages"][0]["status"], "ill_conditioned");
+  }
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"identify", "--data", csv, "--method", "ls", "--no-filter", "--max-condition", "1"}), 0);
+  const std::string refused = testing::internal::GetCapturedStderr();
+  EXPECT_NE(refused.find("--max-condition: expected a finite number > 1 (a condition number), got '1'"), std::string::npos)
+      << refused;
+}
+
+TEST(IdentifyCli, AnRlsPsoEstimateOnItsBoxBoundExitsThree) {
+  // The paper's processing (forward differences, 10 Hz filter) biases the regressor, and the RLS
+  // box does not hold the L1 optimum: RLS-PSO ends on some of the box's bounds. The box chose
+  // those values, not the data: exit 3, each named (formerly only a warning, exit 0).
+  const std::string csv = writeRecord(3, false, "traj3_paper_processing.csv");
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", "rls-pso", "--processing", "paper", "--pso-iterations", "300"}), 3);
+  testing::internal::GetCapturedStdout();
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("rls-pso [all]: "), std::string::npos) << err;
+  EXPECT_NE(err.find("is on its box's bound"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace exoid::experiments
 

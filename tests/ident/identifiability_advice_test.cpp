@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace exoid::ident {
 namespace {
 
@@ -47,6 +50,26 @@ TEST(IdentifiabilityAdvice, AWellConditionedRecordSaysSo) {
   ASSERT_EQ(a.size(), 1u);
   EXPECT_NE(a[0].find("Well excited"), std::string::npos) << a[0];
   test::expectInvalidArgumentMentioning([&] { identifiabilityAdvice(H, r, {kJt}); }, "disagree in size");
+}
+
+TEST(IdentifiabilityAdvice, WithoutAReferenceJudgesByCollinearityNotByARelativeStd) {
+  // Columns at |cos| = 0.99 (R^2 = 0.9801 > 0.95): poorly determined whatever the parameters'
+  // values, which a NaN reference (none known) leaves out of the judgement. Whole periods make
+  // sin and cos exactly orthogonal, so the angle is exact.
+  Eigen::MatrixXd H(400, 2);
+  for (Eigen::Index i = 0; i < 400; ++i) {
+    const double w = 2.0 * M_PI * 3.0 * double(i) / 400.0;
+    const double s = std::sin(w), c = std::cos(w);
+    H.row(i) << s, 0.99 * s + std::sqrt(1.0 - 0.99 * 0.99) * c;
+  }
+  const Eigen::VectorXd none = Eigen::VectorXd::Constant(2, std::numeric_limits<double>::quiet_NaN());
+  const IdentifiabilityReport r = analyzeIdentifiability(H, H * Eigen::Vector2d(5, 5), 0.01, none);
+  ASSERT_TRUE(std::isnan(r.crb_rel_std[0]));
+  const auto a = identifiabilityAdvice(H, r, {kJt, kJs});
+  ASSERT_GE(a.size(), 2u);
+  EXPECT_NE(a[0].find("Jt is poorly determined: 98.01 % of its column is explained"), std::string::npos) << a[0];
+  EXPECT_NE(a[0].find("7.09x"), std::string::npos) << a[0];  // 1 / sqrt(1 - 0.9801)
+  EXPECT_EQ(a[0].find("relative std"), std::string::npos) << a[0];
 }
 
 }  // namespace

@@ -35,17 +35,40 @@ TEST(LeastSquares, ReportsRankDeficiencyNamingColumns) {
   EXPECT_TRUE(r.x.allFinite());
 }
 
-TEST(LeastSquares, IllConditionedFullRankProblemIsFlagged) {
+TEST(LeastSquares, IllConditionedFullRankProblemIsNotUsable) {
   // Two columns differing by 1e-7 relative: full rank (above the 1e-8 rank tolerance) but the
-  // scaled condition number is ~1e7 > warn_condition.
+  // scaled condition number is ~1e7 > max_condition = 1e5.
   Eigen::MatrixXd H = Eigen::MatrixXd::Random(200, 3);
   H.col(2) = H.col(0) + 1e-7 * Eigen::VectorXd::Random(200);
   const LsResult r = solveLeastSquares(H, Eigen::VectorXd::Random(200));
   EXPECT_EQ(r.rank, 3);
   EXPECT_GT(r.condition_number, 1e5);
+  EXPECT_EQ(r.summary.status, Status::kIllConditioned);
+  EXPECT_FALSE(usable(r.summary.status));
   EXPECT_NE(r.summary.message.find("ill-conditioned"), std::string::npos) << r.summary.message;
+  EXPECT_NE(r.summary.message.find("max_condition"), std::string::npos) << r.summary.message;
+  // The bound is the option: raised above the condition, the same fit is usable.
+  LsOptions lenient;
+  lenient.max_condition = 10.0 * r.condition_number;
+  EXPECT_EQ(solveLeastSquares(H, Eigen::VectorXd::Random(200), lenient).summary.status, Status::kConverged);
   const LsResult ok = solveLeastSquares(Eigen::MatrixXd::Random(200, 3), Eigen::VectorXd::Random(200));
-  EXPECT_EQ(ok.summary.message.find("ill-conditioned"), std::string::npos);
+  EXPECT_EQ(ok.summary.status, Status::kConverged);
+}
+
+TEST(LeastSquares, ScaledConditionNumberIsTheRatioOfSingularValuesOfUnitColumns) {
+  // Orthogonal columns of any lengths: condition 1 once scaled. Two unit columns at angle a:
+  // singular values sqrt(1 +- cos a), so the condition is sqrt((1 + cos a) / (1 - cos a)).
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(4, 2);
+  H(0, 0) = 3.0;
+  H(1, 1) = 1e-6;
+  EXPECT_NEAR(scaledConditionNumber(H), 1.0, 1e-12);
+  const double a = 0.1;
+  H.setZero();
+  H(0, 0) = 5.0;
+  H(0, 1) = 2.0 * std::cos(a);
+  H(1, 1) = 2.0 * std::sin(a);
+  EXPECT_NEAR(scaledConditionNumber(H), std::sqrt((1 + std::cos(a)) / (1 - std::cos(a))), 1e-9);
+  EXPECT_THROW(scaledConditionNumber(Eigen::MatrixXd::Ones(1, 2)), std::invalid_argument);
 }
 
 TEST(LeastSquares, DuplicateColumnIsUnidentifiable) {

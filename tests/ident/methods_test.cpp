@@ -62,6 +62,24 @@ TEST_P(EveryMethod, MeetsItsContractOnExactKneeData) {
   }
 }
 
+TEST_P(EveryMethod, AnIllConditionedRegressorMakesItsEstimateUnusable) {
+  // Two columns parallel to 1e-7: full rank, condition ~1e7 > max_condition = 1e5. A search
+  // adds no information the regressor lacks, so every method reports kIllConditioned.
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n01;
+  Eigen::MatrixXd H(300, 3);
+  for (Eigen::Index i = 0; i < H.size(); ++i) H.data()[i] = n01(rng);
+  for (Eigen::Index i = 0; i < H.rows(); ++i) H(i, 2) = H(i, 0) + 1e-7 * n01(rng);
+  const Eigen::VectorXd y = H * Eigen::Vector3d(1.0, -0.5, 0.25);
+  MethodOptions o;
+  o.rls_pso.pso.max_iterations = 200;  // the verdict does not depend on the search's length
+  const Estimate e = estimate(GetParam(), H, y, o);
+  ASSERT_TRUE(e.condition_number.has_value());
+  EXPECT_GT(*e.condition_number, o.ls.max_condition);
+  EXPECT_EQ(e.summary.status, Status::kIllConditioned) << e.summary.message;
+  EXPECT_NE(e.summary.message.find("max_condition"), std::string::npos) << e.summary.message;
+}
+
 INSTANTIATE_TEST_SUITE_P(Contract, EveryMethod,
                          ::testing::Values(Method::kLs, Method::kRls, Method::kPso, Method::kRlsPso, Method::kLad),
                          [](const ::testing::TestParamInfo<Method>& param_info) {

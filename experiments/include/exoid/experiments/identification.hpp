@@ -37,6 +37,17 @@ struct MethodOutcome {
   double wallTime_s() const;
 };
 
+/// Entries of a search-box estimate (PSO, RLS-PSO) on their box's bound (within 1e-9 of the box
+/// width): there the box, not the data, chose the value, and the cost's optimum lies outside.
+struct BoundHit {
+  std::string stage;
+  int param = 0;  ///< index into X
+  double value = 0.0, lower = 0.0, upper = 0.0;
+};
+std::vector<BoundHit> boxBoundHits(const MethodOutcome& m);
+/// "Mxt = 50 is on its box's bound [-50, 50]".
+std::string describe(const BoundHit& h);
+
 /// All 10 parameters from both joint equations of one record (rows in time order); with
 /// knee_armature also Ia2.
 MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,

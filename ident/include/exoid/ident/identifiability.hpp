@@ -26,8 +26,9 @@ struct IdentifiabilityReport {
   Eigen::VectorXd collinearity_r2;
 };
 
-/// `reference` (size = H.cols()) scales the relative stds; pass an empty vector to use the LS
-/// estimate of y = H x. noise_sigma >= 0 (N m). Throws std::invalid_argument on bad sizes.
+/// `reference` (size = H.cols()) scales the relative stds: the true or nominal parameters. An
+/// empty vector uses the LS estimate of y = H x, which misleads when that estimate is itself
+/// wrong (a huge estimate makes any std look small); NaN entries leave those relative stds NaN. noise_sigma >= 0 (N m). Throws std::invalid_argument on bad sizes.
 IdentifiabilityReport analyzeIdentifiability(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                                              double noise_sigma,
                                              const Eigen::VectorXd& reference = Eigen::VectorXd());

@@ -11,6 +11,9 @@ namespace exoid::ident {
 
 struct AdviceOptions {
   double poor_relative_std = 0.10;  ///< a parameter is "poorly determined" above this relative std
+  /// Without a reference (relative std NaN): "poorly determined" when this much of its column is
+  /// explained by the others (R^2; 0.95 inflates its std 4.5x over an orthogonal column's).
+  double poor_collinearity = 0.95;
   double poor_condition = 100.0;    ///< the regressor is "poorly conditioned" above this (scaled)
 };
 

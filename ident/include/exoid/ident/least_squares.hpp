@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace exoid::ident {
@@ -13,11 +14,13 @@ struct LsOptions {
   /// every column to unit norm. Range (0, 1). Default 1e-8: far above roundoff (~1e-15 * cond)
   /// and below any usable conditioning (cond > 1e8 means parameters are not separable).
   double rank_tolerance = 1e-8;
-  /// Full rank but condition number (scaled columns) above this: the message warns that the
-  /// estimate is dominated by noise and model error (kept kConverged: on exact data it is still
-  /// right). Range > 1. Default 1e5 (the paper's knee record has ~250; 1e5 amplifies a 0.1 %
-  /// torque error to ~100 %).
-  double warn_condition = 1e5;
+  /// Full rank but condition number (scaled columns) above this: Status kIllConditioned, not
+  /// usable. The relative error of a least-squares estimate is bounded by cond x the relative
+  /// error of the torque it fits, so above 1e5 a 0.1 % torque error (a good sensor's accuracy,
+  /// or the model's own error) can move the estimate by 100 %: the numbers mean nothing even
+  /// when they look plausible. The paper's knee record has ~250. Range > 1. Every method's
+  /// estimate is held to the same bound (ident::estimate).
+  double max_condition = 1e5;
   /// Throws std::invalid_argument naming the field.
   void validate() const;
 };
@@ -36,6 +39,12 @@ struct LsResult {
 /// Throws std::invalid_argument on size mismatch, non-finite input or fewer rows than columns.
 LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                            const LsOptions& options = {});
+
+/// Condition number (ratio of extreme singular values) of H with its columns scaled to unit
+/// norm; infinity when a column is a combination of the others. H needs rows >= cols.
+double scaledConditionNumber(const Eigen::MatrixXd& H);
+/// The message of Status kIllConditioned: the condition, the bound and what it means.
+std::string illConditionedMessage(double condition, double max_condition);
 
 /// Column scales used for conditioning: 1 / ||column||_2 (1 for a zero column).
 Eigen::VectorXd columnScales(const Eigen::MatrixXd& H);

@@ -47,7 +47,8 @@ struct Estimate {
   Summary summary;
   double l1_cost = 0.0;                   ///< sum |y - H x| of the estimate (the paper's cost)
   std::optional<Eigen::Index> rank;       ///< LS: numerical rank
-  std::optional<double> condition_number;  ///< LS: of the column-scaled regressor
+  /// Of the column-scaled regressor (every method; IDIM-IV: of Z^T H, the matrix it solves)
+  std::optional<double> condition_number;
   std::vector<Eigen::Index> unidentifiable;  ///< LS: columns beyond the rank
   std::optional<Box> box;                  ///< PSO / RLS-PSO search box; RLS fluctuation range
   std::vector<double> cost_history;        ///< PSO: best cost per iteration

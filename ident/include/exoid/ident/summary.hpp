@@ -8,6 +8,7 @@ enum class Status {
   kConverged,      ///< met its stopping rule (tolerance, exact solve)
   kMaxIterations,  ///< stopped at its iteration limit; the estimate is the best found
   kRankDeficient,  ///< the data cannot separate some parameters (named in the message)
+  kIllConditioned,  ///< full rank, but conditioning beyond LsOptions::max_condition: not usable
   kFailed,         ///< numerical failure; the estimate must not be used
 };
 const char* toString(Status s);
