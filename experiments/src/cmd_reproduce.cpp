@@ -16,7 +16,11 @@ namespace {
 
 struct Args {
   ProtocolConfig config = defaultReproduceConfig();
-  ReproduceOutputs out{true, true, "results/reproduce"};
+  ReproduceOutputs out = [] {
+    ReproduceOutputs o;
+    o.dir = "results/reproduce";
+    return o;
+  }();
   std::vector<std::string> variants;
   std::string knee_excitation = defaultKneeExcitationPath(), both_excitation = defaultBothExcitationPath();
   bool optimised_arm = true;
@@ -87,6 +91,8 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_option("--out", args->out.dir, "Results folder")->capture_default_str();
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
+  cmd->add_flag("--clip-raw-torque", args->out.clip_raw_torque,
+                "The clip's overlay: the raw recorded torque instead of the processed (filtered) one the methods fit");
   cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base")->delimiter(',');
   cmd->add_flag("!--no-optimised-arm", args->optimised_arm,
                 "Skip the optimised-excitation arm (the same protocol identified on designed records, validated on 2 and 4)");

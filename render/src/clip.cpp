@@ -2,6 +2,7 @@
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
+#include "exoid/render/framing.hpp"
 #include "exoid/render/png.hpp"
 #include "exoid/render/video_writer.hpp"
 
@@ -23,6 +24,19 @@ const ClipOptions& validated(const ClipOptions& o) {
   return o;
 }
 
+// The options with the camera fitted to the track when asked (a private scene: the framing
+// poses the leg at many rows before the first frame).
+ClipOptions framed(const Track& track, const ClipOptions& o) {
+  if (!o.auto_frame) return o;
+  LegScene scene(o.model_path, track.hasBase());
+  const SweptBox box = sweptBox(scene, track, o.base_motion_gain);
+  const bool plots = o.overlay_enabled && o.overlay.plot && track.hasTorque();
+  ClipOptions out = o;
+  out.render.camera = frameBox(box, o.render.camera, scene.model()->vis.global.fovy,
+                               double(o.render.width) / double(o.render.height), plots ? 0.55 : 1.0);
+  return out;
+}
+
 }  // namespace
 
 void ClipOptions::validate() const {
@@ -38,7 +52,7 @@ void ClipOptions::validate() const {
 
 TrackRenderer::TrackRenderer(const Track& track, const ClipOptions& options)
     : track_(validated(track)),
-      options_(validated(options)),
+      options_(framed(track_, validated(options))),
       frames_(render::frameCount(track_, options_.fps)),
       scene_(options_.model_path, track_.hasBase()),
       renderer_(scene_.model(), options_.render),

@@ -82,20 +82,21 @@ Overlay OverlayBuilder::at(std::size_t row) const {
       const double th = tr.tau_hip_Nm[row], tk = tr.tau_knee_Nm[row];
       if (pred) {
         const double ph = tr.tau_hip_pred_Nm[row], pk = tr.tau_knee_pred_Nm[row];
-        l += "\nhip torque meas/" + tr.prediction_name + "/err\nknee torque meas/" + tr.prediction_name + "/err";
+        const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
+        l += "\nhip torque " + cols + "\nknee torque " + cols;
         const auto line = [](double meas, double p) {
           return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
                                : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
         };
         r += "\n" + line(th, ph) + "\n" + line(tk, pk);
       } else {
-        l += "\nhip torque (measured)\nknee torque (measured)";
+        l += "\nhip torque (" + tr.torque_name + ")\nknee torque (" + tr.torque_name + ")";
         r += "\n" + format("%+.2f N m", th) + "\n" + format("%+.2f N m", tk);
       }
     }
     if (options_.plot && tr.hasTorque()) {
       l += "\nplots";
-      r += pred ? "\nwhite meas, blue " + tr.prediction_name + ", red err" : std::string("\nwhite measured");
+      r += pred ? "\nwhite " + tr.torque_name + ", blue " + tr.prediction_name + ", red err" : "\nwhite " + tr.torque_name;
     }
     if (tr.hasBase()) {
       l += "\npedestal x / z";
@@ -126,7 +127,7 @@ Overlay OverlayBuilder::at(std::size_t row) const {
       p.title = joint_name[j];
       p.x_range = xr;
       p.y_range = y_range_[static_cast<std::size_t>(j)];
-      PlotLine m{"measured", kMeasuredRgb, {}, {}};
+      PlotLine m{tr.torque_name, kMeasuredRgb, {}, {}};
       PlotLine pl{tr.prediction_name, kPredictedRgb, {}, {}};
       PlotLine e{"error", kErrorRgb, {}, {}};
       for (std::size_t i : rows) {

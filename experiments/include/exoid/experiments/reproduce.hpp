@@ -15,6 +15,9 @@ struct ReproduceOutputs {
   bool plots = true;
   bool media = true;  ///< a still and a 3 s clip of trajectory 3 (when built with render)
   std::string dir;  ///< created if missing
+  /// The clip's overlay shows the processed torque the methods fit (zero-phase filtered), not the
+  /// raw record, whose sensor noise swings far wider than a model's error; true: the raw one.
+  bool clip_raw_torque = false;
 };
 
 /// The designs exoid ships (exoid excite, seed 1) for the optimised-excitation arm.

@@ -17,6 +17,10 @@ struct ClipOptions {
   std::string model_path = sim::defaultModelPath();
   /// Multiplies the pedestal mount coordinates when drawing (1 = true size); >= 0.
   double base_motion_gain = 1.0;
+  /// Fit the camera to the volume the rig sweeps over the track (render/framing.hpp), so the leg
+  /// stays in frame whatever the motion; with the overlay's plots on, the leg keeps to the left
+  /// 55 % of the image. false: render.camera as given.
+  bool auto_frame = true;
   /// ffmpeg executable: a name looked up in PATH, or a path.
   std::string ffmpeg = "ffmpeg";
   void validate() const;  ///< throws std::invalid_argument naming the field and value
@@ -27,6 +31,8 @@ class TrackRenderer {
  public:
   /// Validates the track and options; throws like LegScene and OffscreenRenderer.
   TrackRenderer(const Track& track, const ClipOptions& options);
+  /// The renderer keeps a reference to the track: a temporary would dangle.
+  TrackRenderer(Track&& track, const ClipOptions& options) = delete;
   int frameCount() const { return frames_; }
   double frameTime_s(int k) const;
   /// Frame k of the clip (0 <= k < frameCount()). Valid until the next call.

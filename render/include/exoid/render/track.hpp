@@ -22,6 +22,9 @@ struct Track {
   /// An identified model's predicted torques: both empty or both full size (needs measured).
   /// NaN = no prediction at that sample (e.g. the edges preprocessing trims).
   std::vector<double> tau_hip_pred_Nm, tau_knee_pred_Nm;
+  /// What the torques shown as measured are, in the overlay: "measured" (as recorded) or, e.g.,
+  /// "filtered" (the processed torque an identification fitted).
+  std::string torque_name = "measured";
   /// Legend name of the prediction, e.g. "LS".
   std::string prediction_name = "identified";
 
