@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <filesystem>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -102,6 +103,23 @@ void checkOutputWritable(const std::string& path) {
   ::close(fd);
   ::unlink(tmp.c_str());
   removeStaleTemporaries(path);  // once per output, before the work: not a folder scan per write
+}
+
+void prepareOutputFolder(const std::string& dir) {
+  if (dir.empty()) throw std::runtime_error("output folder is empty");
+  std::error_code ec;
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec)) {
+    throw std::runtime_error("cannot use '" + dir + "' as the output folder: it is a file");
+  }
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    // Name the deepest existing part of the path: what the user must fix.
+    std::filesystem::path p = std::filesystem::path(dir);
+    while (p.has_parent_path() && p != p.parent_path() && !std::filesystem::exists(p)) p = p.parent_path();
+    throw std::runtime_error("cannot use '" + dir + "' as the output folder: " + ec.message() +
+                             (p.empty() || p == std::filesystem::path(dir) ? std::string() : " (at '" + p.string() + "')"));
+  }
+  checkOutputWritable((std::filesystem::path(dir) / ".exoid-write-probe").string());
 }
 
 }  // namespace exoid::core

@@ -72,6 +72,9 @@ void runExcite(const ExciteArgs& args) {
   ExciteArgs a = args;
   a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
   a.options.validate();
+  // The output checked before the design's seconds of work: its folder made, a file writable in it.
+  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
+  core::checkOutputWritable(a.out);
   const sim::Truth truth = sim::truthFromModel(a.model);
   const ident::ParamVector nominal = toParamVector(truth.x);
   const ident::LegConstants c = constantsOf(truth);
@@ -150,7 +153,6 @@ void runExcite(const ExciteArgs& args) {
                      {"crb_floor_std", paramsJson(floor, indices)},
                      {"crb_floor_note", "no trajectory inside the limits can do better (single-parameter Cauchy-Schwarz "
                                         "bound from the joint ranges, |qd| and |qdd| limits)"}};
-  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) std::filesystem::create_directories(parent);
   writeJsonFile(a.out, j);
   std::string figure;
   if (a.plot) {

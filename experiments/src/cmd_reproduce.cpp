@@ -1,4 +1,5 @@
 // `exoid reproduce`: the README's main job.
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/options.hpp"
@@ -38,6 +39,7 @@ void run(Args a) {
     optimised_config.both_excitation = toFourierSpec(readExcitationFile(a.both_excitation));
     optimised_config.validate();
   }
+  core::prepareOutputFolder(a.out.dir);  // before the work, not after it
   std::cout << "exoid reproduce: simulating trajectories 1-4 (" << a.config.sim.duration_s
             << " s each), identifying with " << a.config.variants.size() << " methods (G = "
             << a.config.methods.rls_pso.pso.max_iterations << ")...\n"

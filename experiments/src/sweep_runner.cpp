@@ -1,5 +1,6 @@
 #include "exoid/experiments/sweep_runner.hpp"
 
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/fault_injection.hpp"
 #include "exoid/experiments/folder_lock.hpp"
@@ -161,7 +162,7 @@ void throwIfRunsFailed(const RunFailures& f, const fs::path& dir) {
 
 // config.json must match (resume or merge into an existing folder); written when absent.
 void claimFolder(const fs::path& dir, const nlohmann::json& resolved) {
-  fs::create_directories(dir / "runs");
+  core::prepareOutputFolder((dir / "runs").string());
   const fs::path cfg = dir / "config.json";
   if (fs::exists(cfg)) {
     const nlohmann::json old = readJson(cfg);
@@ -223,7 +224,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   ident::Stopwatch clock;
   const fs::path dir(o.out);
   const SweepLayout layout = layoutOf(config);
-  fs::create_directories(dir / "runs");
+  core::prepareOutputFolder((dir / "runs").string());
   const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
   claimFolder(dir, layout.resolved);
   const nlohmann::json shard_json = {{"index", o.shard.index}, {"count", o.shard.count}};
@@ -357,7 +358,7 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
                              "); did every shard finish? Re-run the missing shards (they resume), then merge again.");
   }
   const fs::path dir(out);
-  fs::create_directories(dir / "runs");
+  core::prepareOutputFolder((dir / "runs").string());
   const FolderLock lock(dir.string(), "exoid merge --out " + dir.string());
   claimFolder(dir, resolved);
   std::vector<nlohmann::json> jobs = readJobs(files);

@@ -117,6 +117,21 @@ TEST(AtomicFile, CheckOutputWritableSaysWhatIsWrongBeforeAnyWork) {
   fs::remove_all(d);
 }
 
+TEST(AtomicFile, PrepareOutputFolderMakesItOrSaysWhyNot) {
+  const fs::path d = freshDir("prepare");
+  EXPECT_NO_THROW(prepareOutputFolder((d / "a" / "b").string()));
+  EXPECT_TRUE(fs::is_directory(d / "a" / "b"));
+  EXPECT_EQ(entries(d / "a" / "b"), 0) << "the probe file was left behind";
+  EXPECT_NO_THROW(prepareOutputFolder((d / "a" / "b").string()));  // existing: fine
+  std::ofstream((d / "file").string()) << "x";
+  const std::string msg = messageOf([&] { prepareOutputFolder((d / "file" / "out").string()); });
+  EXPECT_NE(msg.find("cannot use '" + (d / "file" / "out").string() + "' as the output folder: Not a directory"), std::string::npos)
+      << msg;
+  EXPECT_NE(messageOf([&] { prepareOutputFolder((d / "file").string()); }).find("it is a file"), std::string::npos);
+  EXPECT_NE(messageOf([&] { prepareOutputFolder("/proc/exoid-out"); }).find("as the output folder"), std::string::npos);
+  fs::remove_all(d);
+}
+
 TEST(AtomicFile, TemporariesAreUniquePerCallAndRecognisable) {
   const std::string a = temporaryPathFor("/x/out.mp4"), b = temporaryPathFor("/x/out.mp4");
   EXPECT_NE(a, b);

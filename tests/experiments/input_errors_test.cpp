@@ -146,6 +146,19 @@ TEST(CommandLineMessages, OutputPathsAreCheckedBeforeTheWork) {
   EXPECT_NE(o.rc, 0);
   EXPECT_NE(o.text.find("folder '/nonexistent-exoid' does not exist"), std::string::npos) << o.text;
   EXPECT_EQ(o.text.find("tracking error"), std::string::npos) << "it simulated first: " << o.text;
+  // Commands that write a folder: made (or refused, naming why) before the work.
+  const std::string file = scratch("a-file");
+  std::ofstream(file) << "x";
+  o = run({"reproduce", "--out", file + "/out", "--no-video"});
+  EXPECT_EQ(o.rc, 1);
+  EXPECT_NE(o.text.find("cannot use '" + file + "/out' as the output folder: Not a directory"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("simulating"), std::string::npos) << "it simulated first: " << o.text;
+  o = run({"sweep", "--out", file + "/sweep", "--seeds", "1", "--methods", "ls", "--noise-tau", "0", "--vibration", "0"});
+  EXPECT_EQ(o.rc, 1);
+  EXPECT_NE(o.text.find("cannot use '" + file + "/sweep/runs' as the output folder: Not a directory"), std::string::npos) << o.text;
+  o = run({"excite", "--out", file + "/design.json"});
+  EXPECT_EQ(o.rc, 1);
+  EXPECT_NE(o.text.find("cannot use '" + file + "' as the output folder: it is a file"), std::string::npos) << o.text;
 }
 
 TEST(CommandLineMessages, AnOddVideoSizeIsRefusedBeforeSimulating) {

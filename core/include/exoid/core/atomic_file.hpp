@@ -30,4 +30,9 @@ void commitTemporary(const std::string& tmp, const std::string& path);
 /// temporaries of `path` that a killed writer left (removeStaleTemporaries).
 void checkOutputWritable(const std::string& path);
 
+/// Creates the output folder `dir` (and its parents) if missing and checks that files can be
+/// written in it, before any work: throws std::runtime_error "cannot use 'dir' as the output
+/// folder: <the system's reason>" naming the part of the path that failed.
+void prepareOutputFolder(const std::string& dir);
+
 }  // namespace exoid::core
