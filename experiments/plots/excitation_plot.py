@@ -4,13 +4,14 @@ nominal torque per joint) with the limits it was designed under, and the paper's
 same axes. Usage: excitation_plot.py SERIES_CSV DESIGN_JSON OUT_PNG"""
 import csv
 import json
-import os
 import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+from plot_style import save_figure  # noqa: E402
 
 
 def main(series_path, design_path, out_png):
@@ -47,10 +48,7 @@ def main(series_path, design_path, out_png):
     fig.suptitle("exoid excite: design (seed %s, criterion %s) and limits (%s), red dashed"
                  % (design["seed"], design["options"]["criterion"], lim["source"]), fontsize=9)
     fig.tight_layout()
-    tmp = out_png + ".tmp.png"
-    fig.savefig(tmp, dpi=110, metadata={"Software": None})  # no timestamps: same design, same bytes
-    os.replace(tmp, out_png)
-    plt.close(fig)
+    save_figure(fig, out_png)
 
 
 if __name__ == "__main__":

@@ -17,29 +17,12 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-# One distinct colour per method (matplotlib's default cycle has 10, the protocol 11 arms).
-COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
-          "ls-exact": "#17becf", "ls-stacked": "#8c564b", "ls-parallel": "#d62728", "idim-iv": "#e377c2",
-          "ls-base": "#bcbd22", "idim-iv-base": "#393b79"}
-# Colour alone does not separate seven thin traces: every other arm also gets its own line style.
-STYLES = {"ls": "-", "rls-pso": "--", "pso": "-.", "rls": ":", "lad": "-", "ls-exact": "--", "ls-stacked": "-.",
-          "ls-parallel": ":", "idim-iv": "-", "ls-base": "--", "idim-iv-base": "-."}
-PAPER_ARMS = ["ls", "rls-pso", "pso"]
-ORDER = PAPER_ARMS + ["rls", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv", "ls-base", "idim-iv-base"]
-# The paper's validation |error| (mean, std; N m), read off its Figs. 10 (knee) and 13 (hip). results.json
-# does not carry them; they are the same numbers as kPaperValidation in experiments/src/reproduce_report.cpp.
-PAPER_VALIDATION = {"ls": {"knee": (1.0427, 0.9047), "hip": (4.9922, 3.7366)},
-                    "pso": {"knee": (0.5126, 0.4386), "hip": (4.3516, 3.3602)},
-                    "rls-pso": {"knee": (0.1887, 0.2475), "hip": (1.2128, 3.1000)}}
+from plot_style import COLORS, ORDER, STYLES, ordered, save_figure  # noqa: E402
+
+PAPER_ARMS = ORDER[:3]  # ls, rls-pso, pso
 VALIDATION_KEYS = {"knee": "knee_on_trajectory_2", "hip": "hip_on_trajectory_4"}
 OFF_SCALE = 5.0  # an arm whose RMS error exceeds 5x the best one would flatten the others: not drawn
 PARAMS = ["Mxt", "Myt", "Jt", "fc1", "fv1", "Mxs", "Mys", "Js", "fc2", "fv2"]
-
-
-def ordered(methods):
-    """The paper's arms first, then the harness's, then anything unknown (sorted, so stable)."""
-    known = [m for m in ORDER if m in methods]
-    return known + sorted(m for m in methods if m not in ORDER)
 
 
 def read_columns(path):
@@ -51,10 +34,7 @@ def read_columns(path):
 
 def save(fig, out_dir, name):
     # Figures use constrained layout, which keeps the outside legends inside the canvas.
-    tmp = os.path.join(out_dir, name + ".tmp.png")
-    fig.savefig(tmp, dpi=110, metadata={"Software": None})  # no timestamps: same data, same bytes
-    os.replace(tmp, os.path.join(out_dir, name))
-    plt.close(fig)
+    save_figure(fig, os.path.join(out_dir, name))
 
 
 def note(label):
@@ -196,8 +176,11 @@ def error_bars(out_dir, results):
     fig.suptitle("Validation |measured - predicted| torque, mean +- std (log scale; "
                  "lower whisker omitted where mean - std <= 0)", fontsize=10)
     for ax, joint in zip(axes, ["knee", "hip"]):
-        stats = {m: results["methods"][m]["validation"][VALIDATION_KEYS[joint]] for m in methods}
-        error_panel(ax, joint, methods, stats)
+        key = VALIDATION_KEYS[joint]
+        stats = {m: results["methods"][m]["validation"][key] for m in methods}
+        # The paper's own numbers (Figs. 10, 13), as exoid's report carries them.
+        paper = {m: v[key] for m, v in results.get("paper", {}).get("validation", {}).items()}
+        error_panel(ax, joint, methods, stats, paper)
     axes[0].set_yticks(range(len(methods)), [label_of(m, results) for m in methods])
     for lab in axes[0].get_yticklabels()[:len([m for m in methods if m in PAPER_ARMS])]:
         lab.set_fontweight("bold")
@@ -221,12 +204,12 @@ def whisker(mean, std):
     return (std if mean - std > 0 else 0.0), std
 
 
-def error_panel(ax, joint, methods, stats):
+def error_panel(ax, joint, methods, stats, paper_stats):
     n_paper = len([m for m in methods if m in PAPER_ARMS])
     ends = []
     for i, m in enumerate(methods):
         mean, std = stats[m]["mean_abs_Nm"], stats[m]["std_abs_Nm"]
-        paper = PAPER_VALIDATION.get(m, {}).get(joint)
+        paper = paper_stats.get(m)
         y, h = (i - 0.19, 0.36) if paper else (i, 0.6)
         colour = COLORS.get(m) if m in PAPER_ARMS else "#b0b0b0"
         lo, hi = whisker(mean, std)
@@ -234,7 +217,7 @@ def error_panel(ax, joint, methods, stats):
         ax.text(mean + hi, y, f" {mean:.3g}", va="center", fontsize=7)
         ends.append((mean, mean - lo, mean + hi))
         if paper:
-            pm, ps = paper
+            pm, ps = paper["mean_abs_Nm"], paper["std_abs_Nm"]
             plo, phi = whisker(pm, ps)
             ax.barh(i + 0.19, pm, 0.36, facecolor="white", edgecolor=COLORS.get(m), hatch="///",
                     xerr=[[plo], [phi]], capsize=2, error_kw={"lw": 0.8, "ls": ":"})

@@ -14,27 +14,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
 
-# One distinct colour per method, as in reproduce_plots.py (the default cycle has 10).
-COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
-          "ls-exact": "#17becf", "ls-stacked": "#8c564b", "ls-parallel": "#d62728", "idim-iv": "#e377c2",
-          "ls-base": "#bcbd22", "idim-iv-base": "#393b79"}
-STYLES = {"ls": "-", "rls-pso": "--", "pso": "-.", "rls": ":", "lad": "-", "ls-exact": "--", "ls-stacked": "-.",
-          "ls-parallel": ":", "idim-iv": "-", "ls-base": "--", "idim-iv-base": "-."}
+from plot_style import COLORS, STYLES, ordered, save_figure  # noqa: E402
+
 LEAD = ["ls", "rls-pso"]  # the paper's comparison: thick, with 95 % CI bands
-ORDER = LEAD + ["pso", "rls", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv", "ls-base", "idim-iv-base"]
 METRIC = "torque_err_mean"
 NAN = float("nan")
 
 
 def save(fig, out_dir, name):
-    tmp = os.path.join(out_dir, name + ".tmp.png")
-    fig.savefig(tmp, dpi=110, metadata={"Software": None})  # no timestamps: same data, same bytes
-    os.replace(tmp, os.path.join(out_dir, name))
-    plt.close(fig)
-
-
-def ordered(methods):
-    return [m for m in ORDER if m in methods] + sorted(m for m in methods if m not in ORDER)
+    save_figure(fig, os.path.join(out_dir, name))
 
 
 def row_key(k):

@@ -46,13 +46,10 @@ struct Reference {
 Reference pickReference(const std::map<std::string, ident::ParamVector>& truths, const std::string& file) {
   // The rigid links before the best fit: a record's best fit is itself arbitrary in what the
   // record cannot identify (fc1 with the hip locked), the physical parameters are not.
-  for (const char* key : {"truth", "rigid", "best_fit"}) {
-    if (const auto it = truths.find(key); it != truths.end()) {
-      return {it->second, std::string(key == std::string("truth") ? "the parameters" : key == std::string("best_fit")
-                                                                          ? "the best-fit truth"
-                                                                          : "the rigid-link truth") +
-                              " in " + file};
-    }
+  static const std::pair<const char*, const char*> kPreferred[] = {
+      {"truth", "the parameters"}, {"rigid", "the rigid-link truth"}, {"best_fit", "the best-fit truth"}};
+  for (const auto& [key, label] : kPreferred) {
+    if (const auto it = truths.find(key); it != truths.end()) return {it->second, std::string(label) + " in " + file};
   }
   throw std::invalid_argument(file + ": no parameters found (expected {\"parameters\": {...}} or exoid's sidecar with "
                               "truth.rigid / truth.best_fit)");
@@ -61,7 +58,7 @@ Reference pickReference(const std::map<std::string, ident::ParamVector>& truths,
 Reference resolveReference(const Args& a) {
   if (!a.reference.empty()) return pickReference(readTruthFile(a.reference), a.reference);
   for (const std::string ext : {".csv.gz", ".csv"}) {
-    if (a.data.size() <= ext.size() || a.data.compare(a.data.size() - ext.size(), ext.size(), ext) != 0) continue;
+    if (a.data.size() <= ext.size() || !endsWith(a.data, ext)) continue;
     const std::string sidecar = a.data.substr(0, a.data.size() - ext.size()) + ".json";
     if (!std::filesystem::exists(sidecar)) break;
     // Only exoid's sidecar counts; any other JSON of that name is not a reference.
@@ -75,12 +72,6 @@ Reference resolveReference(const Args& a) {
     break;
   }
   return {};
-}
-
-Eigen::VectorXd pickValues(const ident::ParamVector& x, const std::vector<int>& cols) {
-  Eigen::VectorXd out(static_cast<Eigen::Index>(cols.size()));
-  for (std::size_t k = 0; k < cols.size(); ++k) out[static_cast<Eigen::Index>(k)] = x[cols[k]];
-  return out;
 }
 
 Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
@@ -129,7 +120,7 @@ void run(const Args& a) {
                                    : "Relative stds: relative to " + ref.origin + ".")
             << '\n';
   for (Block& b : blocks) {
-    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, pickValues(ref.x, b.columns));
+    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, ref.x(b.columns));
     std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
               << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
     nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};

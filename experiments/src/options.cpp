@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 
 namespace exoid::experiments {
 
@@ -30,17 +31,27 @@ const CLI::Validator& seedValidator() {
   return v;
 }
 
+namespace {
+// The whole text as a number (std::stod accepts "3abc" as 3): nullopt when it is not one.
+std::optional<double> wholeNumber(const std::string& text) {
+  std::size_t used = 0;
+  double x = 0.0;
+  try {
+    x = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (used != text.size() || used == 0) return std::nullopt;
+  return x;
+}
+}  // namespace
+
 const CLI::Validator& positiveNumber() {
   static const CLI::Validator v(
       [](std::string& text) -> std::string {
-        std::size_t used = 0;
-        double x = 0.0;
-        try {
-          x = std::stod(text, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used != text.size() || used == 0) return "expected a number > 0, got '" + text + "'";
+        const std::optional<double> parsed = wholeNumber(text);
+        if (!parsed) return "expected a number > 0, got '" + text + "'";
+        const double x = *parsed;
         if (!(x > 0.0) || !std::isfinite(x)) return "must be > 0 and finite, got " + text;
         return {};
       },
@@ -139,14 +150,8 @@ void addMethodOptions(CLI::App& app, ident::MethodOptions& o) {
                  "usable: a relative torque error of 1/this can move it by 100 % (exit code 3)")
       ->check(CLI::Validator(
           [](std::string& text) -> std::string {
-            std::size_t used = 0;
-            double x = 0.0;
-            try {
-              x = std::stod(text, &used);
-            } catch (const std::exception&) {
-              used = 0;
-            }
-            if (used != text.size() || used == 0 || !(x > 1.0) || !std::isfinite(x)) {
+            const std::optional<double> x = wholeNumber(text);
+            if (!x || !(*x > 1.0) || !std::isfinite(*x)) {
               return "expected a finite number > 1 (a condition number), got '" + text + "'";
             }
             return {};

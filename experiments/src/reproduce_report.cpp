@@ -68,6 +68,14 @@ const PaperValidation kPaperValidation[] = {{"ls", 1.0427, 0.9047, 4.9922, 3.736
                                             {"pso", 0.5126, 0.4386, 4.3516, 3.3602},
                                             {"rls-pso", 0.1887, 0.2475, 1.2128, 3.100}};
 
+// The paper's numbers for one method, or nullptr (the harness's own arms).
+const PaperValidation* paperValidation(const std::string& method) {
+  for (const PaperValidation& p : kPaperValidation) {
+    if (method == p.method) return &p;
+  }
+  return nullptr;
+}
+
 const VariantScore* find(const ProtocolResult& r, Variant v) {
   for (const VariantScore& s : r.scores) {
     if (s.variant == v) return &s;
@@ -191,6 +199,11 @@ nlohmann::json resultsJson(const ProtocolResult& r) {
     j["methods"][toString(s.variant)] = m;
   }
   j["verdict"] = verdict(r);
+  // The paper's own validation errors (Figs. 10, 13), for the figures to draw beside ours.
+  for (const PaperValidation& p : kPaperValidation) {
+    j["paper"]["validation"][p.method] = {{"knee_on_trajectory_2", {{"mean_abs_Nm", p.knee_mean}, {"std_abs_Nm", p.knee_std}}},
+                                          {"hip_on_trajectory_4", {{"mean_abs_Nm", p.hip_mean}, {"std_abs_Nm", p.hip_std}}}};
+  }
   j["wall_time_s"] = r.wall_time_s;
   return j;
 }
@@ -202,38 +215,33 @@ std::string renderMedia(const ProtocolResult& r, const std::string& dir, bool ra
   const Record& rec = r.records[2];
   const VariantScore* shown = find(r, Variant::kRlsPso) ? find(r, Variant::kRlsPso) : &r.scores.front();
   render::Track full = render::trackFromSimulation(rec.sim, "trajectory 3 (simulated)");
-  // Predictions on the processed (trimmed) rows, placed by time; NaN on the trimmed edges.
+  // The processed (trimmed) rows placed by time on the record's rows; NaN on the trimmed edges.
+  const double dt = full.sampleInterval_s();
+  const auto rowOf = [&](Eigen::Index i) {
+    return static_cast<std::size_t>(std::llround((rec.processed.t_s[i] - full.t_s.front()) / dt));
+  };
+  const auto placed = [&](const Eigen::Ref<const Eigen::VectorXd>& processed) {
+    std::vector<double> v(full.size(), std::nan(""));
+    for (Eigen::Index i = 0; i < processed.size(); ++i) {
+      if (rowOf(i) < v.size()) v[rowOf(i)] = processed[i];
+    }
+    return v;
+  };
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
   const Eigen::MatrixX2d pred = ident::predictTorque(rec.processed, shown->outcome.x, lc);
-  full.tau_hip_pred_Nm.assign(full.size(), std::nan(""));
-  full.tau_knee_pred_Nm.assign(full.size(), std::nan(""));
-  const double dt = full.sampleInterval_s();
-  for (Eigen::Index i = 0; i < rec.processed.size(); ++i) {
-    const auto row = static_cast<std::size_t>(std::llround((rec.processed.t_s[i] - full.t_s.front()) / dt));
-    if (row < full.size()) {
-      full.tau_hip_pred_Nm[row] = pred(i, 0);
-      full.tau_knee_pred_Nm[row] = pred(i, 1);
-    }
-  }
+  full.tau_hip_pred_Nm = placed(pred.col(0));
+  full.tau_knee_pred_Nm = placed(pred.col(1));
   full.prediction_name = toString(shown->variant);
   // Beside the prediction, the torque it was fitted to (filtered, as the methods saw it): the raw
   // record's sensor noise swings far wider than any model's error.
   if (!raw_torque) {
-    full.tau_hip_Nm.assign(full.size(), std::nan(""));
-    full.tau_knee_Nm.assign(full.size(), std::nan(""));
-    for (Eigen::Index i = 0; i < rec.processed.size(); ++i) {
-      const auto row = static_cast<std::size_t>(std::llround((rec.processed.t_s[i] - full.t_s.front()) / dt));
-      if (row < full.size()) {
-        full.tau_hip_Nm[row] = rec.processed.tau_Nm(i, 0);
-        full.tau_knee_Nm[row] = rec.processed.tau_Nm(i, 1);
-      }
-    }
+    full.tau_hip_Nm = placed(rec.processed.tau_Nm.col(0));
+    full.tau_knee_Nm = placed(rec.processed.tau_Nm.col(1));
     full.torque_name = "filtered";
   }
   // The clip: the first 3 s after the trimmed edge (where predictions exist).
   render::Track clip = full;
-  const std::size_t first = static_cast<std::size_t>(std::llround((rec.processed.t_s[0] - full.t_s.front()) / dt));
-  const auto last = static_cast<std::size_t>(std::llround((rec.processed.t_s[rec.processed.size() - 1] - full.t_s.front()) / dt));
+  const std::size_t first = rowOf(0), last = rowOf(rec.processed.size() - 1);
   const std::size_t count = std::min<std::size_t>(std::min(full.size(), last + 1) - first, static_cast<std::size_t>(std::llround(3.0 / dt)));
   auto cut = [&](std::vector<double>& v) {
     if (!v.empty()) v = std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first), v.begin() + static_cast<std::ptrdiff_t>(first + count));
@@ -270,17 +278,16 @@ namespace {
 // One joint's side of the verdict: which method the truth favours and which the paper's yardstick
 // favours, RLS-PSO against LS on both, beside the paper's own numbers.
 struct JointView {
-  const char* name;       // "knee", "hip"
-  const char* records;    // "trained on trajectory 1, validated on 2"
-  double paper_ls, paper_rls_pso;
-  double (*truth)(const VariantScore&);
-  double (*validation)(const VariantScore&);
+  bool knee;
+  const char* records;  // "trained on trajectory 1, validated on 2"
+  const char* name() const { return knee ? "knee" : "hip"; }
+  double truth(const VariantScore& s) const { return knee ? s.torque_space_vs_best_fit.knee : s.torque_space_vs_best_fit.hip; }
+  double validation(const VariantScore& s) const { return knee ? s.knee_validation.mean_abs : s.hip_validation.mean_abs; }
+  double paper(const char* method) const {
+    const PaperValidation* p = paperValidation(method);
+    return knee ? p->knee_mean : p->hip_mean;
+  }
 };
-
-double kneeTruth(const VariantScore& s) { return s.torque_space_vs_best_fit.knee; }
-double hipTruth(const VariantScore& s) { return s.torque_space_vs_best_fit.hip; }
-double kneeValidation(const VariantScore& s) { return s.knee_validation.mean_abs; }
-double hipValidation(const VariantScore& s) { return s.hip_validation.mean_abs; }
 
 const char* lowerOrHigher(double a, double b) { return a < b ? "lower" : a > b ? "higher" : "equal"; }
 
@@ -289,7 +296,7 @@ void jointVerdict(std::ostream& v, const ProtocolResult& r, const JointView& j) 
   for (const VariantScore& s : r.scores) {
     if (j.truth(s) < j.truth(*best)) best = &s;
   }
-  v << "- **" << j.name << "** (" << j.records << "): closest to the truth " << toString(best->variant) << " ("
+  v << "- **" << j.name() << "** (" << j.records << "): closest to the truth " << toString(best->variant) << " ("
     << pct(j.truth(*best)) << ").";
   const VariantScore* ls = find(r, Variant::kLs);
   const VariantScore* rp = find(r, Variant::kRlsPso);
@@ -298,7 +305,7 @@ void jointVerdict(std::ostream& v, const ProtocolResult& r, const JointView& j) 
   v << " RLS-PSO vs LS: torque-space error " << pct(j.truth(*rp)) << " vs " << pct(j.truth(*ls)) << " ("
     << lowerOrHigher(j.truth(*rp), j.truth(*ls)) << "); validation |e| " << fixed(j.validation(*rp), 3) << " vs "
     << fixed(j.validation(*ls), 3) << " N m (" << lowerOrHigher(j.validation(*rp), j.validation(*ls)) << "; paper: "
-    << fixed(j.paper_rls_pso, 4) << " vs " << fixed(j.paper_ls, 4) << " N m). The paper's claim on the " << j.name << ": "
+    << fixed(j.paper("rls-pso"), 4) << " vs " << fixed(j.paper("ls"), 4) << " N m). The paper's claim on the " << j.name() << ": "
     << (truth_says ? "holds" : "does not hold") << " against the truth, "
     << (paper_yardstick_says ? "holds" : "does not hold") << " on the paper's own yardstick.\n";
 }
@@ -324,11 +331,8 @@ std::string verdict(const ProtocolResult& r) {
        "(||Y (x - x*)|| / ||Y x*|| of the joint's torque over 4000 fixed states, x* = the best fit; Scores below); the "
        "paper's yardstick, the validation torque error (mean |e| on the other trajectory), is given beside it. "
        "Joints are not summed: each has its own record and its own claim in the paper.\n\n";
-  const double paper_ls_knee = kPaperValidation[0].knee_mean, paper_rp_knee = kPaperValidation[2].knee_mean;
-  const double paper_ls_hip = kPaperValidation[0].hip_mean, paper_rp_hip = kPaperValidation[2].hip_mean;
-  jointVerdict(v, r, {"knee", "trained on trajectory 1, validated on 2", paper_ls_knee, paper_rp_knee, kneeTruth, kneeValidation});
-  jointVerdict(v, r, {"hip", "trained on trajectory 3 after the knee stage, validated on 4", paper_ls_hip, paper_rp_hip, hipTruth,
-                      hipValidation});
+  jointVerdict(v, r, {true, "trained on trajectory 1, validated on 2"});
+  jointVerdict(v, r, {false, "trained on trajectory 3 after the knee stage, validated on 4"});
   const VariantScore* pso = find(r, Variant::kPso);
   const VariantScore* rp = find(r, Variant::kRlsPso);
   if (pso && rp) {
@@ -516,11 +520,9 @@ void validationSection(std::ostream& md, const ProtocolResult& r) {
   TextTable v({"method", "knee (train 1, validate 2)", "paper knee", "hip (train 3, validate 4)", "paper hip", "knee RMS", "hip RMS"});
   for (const VariantScore& s : r.scores) {
     std::string pk = "-", ph = "-";
-    for (const auto& p : kPaperValidation) {
-      if (std::string(p.method) == toString(s.variant)) {
-        pk = fixed(p.knee_mean, 4) + " +- " + fixed(p.knee_std, 4);
-        ph = fixed(p.hip_mean, 4) + " +- " + fixed(p.hip_std, 4);
-      }
+    if (const PaperValidation* p = paperValidation(toString(s.variant))) {
+      pk = fixed(p->knee_mean, 4) + " +- " + fixed(p->knee_std, 4);
+      ph = fixed(p->hip_mean, 4) + " +- " + fixed(p->hip_std, 4);
     }
     v.addRow({toString(s.variant), fixed(s.knee_validation.mean_abs, 4) + " +- " + fixed(s.knee_validation.std_abs, 4), pk,
               fixed(s.hip_validation.mean_abs, 4) + " +- " + fixed(s.hip_validation.std_abs, 4), ph, fixed(s.knee_validation.rms, 4),

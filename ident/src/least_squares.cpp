@@ -29,17 +29,23 @@ std::string illConditionedMessage(double condition, double max_condition) {
          "motion would separate the parameters";
 }
 
+namespace {
+// Ratio of the extreme singular values of the p x p triangular factor of a QR: those of the
+// matrix it factors (infinity when singular).
+double conditionOfFactor(const Eigen::MatrixXd& R) {
+  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
+  return sv[sv.size() - 1] > 0.0 ? sv[0] / sv[sv.size() - 1] : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
 double scaledConditionNumber(const Eigen::MatrixXd& H) {
   const Eigen::Index p = H.cols();
   if (p == 0 || H.rows() < p) {
     throw std::invalid_argument("condition number: need at least as many rows as columns, got " + core::toText(H.rows()) +
                                 " x " + core::toText(p));
   }
-  // Singular values of the p x p triangular factor equal those of the scaled matrix.
   Eigen::HouseholderQR<Eigen::MatrixXd> qr(H * columnScales(H).asDiagonal());
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(p).template triangularView<Eigen::Upper>();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
-  return sv[p - 1] > 0.0 ? sv[0] / sv[p - 1] : std::numeric_limits<double>::infinity();
+  return conditionOfFactor(qr.matrixQR().topRows(p).template triangularView<Eigen::Upper>());
 }
 
 Eigen::VectorXd columnScales(const Eigen::MatrixXd& H) {
@@ -73,10 +79,7 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
   LsResult r;
   r.rank = qr.rank();
   const Eigen::Index p = H.cols();
-  // Singular values of the p x p triangular factor equal those of the scaled regressor.
-  const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(p, p).template triangularView<Eigen::Upper>();
-  const Eigen::VectorXd sv = Eigen::JacobiSVD<Eigen::MatrixXd>(R).singularValues();
-  r.condition_number = sv[p - 1] > 0.0 ? sv[0] / sv[p - 1] : std::numeric_limits<double>::infinity();
+  r.condition_number = conditionOfFactor(qr.matrixR().topLeftCorner(p, p).template triangularView<Eigen::Upper>());
   r.x = scale.asDiagonal() * qr.solve(y);
   const Eigen::VectorXd res = y - H * r.x;
   r.residual_rms = std::sqrt(res.squaredNorm() / static_cast<double>(res.size()));

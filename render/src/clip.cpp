@@ -70,16 +70,7 @@ const Image& TrackRenderer::frame(int k) { return drawRow(track_.rowAt(frameTime
 const Image& TrackRenderer::at(double t_s) { return drawRow(track_.rowAt(t_s)); }
 
 const Image& TrackRenderer::drawRow(std::size_t row) {
-  Pose pose;
-  pose.q_hip_rad = track_.q_hip_rad[row];
-  pose.q_knee_rad = track_.q_knee_rad[row];
-  if (track_.hasBase()) {
-    const double g = options_.base_motion_gain;
-    pose.base_x_m = g * track_.base_x_m[row];
-    pose.base_z_m = g * track_.base_z_m[row];
-    pose.base_pitch_rad = g * track_.base_pitch_rad[row];
-  }
-  scene_.setPose(pose);
+  scene_.setPose(poseAt(track_, row, options_.base_motion_gain));
   if (!options_.overlay_enabled) return renderer_.render(scene_.model(), scene_.data(), nullptr);
   const Overlay overlay = overlay_.at(row);
   return renderer_.render(scene_.model(), scene_.data(), &overlay);

@@ -48,13 +48,7 @@ SweptBox sweptBox(LegScene& scene, const Track& track, double base_motion_gain, 
   const std::size_t n = track.size();
   for (int k = 0; k < samples; ++k) {
     const auto row = static_cast<std::size_t>(std::llround(double(k) * double(n - 1) / double(samples - 1)));
-    Pose pose{track.q_hip_rad[row], track.q_knee_rad[row]};
-    if (track.hasBase()) {
-      pose.base_x_m = base_motion_gain * track.base_x_m[row];
-      pose.base_z_m = base_motion_gain * track.base_z_m[row];
-      pose.base_pitch_rad = base_motion_gain * track.base_pitch_rad[row];
-    }
-    scene.setPose(pose);
+    scene.setPose(poseAt(track, row, base_motion_gain));
     for (int g = 0; g < m->ngeom; ++g) {
       // The trunk and all it carries; the pedestal's column and base may leave the frame.
       if (!below(m, m->geom_bodyid[g], scene.indices().body_trunk)) continue;

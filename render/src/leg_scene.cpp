@@ -47,6 +47,16 @@ LegScene::LegScene(const std::string& model_path, bool with_mount, const LegColo
   setPose(Pose{});
 }
 
+Pose poseAt(const Track& track, std::size_t row, double base_motion_gain) {
+  Pose pose{track.q_hip_rad[row], track.q_knee_rad[row]};
+  if (track.hasBase()) {
+    pose.base_x_m = base_motion_gain * track.base_x_m[row];
+    pose.base_z_m = base_motion_gain * track.base_z_m[row];
+    pose.base_pitch_rad = base_motion_gain * track.base_pitch_rad[row];
+  }
+  return pose;
+}
+
 void LegScene::setPose(const Pose& pose) {
   const mjModel* m = leg_.model.get();
   mjData* d = data_.get();

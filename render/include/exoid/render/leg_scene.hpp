@@ -1,10 +1,12 @@
 #pragma once
 // The leg model posed for drawing: a private compiled copy of the APAL leg (colors per body
 // set on this copy, never in the XML), its data, and the analytic four-bar closure.
+#include "exoid/render/track.hpp"
 #include "exoid/sim/four_bar.hpp"
 #include "exoid/sim/model.hpp"
 
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -25,6 +27,10 @@ struct Pose {
   double q_hip_rad = 0.0, q_knee_rad = 0.0;
   double base_x_m = 0.0, base_z_m = 0.0, base_pitch_rad = 0.0;
 };
+
+/// The pose a track records at `row`, the pedestal's coordinates scaled by `base_motion_gain`
+/// (0 when the track has none).
+Pose poseAt(const Track& track, std::size_t row, double base_motion_gain = 1.0);
 
 class LegScene {
  public:
