@@ -53,10 +53,15 @@ int waitExit(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
+// Finished job files only: a run's file is written as "job-....json.tmp.PID.N" and renamed, and a
+// SIGKILL between the two leaves the temporary, which is not a finished run.
 long jobFiles(const std::string& dir) {
   if (!fs::exists(dir + "/runs")) return 0;
   long n = 0;
-  for (const auto& e : fs::directory_iterator(dir + "/runs")) n += e.path().filename().string().rfind("job-", 0) == 0 ? 1 : 0;
+  for (const auto& e : fs::directory_iterator(dir + "/runs")) {
+    const std::string name = e.path().filename().string();
+    n += name.rfind("job-", 0) == 0 && e.path().extension() == ".json" ? 1 : 0;
+  }
   return n;
 }
 
