@@ -1,0 +1,34 @@
+#pragma once
+// Standard errors of a least-squares estimate from its own residuals, for logs whose noise level
+// nobody gave: the covariance a real robot's fit has, model error included.
+//
+// The rows an estimator fits are filtered and decimated, and what the model leaves out is slow,
+// so the residuals of one channel (one joint's equation of one record, in time order) are
+// correlated. The heteroskedasticity- and autocorrelation-consistent estimator of Newey and West
+// (1987) keeps that correlation:
+//   C = (H^T H)^-1 S (H^T H)^-1,
+//   S = sum over channels, sum over |l| <= L of (1 - |l| / (L + 1)) sum_t h_t r_t r_{t+l} h_{t+l}^T
+// (Bartlett weights keep S positive semi-definite). With uncorrelated, equal-variance residuals
+// it is the textbook sigma^2 (H^T H)^-1 to sampling error.
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace exoid::ident {
+
+/// Newey and West's (1994) automatic lag for Bartlett weights: floor(4 (n / 100)^(2/9)), at
+/// least 1. n = rows of the channel.
+int neweyWestLags(Eigen::Index n);
+
+/// The rows of one channel of `problem` rows, in time order (indices into H).
+using Channel = std::vector<Eigen::Index>;
+/// Channels of bothEquations(): hip rows 0, 2, 4, ...; knee rows 1, 3, 5, ...
+std::vector<Channel> interleavedChannels(Eigen::Index rows, int equations = 2);
+
+/// The covariance C above of x = argmin ||y - H x|| given residual = y - H x. lags < 0: the
+/// automatic lag of the longest channel. Every entry +inf when H^T H is singular. Throws
+/// std::invalid_argument on size mismatches or a row index out of range.
+Eigen::MatrixXd residualCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& residual,
+                                   const std::vector<Channel>& channels, int lags = -1);
+
+}  // namespace exoid::ident
