@@ -1,4 +1,6 @@
 // Datasets, the regressor and signal processing.
+#include <optional>
+
 #include "bindings.hpp"
 #include "convert.hpp"
 
@@ -77,7 +79,7 @@ void bindData(py::module_& m) {
         "q, qd, qdd: N x 2 (hip, knee) in rad, rad/s, rad/s^2.");
 
   m.def("process_record",
-        [](const py::dict& dataset, double thigh_length_m, double gravity_mps2, const std::string& processing, double cutoff_hz,
+        [](const py::dict& dataset, double thigh_length_m, double gravity_mps2, const std::string& processing, std::optional<double> cutoff_hz,
            int filter_order, int decimation, const std::string& base_terms) {
           const ProcessedRecord r = processRecord(datasetFrom(dataset), legConstants(thigh_length_m, gravity_mps2),
                                                   signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms));
@@ -85,7 +87,7 @@ void bindData(py::module_& m) {
                           py::arg("t") = r.states.t_s);
         },
         py::arg("dataset"), py::arg("thigh_length_m"), py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel",
-        py::arg("cutoff_hz") = 10.0, py::arg("filter_order") = 2, py::arg("decimation") = 0, py::arg("base_terms") = "auto",
+        py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2, py::arg("decimation") = 0, py::arg("base_terms") = "auto",
         (std::string("A dataset (dict as read_dataset returns) to the rows a method fits. Returns hip, knee (rows x 10), "
                      "tau (rows x 2), t. ") + kSignalOptionsDoc).c_str());
 

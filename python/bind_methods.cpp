@@ -1,4 +1,6 @@
 // Identification methods, the segmental strategy, IDIM-IV and identifiability.
+#include <optional>
+
 #include "bindings.hpp"
 #include "convert.hpp"
 
@@ -37,7 +39,7 @@ void bindMethods(py::module_& m) {
 
   m.def("identify_segmental",
         [](const py::dict& knee_record, const py::dict& both_record, double thigh_length_m, const std::string& method,
-           double gravity_mps2, const std::string& processing, double cutoff_hz, int filter_order, int decimation,
+           double gravity_mps2, const std::string& processing, std::optional<double> cutoff_hz, int filter_order, int decimation,
            const std::string& base_terms, const py::kwargs& kw) {
           const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
           const SignalOptions s = signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms);
@@ -46,7 +48,7 @@ void bindMethods(py::module_& m) {
                                                  processRecord(datasetFrom(both_record), c, s), o));
         },
         py::arg("knee_record"), py::arg("both_record"), py::arg("thigh_length_m"), py::arg("method") = "rls-pso",
-        py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = 10.0,
+        py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
         py::arg("filter_order") = 2, py::arg("decimation") = 0, py::arg("base_terms") = "auto",
         (std::string("The paper's segmental strategy: the knee parameters (Mxs, Mys, Js, fc2, fv2) from a record with the "
                      "hip fixed, then the hip parameters from a record where both joints move, its hip torque minus "
@@ -55,7 +57,7 @@ void bindMethods(py::module_& m) {
 
   m.def("identify_idim_iv",
         [](const py::dict& both_record, double thigh_length_m, const std::optional<py::dict>& knee_record,
-           const std::string& controller, double gravity_mps2, double cutoff_hz, int filter_order, int decimation,
+           const std::string& controller, double gravity_mps2, std::optional<double> cutoff_hz, int filter_order, int decimation,
            const std::string& base_terms, double step_tolerance, int max_iterations, bool knee_armature) {
           const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
           const SignalOptions s = signalOptions("parallel", cutoff_hz, filter_order, decimation, base_terms);
@@ -65,7 +67,10 @@ void bindMethods(py::module_& m) {
           iv.validate();
           auto closedLoop = [&](const py::dict& record, const char* role, bool knee_only) {
             const Dataset d = datasetFrom(record);
-            return experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, c, s), controller, knee_only);
+            const SignalOptions rs = resolveSignalOptions(d, c, s);  // the band chosen from this record
+            ClosedLoopRecord r = experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, c, rs), controller, knee_only);
+            r.signals = rs;
+            return r;
           };
           const ClosedLoopRecord both = closedLoop(both_record, "both", false);
           if (!knee_record) {
@@ -76,7 +81,7 @@ void bindMethods(py::module_& m) {
           return segmentalDict(identifySegmentalIv(closedLoop(*knee_record, "knee", true), both, c, s, iv));
         },
         py::arg("both_record"), py::arg("thigh_length_m"), py::arg("knee_record") = py::none(), py::arg("controller") = "",
-        py::arg("gravity_mps2") = 9.81, py::arg("cutoff_hz") = 10.0, py::arg("filter_order") = 2, py::arg("decimation") = 0,
+        py::arg("gravity_mps2") = 9.81, py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2, py::arg("decimation") = 0,
         py::arg("base_terms") = "auto", py::arg("step_tolerance") = 0.1, py::arg("max_iterations") = 10,
         py::arg("knee_armature") = false,
         "IDIM-IV (Janot et al. 2014): instrumental variables from closed-loop simulations of the model identified at the "

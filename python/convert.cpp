@@ -174,16 +174,20 @@ MethodOptions methodOptions(const py::kwargs& kw, const char* function) {
 const char* const kSignalOptionsDoc =
     "Processing (as `exoid identify`): processing='parallel' (default: the regressor from the states, the same "
     "zero-phase filter on the torques and every column, decimated; exact data give exact parameters) or 'paper'; "
-    "cutoff_hz=10, filter_order=2, decimation=0 (automatic), base_terms='auto'|'on'|'off'.";
+    "cutoff_hz=None (chosen from each record, as `exoid identify --cutoff-hz auto`; the paper's processing uses 10), "
+    "filter_order=2, decimation=0 (automatic), base_terms='auto'|'on'|'off'.";
 
-SignalOptions signalOptions(const std::string& processing, double cutoff_hz, int filter_order, int decimation,
+SignalOptions signalOptions(const std::string& processing, std::optional<double> cutoff_hz, int filter_order, int decimation,
                             const std::string& base_terms) {
   SignalOptions o = experiments::defaultIdentifySignals();
   if (processing != "paper" && processing != "parallel") {
     throw std::invalid_argument("processing must be 'parallel' or 'paper', got '" + processing + "'");
   }
   o.processing = processing == "paper" ? Processing::kPaper : Processing::kParallel;
-  o.cutoff_hz = cutoff_hz;
+  if (cutoff_hz) {
+    o.cutoff_from_data = false;
+    o.cutoff_hz = *cutoff_hz;
+  }
   o.filter_order = filter_order;
   o.decimation = decimation;
   if (base_terms != "auto" && base_terms != "on" && base_terms != "off") {

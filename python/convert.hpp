@@ -34,7 +34,7 @@ ident::MethodOptions methodOptions(const py::kwargs& kw, const char* function);
 extern const char* const kMethodOptionsDoc;
 
 /// SignalOptions as `exoid identify` sets them for a processing ("parallel" or "paper").
-ident::SignalOptions signalOptions(const std::string& processing, double cutoff_hz, int filter_order, int decimation,
+ident::SignalOptions signalOptions(const std::string& processing, std::optional<double> cutoff_hz, int filter_order, int decimation,
                                    const std::string& base_terms);
 extern const char* const kSignalOptionsDoc;
 

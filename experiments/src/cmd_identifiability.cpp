@@ -5,6 +5,7 @@
 #include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
+#include "exoid/ident/band.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/identifiability.hpp"
 #include "exoid/ident/identifiability_advice.hpp"
@@ -86,8 +87,17 @@ void run(const Args& a) {
   const ident::Dataset d = readLog(a.data, log);
   const ident::LegConstants c = resolveConstants(a.constants, d, nullptr, log.thigh_length_m, log.gravity_mps2);
   ident::ProcessedRecord s;
+  ident::SignalOptions signals = a.signals;  // with the band chosen from this record, as identify does
+  std::optional<ident::BandChoice> band;
   try {
-    s = ident::processRecord(d, c, a.signals);
+    if (signals.processing == ident::Processing::kParallel && signals.filter && signals.cutoff_from_data) {
+      band = ident::chooseBand(d, c, signals);
+      signals = ident::withBand(signals, *band);
+      std::cout << "band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
+    } else {
+      signals = ident::resolveSignalOptions(d, c, signals);
+    }
+    s = ident::processRecord(d, c, signals);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(d));
   }
@@ -95,7 +105,7 @@ void run(const Args& a) {
   const Eigen::MatrixXd& Hh = s.hip;
   const Eigen::MatrixXd& Hk = s.knee;
   // White torque noise of std noise_tau reaches the fit through this record's processing.
-  const ident::TorqueNoisePath path = ident::torqueNoisePath(a.signals, 1.0 / d.sampleInterval_s(), d.size());
+  const ident::TorqueNoisePath path = ident::torqueNoisePath(signals, 1.0 / d.sampleInterval_s(), d.size());
   const double sg = a.noise_tau_Nm;
   Eigen::VectorXd y_all(2 * s.size());
   y_all << s.tau_Nm.col(0), s.tau_Nm.col(1);
@@ -111,7 +121,8 @@ void run(const Args& a) {
   j["data"] = a.data;
   j["noise_tau_Nm"] = a.noise_tau_Nm;
   j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}};
-  j["signal_options"] = toJson(a.signals);
+  j["signal_options"] = toJson(signals);
+  if (band) j["band"] = {{"motion_bandwidth_hz", band->motion_bandwidth_hz}, {"limited_by", band->limited_by}, {"reason", band->describe()}};
   j["reference"] = ref.origin.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"origin", ref.origin}, {"parameters", paramsJson(ref.x)}};
   std::cout << "Record " << a.data << ": " << s.size() << " samples; torque noise " << a.noise_tau_Nm
             << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit).\n"

@@ -6,6 +6,8 @@
 #include "exoid/experiments/log_input.hpp"
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
+#include "exoid/ident/band.hpp"
+#include "exoid/ident/consistency.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/identifiability.hpp"
 #include "exoid/ident/least_squares.hpp"
@@ -37,6 +39,8 @@ struct IdentifyArgs {
   bool knee_armature = false;  ///< estimate Ia2 too
   CLI::Option* wide_box_option = nullptr;  ///< given explicitly? else sized from the data
   bool history = false;
+  bool consistency = true;  ///< LS over --data: the physically consistent estimate (--no-consistency)
+  ident::ConsistencyOptions consistency_options;
 };
 
 std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names) {
@@ -135,6 +139,9 @@ struct Role {
   std::vector<std::string> files;
   std::vector<ident::Dataset> data;
   ident::ProcessedRecord rows;  ///< the records' rows stacked
+  /// Each record's processing as used: the options with every choice made from the data.
+  std::vector<ident::SignalOptions> signals;
+  std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
 };
 
 // How well a role's records excite the parameters: the condition number of the column-scaled
@@ -209,7 +216,18 @@ void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegCo
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
       try {
-        rows.push_back(ident::processRecord(role->data[k], c, a.signals));
+        ident::SignalOptions o = a.signals;
+        std::optional<ident::BandChoice> band;
+        if (o.processing == ident::Processing::kParallel && o.filter && o.cutoff_from_data) {
+          band = ident::chooseBand(role->data[k], c, o);
+          o = ident::withBand(o, *band);
+          std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
+        } else {
+          o = ident::resolveSignalOptions(role->data[k], c, o);
+        }
+        rows.push_back(ident::processRecord(role->data[k], c, o));
+        role->signals.push_back(o);
+        role->bands.push_back(band);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
       }
@@ -277,11 +295,100 @@ std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
 }
 
 
+// How much the LS estimate depends on the band chosen from the data: every record refitted with
+// its cutoff one ladder step wider, the change in standard errors of the chosen fit (the
+// errors-in-variables bias a wider band would add, measured). Absent when no band was chosen.
+struct BandSensitivity {
+  double factor = 0.0;
+  Eigen::VectorXd shift_se;  ///< per parameter, (x_wider - x) / std_err
+  std::vector<std::string> over_one;  ///< parameters moved by more than one standard error
+};
+
+std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::LegConstants& c,
+                                               const std::vector<MethodOutcome>& outcomes) {
+  const MethodOutcome* ls = nullptr;
+  for (const MethodOutcome& m : outcomes) {
+    if (m.method == ident::Method::kLs && m.consistency) ls = &m;
+  }
+  if (!ls) return std::nullopt;
+  bool any = false;
+  for (const auto& b : primary.bands) any = any || b.has_value();
+  if (!any) return std::nullopt;
+  BandSensitivity out;
+  out.factor = ident::BandRule{}.ladder_ratio;
+  std::vector<ident::ProcessedRecord> rows;
+  for (std::size_t k = 0; k < primary.data.size(); ++k) {
+    ident::SignalOptions o = primary.signals[k];
+    if (primary.bands[k]) {
+      const double fs = 1.0 / primary.data[k].sampleInterval_s();
+      o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
+      if (a.signals.derivative_cutoff_from_data) {
+        const double fd = ident::BandRule{}.derivative_factor * o.cutoff_hz;
+        o.derivative_cutoff_hz = fd < 0.5 * fs ? fd : 0.0;
+      }
+    }
+    rows.push_back(ident::processRecord(primary.data[k], c, o));
+  }
+  const ident::SegmentalProblem p = ident::bothEquations(ident::stackRecords(rows), ls->knee_armature.has_value());
+  ident::LsOptions lo;
+  lo.max_condition = std::numeric_limits<double>::max();
+  const Eigen::VectorXd wider = ident::solveLeastSquares(p.H, p.y, lo).x;
+  const ConsistencyStep& cs = *ls->consistency;
+  out.shift_se = (wider - cs.unconstrained).cwiseQuotient(cs.std_err);
+  for (Eigen::Index i = 0; i < out.shift_se.size(); ++i) {
+    if (std::abs(out.shift_se[i]) > 1.0) out.over_one.emplace_back(ident::paramName(static_cast<int>(i)));
+  }
+  return out;
+}
+
+void printSensitivity(const BandSensitivity& s) {
+  std::cout << "band sensitivity (every record's cutoff x" << fmt(s.factor, 3)
+            << ", LS refitted; change in standard errors):";
+  for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) {
+    std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fixed(s.shift_se[i], 2);
+  }
+  std::cout << '\n';
+  if (!s.over_one.empty()) {
+    std::string names;
+    for (const std::string& n : s.over_one) names += (names.empty() ? "" : ", ") + n;
+    std::cout << "warning: a wider band moves " << names
+              << " by more than one standard error: their errors-in-variables bias may exceed their noise\n";
+  }
+}
+
+void printConsistency(const std::vector<MethodOutcome>& outcomes) {
+  for (const MethodOutcome& m : outcomes) {
+    if (!m.consistency) continue;
+    const ConsistencyStep& cs = *m.consistency;
+    std::cout << ident::toString(m.method) << ": standard errors (from the residuals, Newey-West):";
+    for (Eigen::Index i = 0; i < cs.std_err.size(); ++i) {
+      std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.std_err[i], 3);
+    }
+    std::cout << '\n';
+    if (!cs.fit.constrained) {
+      std::cout << ident::toString(m.method) << ": physically consistent (friction >= 0, Js >= 0, Jt >= Js, "
+                << "(Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2))\n";
+      continue;
+    }
+    for (const std::string& v : cs.withinNoise()) {
+      std::cout << ident::toString(m.method) << ": " << v << ": consistent with the bound within "
+                << fmt(cs.significance_sigmas, 3) << " standard errors\n";
+    }
+    std::cout << ident::toString(m.method) << ": the table gives the physically consistent estimate (constrained least "
+              << "squares); unconstrained:";
+    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
+      std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.unconstrained[i], 5);
+    }
+    std::cout << '\n';
+  }
+}
+
 void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
                        const Role& primary, const Role& knee, const ident::MethodOptions& mo,
                        const std::vector<MethodOutcome>& outcomes,
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
-                       const std::map<std::string, ident::ParamVector>& truths) {
+                       const std::map<std::string, ident::ParamVector>& truths,
+                       const std::optional<BandSensitivity>& sensitivity) {
   const bool single = !a.data.empty();
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -300,6 +407,29 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
     }
   }
   j["inputs"]["sampling"] = sampling;
+  nlohmann::json bands = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size() && k < role->signals.size(); ++k) {
+      const ident::SignalOptions& o = role->signals[k];
+      nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
+                          {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
+                          {"chosen_from_data", role->bands[k].has_value()}};
+      if (const auto& band = role->bands[k]) {
+        b["motion_bandwidth_hz"] = band->motion_bandwidth_hz;
+        b["joint_motion_bandwidth_hz"] = {band->joint_motion_bandwidth_hz[0], band->joint_motion_bandwidth_hz[1]};
+        b["limited_by"] = band->limited_by;
+        b["reason"] = band->describe();
+        nlohmann::json ladder = nlohmann::json::array();
+        for (const ident::BandRung& r : band->ladder) {
+          ladder.push_back({{"cutoff_hz", r.cutoff_hz}, {"max_shift_standard_errors", r.max_shift_se},
+                            {"worst_parameter", r.worst_param >= 0 ? nlohmann::json(std::string(ident::paramName(r.worst_param))) : nlohmann::json(nullptr)}});
+        }
+        b["ladder"] = ladder;
+      }
+      bands[role->files[k]] = b;
+    }
+  }
+  j["processing_per_record"] = bands;
   // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
   j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
                          (a.signals.base_terms == ident::BaseTerms::kOn ||
@@ -320,6 +450,12 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
   j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
+  if (sensitivity) {
+    nlohmann::json sh = nlohmann::json::object();
+    for (Eigen::Index i = 0; i < sensitivity->shift_se.size(); ++i) sh[std::string(ident::paramName(static_cast<int>(i)))] = sensitivity->shift_se[i];
+    j["band_sensitivity"] = {{"cutoff_factor", sensitivity->factor}, {"shift_standard_errors", sh},
+                             {"over_one_standard_error", sensitivity->over_one}};
+  }
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
     for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
@@ -354,6 +490,8 @@ void run(const IdentifyArgs& a) {
   if (iv) {
     cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), primary.rows, a.controller, false);
     if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), knee.rows, a.controller, true);
+    cl_primary.signals = primary.signals.front();
+    if (segmental) cl_knee.signals = knee.signals.front();
   }
   ident::MethodOptions mo = a.methods_options;
   sizePsoBox(a, methods, segmental, primary, knee, mo);
@@ -361,12 +499,20 @@ void run(const IdentifyArgs& a) {
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) {
     if (m == ident::Method::kIdimIv) {
-      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, a.signals, a.iv, a.knee_armature)
-                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, a.signals, a.iv));
+      // Each record's instruments are processed as its measured rows were (its band).
+      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, primary.signals.front(), a.iv, a.knee_armature)
+                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, primary.signals.front(), a.iv));
     } else {
       outcomes.push_back(single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, knee.rows, primary.rows, mo));
     }
   }
+  if (single && a.consistency) {
+    for (MethodOutcome& m : outcomes) {
+      if (m.method == ident::Method::kLs) applyConsistency(m, primary.rows, c, a.consistency_options);
+    }
+  }
+  const std::optional<BandSensitivity> sensitivity =
+      single ? bandSensitivity(a, primary, c, outcomes) : std::nullopt;
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
     const ident::ProcessedRecord rv = ident::processRecord(readLog(file, log), c, a.signals);
@@ -376,7 +522,9 @@ void run(const IdentifyArgs& a) {
   }
 
   printResults(outcomes, validations, truths);
-  if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths);
+  printConsistency(outcomes);
+  if (sensitivity) printSensitivity(*sensitivity);
+  if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths, sensitivity);
   if (const std::string problems = problemsOf(outcomes); !problems.empty()) throw UnusableResult(problems);
 }
 
@@ -423,6 +571,14 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--truth", args->truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--json", args->json_out, "Write the results as JSON here (atomically)")->group("Output");
+  cmd->add_flag("!--no-consistency", args->consistency,
+                "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
+                "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"
+                "Mys^2)) whose violations count only beyond --significance standard errors")
+      ->group("Identification");
+  cmd->add_option("--significance", args->consistency_options.significance_sigmas,
+                  "Standard errors beyond which a violated physical condition is significant (exit code 3)")
+      ->check(positiveNumber())->capture_default_str()->group("Identification");
   cmd->add_flag("--history", args->history, "Include PSO best-cost histories in the JSON")->group("Output");
   addConstantsOptions(*cmd, args->constants);
   addLogInputOptions(*cmd, args->log);

@@ -6,7 +6,9 @@
 #include "exoid/experiments/version.hpp"
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/ident/segmental.hpp"
+#include "exoid/ident/standard_errors.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <numeric>
 #include <stdexcept>
@@ -133,6 +135,37 @@ MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const i
   return identifyAll(m, ident::regressorRecord(s, c), o);
 }
 
+std::vector<std::string> ConsistencyStep::withinNoise() const {
+  std::vector<std::string> out;
+  for (const ident::ConsistencyCheck& k : fit.checks) {
+    if (!k.violated() || k.significant(significance_sigmas)) continue;
+    out.push_back(k.name + " (value " + core::formatNumber(k.value, 4) + ", " + core::formatNumber(-k.t(), 3) +
+                  " standard errors outside)");
+  }
+  return out;
+}
+
+void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+                      const ident::ConsistencyOptions& options) {
+  if (m.stages.size() != 1 || m.stages.front().name != "all") {
+    throw std::invalid_argument("applyConsistency: needs a fit of all parameters at once (one stage 'all')");
+  }
+  const bool armature = m.knee_armature.has_value();
+  const ident::SegmentalProblem p = ident::bothEquations(r, armature);
+  const Eigen::VectorXd x = m.stages.front().estimate.x;
+  if (!m.stages.front().estimate.unidentifiable.empty()) return;  // rank: reported as not usable already
+  ConsistencyStep step;
+  step.unconstrained = x;
+  step.significance_sigmas = options.significance_sigmas;
+  const Eigen::MatrixXd cov = ident::residualCovariance(p.H, p.y - p.H * x, ident::interleavedChannels(p.H.rows()));
+  step.std_err = cov.diagonal().cwiseSqrt();
+  step.fit = ident::solveConsistentLeastSquares(p.H, p.y, c.thigh_length_m, x, cov, options);
+  m.x = step.fit.x.head(kNumParams);
+  if (armature) m.knee_armature = step.fit.x[ident::kKneeArmature];
+  m.implausible = step.significant();
+  m.consistency = std::move(step);
+}
+
 MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
                                 const ident::ProcessedRecord& both_record, const ident::MethodOptions& o) {
   return segmentalOutcome(m, ident::identifySegmental(m, knee_record, both_record, o));
@@ -250,6 +283,25 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
                       {"wall_time_s", m.wallTime_s()},
                       {"stages", stages}};
   if (m.knee_armature) j["knee_armature"] = {{"Ia2", *m.knee_armature}, {"unit", "kg m^2"}};
+  if (m.consistency) {
+    const ConsistencyStep& cs = *m.consistency;
+    nlohmann::json checks = nlohmann::json::array();
+    for (const ident::ConsistencyCheck& k : cs.fit.checks) {
+      checks.push_back({{"condition", k.name}, {"value", k.value},
+                        {"standard_error", std::isfinite(k.standard_error) ? nlohmann::json(k.standard_error) : nlohmann::json(nullptr)},
+                        {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
+    }
+    nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object();
+    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
+      const std::string name(ident::paramName(static_cast<int>(i)));
+      un[name] = cs.unconstrained[i];
+      se[name] = std::isfinite(cs.std_err[i]) ? nlohmann::json(cs.std_err[i]) : nlohmann::json(nullptr);
+    }
+    j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
+                        {"unconstrained_parameters", un}, {"standard_errors", se},
+                        {"standard_errors_from", "the fit's residuals, Newey-West (Bartlett weights, automatic lag), per joint"},
+                        {"checks", checks}};
+  }
   return j;
 }
 

@@ -1,5 +1,7 @@
 #include "exoid/experiments/options.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cmath>
 #include <map>
 #include <optional>
@@ -11,6 +13,8 @@ ident::SignalOptions defaultIdentifySignals() {
   o.processing = ident::Processing::kParallel;
   o.differentiation = ident::Differentiation::kCentral4;
   o.base_terms = ident::BaseTerms::kAuto;
+  o.cutoff_from_data = true;
+  o.derivative_cutoff_from_data = true;
   return o;
 }
 
@@ -46,6 +50,20 @@ std::optional<double> wholeNumber(const std::string& text) {
 }
 }  // namespace
 
+// "auto" or a number (> 0, or >= 0 when zero_allowed).
+static CLI::Validator autoOrNumber(bool zero_allowed) {
+  return CLI::Validator(
+      [zero_allowed](std::string& text) -> std::string {
+        if (text == "auto") return {};
+        const std::optional<double> x = wholeNumber(text);
+        if (!x || !std::isfinite(*x) || *x < 0.0 || (!zero_allowed && *x == 0.0)) {
+          return std::string("expected 'auto' or a number ") + (zero_allowed ? ">= 0" : "> 0") + ", got '" + text + "'";
+        }
+        return {};
+      },
+      zero_allowed ? "auto|HZ>=0" : "auto|HZ>0");
+}
+
 const CLI::Validator& positiveNumber() {
   static const CLI::Validator v(
       [](std::string& text) -> std::string {
@@ -70,9 +88,17 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
       ->group("Signal processing");
   app.add_option("--decimation", o.decimation, "Parallel processing: keep every n-th row (0 = auto: fs / (5 cutoff))")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
-  app.add_option("--derivative-cutoff-hz", o.derivative_cutoff_hz,
-                 "Parallel processing: angles' pre-filter before differentiating, Hz (0 = none)")
-      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
+  app.add_option_function<std::string>(
+         "--derivative-cutoff-hz",
+         [&o](const std::string& v) {
+           o.derivative_cutoff_from_data = v == "auto";
+           if (!o.derivative_cutoff_from_data) o.derivative_cutoff_hz = *wholeNumber(v);
+         },
+         "Parallel processing: the angles' pre-filter before differentiating, Hz (0 = none), or auto: 5 x the\n"
+         "cutoff in use")
+      ->check(autoOrNumber(true))
+      ->default_str(o.derivative_cutoff_from_data ? "auto" : core::formatNumber(o.derivative_cutoff_hz, 6))
+      ->group("Signal processing");
   static const std::map<std::string, ident::BaseTerms> kBase = {
       {"off", ident::BaseTerms::kOff}, {"auto", ident::BaseTerms::kAuto}, {"on", ident::BaseTerms::kOn}};
   app.add_option("--base-terms", o.base_terms,
@@ -90,9 +116,17 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
       ->group("Signal processing");
   app.add_flag("!--no-filter", o.filter, "Do not low-pass filter (paper: zero-phase 10 Hz)")
       ->group("Signal processing");
-  app.add_option("--cutoff-hz", o.cutoff_hz, "Zero-phase Butterworth cutoff of one pass, Hz")
-      ->check(positiveNumber())
-      ->capture_default_str()
+  app.add_option_function<std::string>(
+         "--cutoff-hz",
+         [&o](const std::string& v) {
+           o.cutoff_from_data = v == "auto";
+           if (!o.cutoff_from_data) o.cutoff_hz = *wholeNumber(v);
+         },
+         "Zero-phase Butterworth cutoff of one pass, Hz, or auto (parallel processing): chosen from each\n"
+         "record, the motion's bandwidth and the first band where the states predict more than twice the\n"
+         "torque measured (printed with the reason); the paper's processing uses 10 Hz")
+      ->check(autoOrNumber(false))
+      ->default_str(o.cutoff_from_data ? "auto" : core::formatNumber(o.cutoff_hz, 6))
       ->group("Signal processing");
   app.add_option("--filter-order", o.filter_order, "Butterworth order of one pass (forward-backward doubles it)")
       ->check(CLI::Range(1, 8))
@@ -227,6 +261,8 @@ nlohmann::json toJson(const ident::SignalOptions& o) {
           {"filter", o.filter ? "butterworth_filtfilt" : "none"},
           {"filter_order", o.filter_order},
           {"cutoff_hz", o.cutoff_hz},
+          {"cutoff_from_data", o.cutoff_from_data},
+          {"derivative_cutoff_from_data", o.derivative_cutoff_from_data},
           {"filter_torque", o.filter_torque},
           {"edge_trim_s", o.edge_trim_s}};
 }

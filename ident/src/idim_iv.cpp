@@ -135,12 +135,13 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
 
 Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
                              const SignalOptions& signals, ProcessedRecord& out, double knee_armature_kgm2) {
+  const SignalOptions& o = r.signals ? *r.signals : signals;
   Instruments z;
   // The rate exactly as processRecord computes it from the record's timestamps.
   const double fs = 1.0 / ((r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]) / static_cast<double>(r.reference.size() - 1));
   const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference, knee_armature_kgm2);
   if (run.ok) {
-    out = parallelProcess(run.states, c, signals, fs);
+    out = parallelProcess(run.states, c, o, fs);
   } else {
     JointSignals ref;
     ref.t_s = r.reference.t_s;
@@ -148,7 +149,7 @@ Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const 
     ref.qd_radps = r.reference.qd_radps;
     ref.qdd_radps2 = r.reference.qdd_radps2;
     ref.tau_Nm = Eigen::MatrixX2d::Zero(ref.size(), 2);
-    out = parallelProcess(ref, c, signals, fs);
+    out = parallelProcess(ref, c, o, fs);
     z.fixed = true;
     z.message = "instruments from the reference (the model of this iteration cannot be simulated: " + run.message + ")";
   }

@@ -1,6 +1,7 @@
 #include "exoid/ident/preprocess.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/ident/band.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -269,8 +270,23 @@ Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) 
   return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
 }
 
-ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
-  if (o.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, o), c);
+SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
+  if (o.processing != Processing::kParallel || !(o.cutoff_from_data || o.derivative_cutoff_from_data)) return o;
+  if (o.cutoff_from_data && o.filter) return withBand(o, chooseBand(d, c, o));
+  SignalOptions r = o;
+  r.derivative_cutoff_from_data = false;
+  r.derivative_cutoff_hz = BandRule{}.derivative_factor * o.cutoff_hz;
+  if (r.derivative_cutoff_hz >= 0.5 / d.sampleInterval_s()) r.derivative_cutoff_hz = 0.0;  // above Nyquist: none
+  return r;
+}
+
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) {
+  return parallelStates(d, o, 1.0 / d.sampleInterval_s(), 0, d.size());
+}
+
+ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& options) {
+  if (options.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, options), c);
+  const SignalOptions o = resolveSignalOptions(d, c, options);
   const double fs = 1.0 / d.sampleInterval_s();
   o.validateFor(fs);
   const Eigen::Index n = d.size();

@@ -88,8 +88,14 @@ TEST(InputErrors, OtherSeparatorsAreNamedAndAByteOrderMarkIsAccepted) {
 }
 
 TEST(InputErrors, TimeInTheWrongUnitIsSuggested) {
-  // Milliseconds read as seconds: a 1 Hz log, below the 10 Hz filter's Nyquist rate.
+  // Milliseconds read as seconds: a 1 Hz log, too slow for a band chosen from the data, and below
+  // a given 10 Hz filter's Nyquist rate.
   Outcome o = run({"identify", "--data", writeLog("ms.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1.0), "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("the record is sampled at 1 Hz: too slow to resolve a motion"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("--time-unit ms"), std::string::npos) << o.text;
+  o = run({"identify", "--data", writeLog("ms.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1.0), "--thigh-length", "0.45",
+           "--cutoff-hz", "10"});
   EXPECT_NE(o.rc, 0);
   EXPECT_NE(o.text.find("'cutoff_hz' = 10 Hz must be below the record's Nyquist frequency, 0.5 Hz"), std::string::npos) << o.text;
   EXPECT_NE(o.text.find("--time-unit ms"), std::string::npos) << o.text;

@@ -1,6 +1,7 @@
 #pragma once
 // Identification runs as the CLI and the experiments use them: one method on one record (all
 // 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
+#include "exoid/ident/consistency.hpp"
 #include "exoid/ident/idim_iv.hpp"
 #include "exoid/ident/methods.hpp"
 #include "exoid/ident/metrics.hpp"
@@ -23,6 +24,21 @@ struct Stage {
   ident::Estimate estimate;
 };
 
+/// The physically consistent step of a least-squares fit of all parameters (identify's default):
+/// the unconstrained estimate, its standard errors from its own residuals (Newey-West) and the
+/// constrained estimate with each condition's distance in those standard errors.
+struct ConsistencyStep {
+  Eigen::VectorXd unconstrained;  ///< 10 (or 11 with Ia2)
+  Eigen::VectorXd std_err;        ///< of the unconstrained estimate
+  ident::ConsistentEstimate fit;
+  double significance_sigmas = 2.0;
+  /// Conditions violated beyond significance_sigmas ("... violated by 3.1 standard errors ...").
+  std::vector<std::string> significant() const { return fit.significantViolations(significance_sigmas); }
+  /// Conditions violated within significance_sigmas: consistent with the bound (the constrained
+  /// estimate sits on it).
+  std::vector<std::string> withinNoise() const;
+};
+
 struct MethodOutcome {
   ident::Method method = ident::Method::kLs;
   ident::ParamVector x = ident::ParamVector::Zero();
@@ -32,6 +48,9 @@ struct MethodOutcome {
   /// Violated physical conditions of x (ident::implausibilities; parameters a stage could not
   /// identify are not checked). Non-empty: the estimate cannot be the leg's.
   std::vector<std::string> implausible;
+  /// Set when the estimate was made physically consistent (applyConsistency): x (and Ia2) are then
+  /// the constrained estimate, and `implausible` lists only the significant violations.
+  std::optional<ConsistencyStep> consistency;
   bool usable() const;        ///< every stage usable
   std::string problems() const;  ///< the messages of unusable stages
   double wallTime_s() const;
@@ -68,6 +87,13 @@ MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record
 MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
                             const ident::SignalOptions& signals, const ident::IvOptions& options,
                             bool knee_armature = false);
+
+/// Makes m (an all-parameter LS fit of the rows of r) physically consistent: standard errors from
+/// the residuals, ident::solveConsistentLeastSquares, m.x the constrained estimate; a violation
+/// within options.significance_sigmas is consistent with the bound, a larger one stays in
+/// m.implausible (not usable). Throws std::invalid_argument unless m has one stage "all".
+void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+                      const ident::ConsistencyOptions& options = {});
 
 /// Per-joint validation torque errors of X on a record.
 struct Validation {

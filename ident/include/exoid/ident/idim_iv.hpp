@@ -11,6 +11,7 @@
 #include "exoid/ident/segmental.hpp"
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace exoid::ident {
@@ -57,6 +58,9 @@ struct ClosedLoopRecord {
   ProcessedRecord measured;  ///< parallelProcess of the measured record (processRecord, kParallel)
   Reference reference;       ///< the controller's reference, full length at the record's rate
   ControllerModel controller;
+  /// The options `measured` was processed with, when they are the record's own (a band chosen from
+  /// its data): instrumentRecord then uses them instead of the options it is given.
+  std::optional<SignalOptions> signals;
 };
 
 /// The instrument rows of a record for parameters x: the closed-loop simulation of x, processed

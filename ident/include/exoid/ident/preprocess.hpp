@@ -76,6 +76,13 @@ struct SignalOptions {
   /// 3 / cutoff_hz when filtering (0.3 s at 10 Hz, about five time constants of the
   /// forward-backward 2nd-order filter), else 2 samples. The paper does not say.
   double edge_trim_s = -1.0;
+  /// Parallel processing: choose cutoff_hz (and with it the decimation) from the record itself
+  /// (band.hpp: the motion's bandwidth and the errors-in-variables limit); cutoff_hz is then
+  /// ignored. The paper's processing keeps its cutoff_hz. exoid identify's default.
+  bool cutoff_from_data = false;
+  /// Parallel processing: derivative_cutoff_hz = 5 x the cutoff in use (chosen or given) instead of
+  /// the value above. exoid identify's default.
+  bool derivative_cutoff_from_data = false;
   /// The trim in samples for a record sampled at sample_rate_hz.
   long edgeTrimSamples(double sample_rate_hz) const;
   void validate() const;  ///< throws std::invalid_argument naming the field
@@ -121,6 +128,13 @@ ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
 /// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
 /// prepareSignals does.
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
+/// o with the choices it leaves to the data made for record d (band.hpp: cutoff_from_data,
+/// derivative_cutoff_from_data); o itself when it leaves none or uses the paper's processing.
+/// processRecord applies this first.
+SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o);
+/// The parallel processing's full-rate states of record d: recorded derivatives, else five-point
+/// differences of the angles after the derivative pre-filter (unfiltered angles and torques).
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o);
 /// Samples of context on each side of a block of the parallel processing: enough for the
 /// pre-filter, differences and parallel filter of the block's edges to die out before its kept rows.
 Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz);
