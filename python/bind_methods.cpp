@@ -44,8 +44,10 @@ void bindMethods(py::module_& m) {
           const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
           const SignalOptions s = signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms);
           const MethodOptions o = methodOptions(kw, "identify_segmental");
-          return segmentalDict(identifySegmental(parseMethod(method), processRecord(datasetFrom(knee_record), c, s),
-                                                 processRecord(datasetFrom(both_record), c, s), o));
+          // Each record processed in its own band (the knee record's from its knee equation: its hip is locked).
+          const Dataset kd = datasetFrom(knee_record), bd = datasetFrom(both_record);
+          return segmentalDict(identifySegmental(parseMethod(method), processRecord(kd, c, resolveSignalOptions(kd, c, s, true)),
+                                                 processRecord(bd, c, s), o));
         },
         py::arg("knee_record"), py::arg("both_record"), py::arg("thigh_length_m"), py::arg("method") = "rls-pso",
         py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
@@ -67,7 +69,7 @@ void bindMethods(py::module_& m) {
           iv.validate();
           auto closedLoop = [&](const py::dict& record, const char* role, bool knee_only) {
             const Dataset d = datasetFrom(record);
-            const SignalOptions rs = resolveSignalOptions(d, c, s);  // the band chosen from this record
+            const SignalOptions rs = resolveSignalOptions(d, c, s, knee_only);  // the band chosen from this record
             ClosedLoopRecord r = experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, c, rs), controller, knee_only);
             r.signals = rs;
             return r;

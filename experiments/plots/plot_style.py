@@ -10,13 +10,14 @@ import matplotlib.pyplot as plt  # noqa: E402
 # One distinct colour per method (matplotlib's default cycle has 10, the protocol 11 arms).
 COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
           "ls-exact": "#17becf", "ls-stacked": "#8c564b", "ls-parallel": "#d62728", "idim-iv": "#e377c2",
-          "ls-base": "#bcbd22", "idim-iv-base": "#393b79"}
+          "ls-base": "#bcbd22", "idim-iv-base": "#393b79",
+          "default": "#000000"}
 # Colour alone does not separate seven thin traces: every arm also gets its own line style.
 STYLES = {"ls": "-", "rls-pso": "--", "pso": "-.", "rls": ":", "lad": "-", "ls-exact": "--", "ls-stacked": "-.",
-          "ls-parallel": ":", "idim-iv": "-", "ls-base": "--", "idim-iv-base": "-."}
+          "ls-parallel": ":", "idim-iv": "-", "ls-base": "--", "idim-iv-base": "-.", "default": "-"}
 # The paper's question is LS against RLS-PSO (and PSO): they come first.
 ORDER = ["ls", "rls-pso", "pso", "rls", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv", "ls-base",
-         "idim-iv-base"]
+         "idim-iv-base", "default"]
 
 
 def ordered(methods):

@@ -219,7 +219,9 @@ void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegCo
         ident::SignalOptions o = a.signals;
         std::optional<ident::BandChoice> band;
         if (o.processing == ident::Processing::kParallel && o.filter && o.cutoff_from_data) {
-          band = ident::chooseBand(role->data[k], c, o);
+          ident::BandRule rule;
+          rule.knee_only = role == &knee;  // the segmental knee record: its hip is locked, no hip torque
+          band = ident::chooseBand(role->data[k], c, o, rule);
           o = ident::withBand(o, *band);
           std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
         } else {
@@ -315,7 +317,7 @@ std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role
   for (const auto& b : primary.bands) any = any || b.has_value();
   if (!any) return std::nullopt;
   BandSensitivity out;
-  out.factor = ident::BandRule{}.ladder_ratio;
+  out.factor = 1.25;  // a quarter wider
   std::vector<ident::ProcessedRecord> rows;
   for (std::size_t k = 0; k < primary.data.size(); ++k) {
     ident::SignalOptions o = primary.signals[k];
@@ -419,12 +421,13 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
         b["joint_motion_bandwidth_hz"] = {band->joint_motion_bandwidth_hz[0], band->joint_motion_bandwidth_hz[1]};
         b["limited_by"] = band->limited_by;
         b["reason"] = band->describe();
-        nlohmann::json ladder = nlohmann::json::array();
-        for (const ident::BandRung& r : band->ladder) {
-          ladder.push_back({{"cutoff_hz", r.cutoff_hz}, {"max_shift_standard_errors", r.max_shift_se},
-                            {"worst_parameter", r.worst_param >= 0 ? nlohmann::json(std::string(ident::paramName(r.worst_param))) : nlohmann::json(nullptr)}});
+        b["pilot_cutoff_hz"] = band->pilot_cutoff_hz;
+        nlohmann::json scan = nlohmann::json::array();
+        for (const ident::BandScan& r : band->scan) {
+          scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm},
+                          {"measured_rms_Nm", r.measured_rms_Nm}});
         }
-        b["ladder"] = ladder;
+        b["consistency_scan"] = scan;
       }
       bands[role->files[k]] = b;
     }

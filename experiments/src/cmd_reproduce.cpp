@@ -95,7 +95,7 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_flag("--clip-raw-torque", args->out.clip_raw_torque,
                 "The clip's overlay: the raw recorded torque instead of the processed (filtered) one the methods fit");
-  cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base")->delimiter(',');
+  cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults)")->delimiter(',');
   cmd->add_flag("!--no-optimised-arm", args->optimised_arm,
                 "Skip the optimised-excitation arm (the same protocol identified on designed records, validated on 2 and 4)");
   cmd->add_option("--excitation-knee", args->knee_excitation,

@@ -2,7 +2,9 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/controller_io.hpp"
+#include "exoid/experiments/options.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/ident/band.hpp"
 #include "exoid/ident/noise_covariance.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/ident/segmental.hpp"
@@ -25,6 +27,7 @@ const char* toString(Variant v) {
     case Variant::kIdimIv: return "idim-iv";
     case Variant::kLsBase: return "ls-base";
     case Variant::kIdimIvBase: return "idim-iv-base";
+    case Variant::kDefault: return "default";
   }
   return "unknown";
 }
@@ -32,7 +35,8 @@ const char* toString(Variant v) {
 const std::vector<Variant>& allVariants() {
   static const std::vector<Variant> all = {Variant::kLs,  Variant::kRls,     Variant::kPso,      Variant::kRlsPso,
                                            Variant::kLad, Variant::kLsExact, Variant::kLsStacked,
-                                           Variant::kLsParallel, Variant::kIdimIv, Variant::kLsBase, Variant::kIdimIvBase};
+                                           Variant::kLsParallel, Variant::kIdimIv, Variant::kLsBase, Variant::kIdimIvBase,
+                                           Variant::kDefault};
   return all;
 }
 
@@ -40,7 +44,7 @@ Variant parseVariant(const std::string& name) {
   for (Variant v : allVariants()) {
     if (name == toString(v)) return v;
   }
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base or idim-iv-base)");
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base or default)");
 }
 
 void ProtocolConfig::validate() const {
@@ -114,6 +118,10 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.closed_loop.controller = controllerOf(sc, k < 2);
     r.closed_loop_base = r.closed_loop;
     r.closed_loop_base.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals, true));
+    ident::BandRule rule;
+    rule.knee_only = k == 0;  // record 1's hip is held by the rig's lock: no hip torque is measured
+    r.default_signals = ident::withBand(defaultIdentifySignals(), ident::chooseBand(r.data, lc, defaultIdentifySignals(), rule));
+    r.default_rows = ident::processRecord(r.data, lc, r.default_signals);
   }
   return out;
 }
@@ -147,6 +155,8 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident:
       return identifySegmented(ident::Method::kLs, r[0].closed_loop_base.measured, r[2].closed_loop_base.measured, o);
     case Variant::kIdimIvBase:
       return identifySegmentedIdimIv(r[0].closed_loop_base, r[2].closed_loop_base, lc, parallelSignals(c.signals, true), c.iv);
+    case Variant::kDefault:
+      return identifySegmented(ident::Method::kLs, r[0].default_rows, r[2].default_rows, o);
     case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
     case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
     case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);
@@ -179,12 +189,14 @@ Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident:
                          const ident::SignalOptions& signals, double sigma_Nm) {
   const bool exact = v == Variant::kLsExact;
   const bool base = v == Variant::kLsBase || v == Variant::kIdimIvBase;
-  const bool parallel = v == Variant::kLsParallel || v == Variant::kIdimIv || base;
+  const bool byDefault = v == Variant::kDefault;
+  const bool parallel = v == Variant::kLsParallel || v == Variant::kIdimIv || base || byDefault;
   const ident::SignalOptions path_signals = parallel ? parallelSignals(signals, base) : signals;
   // The torque noise path of record k: the variant's processing of a raw record of its length.
   const auto path = [&](int k) {
     const ident::Dataset& d = r[static_cast<std::size_t>(k)].data;
     const double fs = 1.0 / d.sampleInterval_s();
+    if (byDefault) return ident::torqueNoisePath(r[static_cast<std::size_t>(k)].default_signals, fs, d.size());
     return exact ? ident::rawTorquePath(d.size(), signals.edgeTrimSamples(fs))
                  : ident::torqueNoisePath(path_signals, fs, d.size());
   };
@@ -192,7 +204,7 @@ Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident:
   const auto rows = [&](int k, ident::Joint joint) -> Eigen::MatrixXd {
     const Record& rec = r[static_cast<std::size_t>(k)];
     if (parallel) {
-      const ident::ProcessedRecord& p = base ? rec.closed_loop_base.measured : rec.closed_loop.measured;
+      const ident::ProcessedRecord& p = byDefault ? rec.default_rows : base ? rec.closed_loop_base.measured : rec.closed_loop.measured;
       return joint == ident::Joint::kHip ? p.hip : p.knee;
     }
     return ident::jointRegressor(exact ? rec.exact_q : rec.processed, joint, lc);

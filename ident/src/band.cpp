@@ -5,7 +5,6 @@
 #include "exoid/ident/params.hpp"
 #include "exoid/ident/segmental.hpp"
 #include "exoid/ident/spectrum.hpp"
-#include "exoid/ident/standard_errors.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,30 +19,35 @@ void BandRule::validate() const {
     if (!ok || !std::isfinite(v)) throw std::invalid_argument(std::string("'") + field + "' must be " + range + ", got " + core::toText(v));
   };
   need(motion_fraction > 0.5 && motion_fraction < 1.0, "motion_fraction", "in (0.5, 1)", motion_fraction);
-  need(ladder_ratio > 1.0 && ladder_ratio <= 4.0, "ladder_ratio", "in (1, 4]", ladder_ratio);
+  need(pilot_factor >= 1.0, "pilot_factor", ">= 1", pilot_factor);
+  need(scan_band_hz > 0.0, "scan_band_hz", "> 0", scan_band_hz);
+  need(inconsistency_ratio > 1.0, "inconsistency_ratio", "> 1", inconsistency_ratio);
   need(max_factor >= 1.0, "max_factor", ">= 1", max_factor);
-  need(max_shift_se > 0.0, "max_shift_se", "> 0", max_shift_se);
   need(derivative_factor >= 2.0, "derivative_factor", ">= 2", derivative_factor);
+}
+
+double BandScan::ratio() const {
+  if (!(measured_rms_Nm > 0.0)) return predicted_rms_Nm > 0.0 ? std::numeric_limits<double>::infinity() : 1.0;
+  return predicted_rms_Nm / measured_rms_Nm;
 }
 
 std::string BandChoice::describe() const {
   std::ostringstream s;
   s << "motion up to " << core::formatNumber(motion_bandwidth_hz, 3) << " Hz (hip " << core::formatNumber(joint_motion_bandwidth_hz[0], 3)
     << ", knee " << core::formatNumber(joint_motion_bandwidth_hz[1], 3) << " Hz: " << core::formatNumber(100.0 * motion_fraction, 4)
-    << " % of the angles' variance); ";
-  if (!ladder.empty() && ladder.front().cutoff_hz > motion_bandwidth_hz * (1.0 + 1e-9)) {
+    << " % of the angles' variance, pooled); ";
+  if (record_floor_hz > motion_bandwidth_hz) {
     s << "the record's length allows no band below " << core::formatNumber(record_floor_hz, 3)
       << " Hz (the filter's edge trims must leave half of it); ";
   }
-  if (limited_by == "drift" && !ladder.empty()) {
-    const BandRung& r = ladder.back();
-    s << "at " << core::formatNumber(r.cutoff_hz, 3) << " Hz " << paramName(r.worst_param) << " moves "
-      << core::formatNumber(r.max_shift_se, 3) << " standard errors from its estimate at "
-      << core::formatNumber(ladder.front().cutoff_hz, 3)
-      << " Hz (a wider band lets in content the torque does not follow: errors-in-variables), so no wider";
+  if (limited_by == "consistency" && !scan.empty()) {
+    s << "from " << core::formatNumber(scan.back().from_hz, 3) << " Hz the states predict " << core::formatNumber(scan.back().ratio(), 3)
+      << "x the torque measured (content the torque does not follow: errors-in-variables), so no wider";
+  } else if (limited_by == "motion" && !scan.empty()) {
+    s << "the states predict " << core::formatNumber(scan.back().ratio(), 3)
+      << "x the torque measured right above the motion: the band stops at the motion's";
   } else if (limited_by == "cap") {
-    s << "estimates stable within " << core::formatNumber(max_shift_se, 3) << " standard error up to the cap of "
-      << core::formatNumber(max_factor, 3) << "x the motion's bandwidth";
+    s << "the torque follows the states up to the cap of " << core::formatNumber(max_factor, 3) << "x the motion's bandwidth";
   } else {
     s << "limited by the sampling rate";
   }
@@ -54,10 +58,9 @@ std::string BandChoice::describe() const {
 
 namespace {
 
-// The frequency below which `fraction` of x's mean-removed variance lies (Welch, DC left out;
-// linear within a bin).
-double bandwidthAt(const Eigen::VectorXd& x, double fs, double fraction) {
-  const PowerSpectrum p = welchPsd(x, fs, WelchOptions{});
+// The frequency below which `fraction` of a spectrum's power lies (DC left out; linear within a
+// bin).
+double bandwidthAt(const PowerSpectrum& p, double fraction) {
   const Eigen::Index n = p.density.size();
   const double total = p.density.tail(n - 1).sum();
   if (!(total > 0.0)) return p.df_Hz;  // constant: no motion to speak of
@@ -73,6 +76,14 @@ double bandwidthAt(const Eigen::VectorXd& x, double fs, double fraction) {
   return p.frequency_Hz[n - 1];
 }
 
+double bandPower(const PowerSpectrum& p, double from, double to) {
+  double sum = 0.0;
+  for (Eigen::Index k = 1; k < p.density.size(); ++k) {
+    if (p.frequency_Hz[k] >= from && p.frequency_Hz[k] < to) sum += p.density[k];
+  }
+  return sum * p.df_Hz;
+}
+
 SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, double derivative_factor, double fs) {
   SignalOptions o = base;
   o.processing = Processing::kParallel;
@@ -82,19 +93,6 @@ SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, double deriv
     o.derivative_cutoff_hz = derivative_factor * cutoff_hz < 0.5 * fs ? derivative_factor * cutoff_hz : 0.0;
   }
   return o;
-}
-
-BandRung rung(const Dataset& d, const LegConstants& c, const SignalOptions& o) {
-  const SegmentalProblem p = bothEquations(processRecord(d, c, o));
-  LsOptions ls;
-  ls.max_condition = std::numeric_limits<double>::max();  // judged by the caller, not here
-  const LsResult fit = solveLeastSquares(p.H, p.y, ls);
-  BandRung r;
-  r.cutoff_hz = o.cutoff_hz;
-  r.x = fit.x;
-  r.std_err = residualCovariance(p.H, p.y - p.H * fit.x, interleavedChannels(p.H.rows())).diagonal().cwiseSqrt();
-  for (Eigen::Index u : fit.unidentifiable) r.std_err[u] = std::numeric_limits<double>::infinity();
-  return r;
 }
 
 }  // namespace
@@ -114,9 +112,14 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   BandChoice out;
   out.motion_fraction = rule.motion_fraction;
   out.max_factor = rule.max_factor;
-  out.max_shift_se = rule.max_shift_se;
-  for (int j = 0; j < 2; ++j) out.joint_motion_bandwidth_hz[j] = bandwidthAt(d.q_rad.col(j), fs, rule.motion_fraction);
-  out.motion_bandwidth_hz = out.joint_motion_bandwidth_hz.maxCoeff();
+  for (int j = 0; j < 2; ++j) {
+    out.joint_motion_bandwidth_hz[j] = bandwidthAt(welchPsd(d.q_rad.col(j), fs, WelchOptions{}), rule.motion_fraction);
+  }
+  // The motion's: both angles' power pooled, so a joint held still (its angle is encoder noise,
+  // spread up to Nyquist) does not set it.
+  PowerSpectrum pooled = welchPsd(d.q_rad.col(0), fs, WelchOptions{});
+  pooled.density += welchPsd(d.q_rad.col(1), fs, WelchOptions{}).density;
+  out.motion_bandwidth_hz = bandwidthAt(pooled, rule.motion_fraction);
   // After decimation by at least 1 the cutoff must stay 2.5 samples per period below fs.
   const double ceiling = 0.2 * fs;
   // The filter's edge trims (3 / cutoff at each end) must leave at least half the record.
@@ -129,31 +132,36 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   const double first = std::clamp(out.motion_bandwidth_hz, floor_hz, ceiling);
   const double cap = std::clamp(rule.max_factor * out.motion_bandwidth_hz, first, ceiling);
   out.limited_by = cap < rule.max_factor * out.motion_bandwidth_hz ? "nyquist" : "cap";
-  out.cutoff_hz = first;
-  for (double fc = first;; fc = std::min(fc * rule.ladder_ratio, cap)) {
-    BandRung r = rung(d, c, atCutoff(base, fc, rule.derivative_factor, fs));
-    if (!out.ladder.empty()) {
-      const BandRung& f = out.ladder.front();
-      for (Eigen::Index i = 0; i < r.x.size(); ++i) {
-        if (!std::isfinite(r.std_err[i]) || !std::isfinite(f.std_err[i])) continue;  // not identifiable: no say
-        // A change at rounding level is no change (exact data: both the change and the standard
-        // error are rounding, and their ratio means nothing).
-        const double change = std::abs(r.x[i] - f.x[i]);
-        if (change <= 1e-9 * std::max(std::abs(r.x[i]), std::abs(f.x[i]))) continue;
-        const double shift = change / r.std_err[i];
-        if (shift > r.max_shift_se) {
-          r.max_shift_se = shift;
-          r.worst_param = static_cast<int>(i);
-        }
-      }
-    }
-    out.ladder.push_back(r);
-    if (r.max_shift_se > rule.max_shift_se) {
-      out.limited_by = "drift";
+  // The pilot: least squares in a band just wider than the motion.
+  const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule.derivative_factor, fs);
+  out.pilot_cutoff_hz = pilot.cutoff_hz;
+  const ProcessedRecord pilot_rows = processRecord(d, c, pilot);
+  const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
+  LsOptions ls;
+  ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
+  const Eigen::VectorXd theta = solveLeastSquares(p.H, p.y, ls).x;
+  // The torque the pilot predicts from the measured states, against the torque measured, band by band.
+  const JointSignals states = differentiatedStates(d, pilot);
+  const WelchOptions w;
+  PowerSpectrum predicted = welchPsd(jointRegressor(states, Joint::kKnee, c) * theta, fs, w);
+  PowerSpectrum measured = welchPsd(d.tau_Nm.col(1), fs, w);
+  if (!rule.knee_only) {
+    predicted.density += welchPsd(jointRegressor(states, Joint::kHip, c) * theta, fs, w).density;
+    measured.density += welchPsd(d.tau_Nm.col(0), fs, w).density;
+  }
+  out.cutoff_hz = cap;
+  for (double from = first; from < cap - 1e-9; from += rule.scan_band_hz) {
+    BandScan b;
+    b.from_hz = from;
+    b.to_hz = from + rule.scan_band_hz;
+    b.predicted_rms_Nm = std::sqrt(bandPower(predicted, b.from_hz, b.to_hz));
+    b.measured_rms_Nm = std::sqrt(bandPower(measured, b.from_hz, b.to_hz));
+    out.scan.push_back(b);
+    if (b.ratio() > rule.inconsistency_ratio) {
+      out.cutoff_hz = from;
+      out.limited_by = from <= first + 1e-9 ? "motion" : "consistency";
       break;
     }
-    out.cutoff_hz = fc;
-    if (fc >= cap) break;
   }
   const SignalOptions chosen = atCutoff(base, out.cutoff_hz, rule.derivative_factor, fs);
   out.derivative_cutoff_hz = chosen.derivative_cutoff_hz;

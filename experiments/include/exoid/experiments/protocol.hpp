@@ -30,9 +30,13 @@ enum class Variant {
   kIdimIv,      ///< IDIM-IV on the parallel-processed records, segmental
   kLsBase,      ///< ls-parallel with the pedestal IMU's base-motion terms (ident::BaseMotion)
   kIdimIvBase,  ///< idim-iv with the base-motion terms in the measured rows
+  /// exoid identify's defaults (identifyDefaultSignals): parallel processing in the band chosen
+  /// from each record (ident::chooseBand), base-motion terms when the IMU columns are there, LS;
+  /// segmental like the others
+  kDefault,
 };
 /// "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv",
-/// "ls-base", "idim-iv-base"
+/// "ls-base", "idim-iv-base", "default"
 const char* toString(Variant v);
 Variant parseVariant(const std::string& name);
 const std::vector<Variant>& allVariants();
@@ -63,6 +67,10 @@ struct Record {
   ident::ClosedLoopRecord closed_loop;
   /// The same with the base-motion terms in the measured rows (parallelSignals(.., true)).
   ident::ClosedLoopRecord closed_loop_base;
+  /// The default arm's rows and the processing they were made with (the band chosen from this
+  /// record); identification records only.
+  ident::ProcessedRecord default_rows;
+  ident::SignalOptions default_signals;
 };
 
 /// The parallel arms' processing: the paper's filter (order, cutoff, edge trim) applied in

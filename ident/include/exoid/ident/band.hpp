@@ -2,83 +2,87 @@
 // The processing band chosen from the record itself: Gautier and Janot's practice (a band a few
 // times the motion's, no wider), with the errors-in-variables limit measured, not assumed.
 //
-// Least squares over the parallel-filtered rows is exact on exact data whatever the band, so a
-// wider band only adds rows of information... and whatever the regressor columns carry that the
-// measured torque does not follow: differentiated encoder noise, angle motion the torque does not
-// drive (a motor-side encoder inside a gear's backlash or compliance, structural modes). That
-// content attenuates the estimates towards zero (errors-in-variables), more the wider the band.
-// So the band is widened only while the estimates stay put:
+// Least squares over parallel-filtered rows is exact on exact data whatever the band, and a wider
+// band brings the harmonics that separate the regressor's columns (gravity from inertia on a sine
+// motion). It also brings whatever the columns carry that the measured torque does not follow:
+// differentiated encoder noise, angle motion the torque does not drive (a motor-side encoder
+// inside a gear's backlash or compliance, structural modes). That content attenuates the
+// estimates towards zero (errors-in-variables). So the band goes as wide as the torque follows
+// the states:
 //
-// 1. The motion's bandwidth f_m: the frequency below which `motion_fraction` of each angle's
-//    (mean-removed) variance lies, the larger of the two joints (Welch, 2 s segments). Angles are
-//    the cleanest channels a rig records; their spectrum falls steeply past the motion.
-// 2. A ladder of cutoffs f_m, ratio f_m, ratio^2 f_m, ... up to max_factor f_m: at each, least
-//    squares over both equations (parallel processing) and its standard errors from its own
-//    residuals (Newey-West, standard_errors.hpp).
-// 3. The cutoff is the last rung whose estimate is within `max_shift_se` of its own standard
-//    errors of the first rung's on every parameter: the bias a wider band adds stays below the
-//    noise. On exact data every rung agrees, and the band is the widest.
-// 4. The derivative pre-filter at derivative_factor x cutoff (its (f / fd)^8 distortion of the
-//    motion at the cutoff is (1/5)^8 = 2.6e-6: exact data stay exact); decimation fs / (5 cutoff).
+// 1. The motion's bandwidth f_m: the frequency below which `motion_fraction` of the angles'
+//    (mean-removed) variance lies, both joints' power pooled (Welch, 2 s segments; a joint held
+//    still, whose angle is encoder noise, does not set it).
+// 2. A pilot fit: least squares over both equations, parallel processing at pilot_factor x f_m.
+// 3. The consistency scan: the torque the pilot predicts from the measured states (the regressor
+//    of the unfiltered states) against the torque measured, in bands of scan_band_hz from f_m up
+//    (Welch; both joints' power pooled, as the stacked fit sees them). The band ends where the
+//    prediction's amplitude first exceeds inconsistency_ratio x the measurement's: there at
+//    least 1 - 1 / ratio^2 (3/4 at 2) of the columns' power is foreign to the torque.
+// 4. cutoff = that frequency, at most max_factor x f_m; the derivative pre-filter at
+//    derivative_factor x cutoff (its (f / fd)^8 distortion of the motion at the cutoff is
+//    (1/5)^8 = 2.6e-6: exact data stay exact); decimation fs / (5 cutoff).
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
 
-#include <optional>
 #include <string>
 #include <vector>
 
 namespace exoid::ident {
 
 struct BandRule {
-  /// Share of each angle's variance below the motion's bandwidth. Range (0.5, 1). Default 0.99:
+  /// Share of the angles' variance below the motion's bandwidth. Range (0.5, 1). Default 0.99:
   /// the motion itself, not the small harmonics a nonlinear response adds to it.
   double motion_fraction = 0.99;
-  /// Ratio between successive cutoffs of the ladder. Range (1, 4]. Default 1.25.
-  double ladder_ratio = 1.25;
+  /// Pilot cutoff = pilot_factor x f_m. Range >= 1. Default 1.5.
+  double pilot_factor = 1.5;
+  /// Width of the scanned bands, Hz. Range > 0. Default 1 Hz (two bins of the 2 s Welch segments).
+  double scan_band_hz = 1.0;
+  /// Predicted / measured torque amplitude above which a band is inconsistent. Range > 1. Default 2.
+  double inconsistency_ratio = 2.0;
   /// The cutoff is at most max_factor x f_m ("a few times the motion's band"). Range >= 1. Default 5.
   double max_factor = 5.0;
-  /// A rung is kept while no parameter moved from the first rung's estimate by more than this many
-  /// of its standard errors. Range > 0. Default 1: the bias stays below the noise.
-  double max_shift_se = 1.0;
   /// Derivative pre-filter = derivative_factor x cutoff. Range >= 2. Default 5.
   double derivative_factor = 5.0;
+  /// Scan the knee equation only: a record whose hip is held by a lock, not its motor (the
+  /// segmental strategy's knee record), measures no hip joint torque.
+  bool knee_only = false;
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
-/// One rung of the ladder.
-struct BandRung {
-  double cutoff_hz = 0.0;
-  Eigen::VectorXd x;         ///< LS over both equations
-  Eigen::VectorXd std_err;   ///< its standard errors (residual-based); +inf where not identifiable
-  /// max over parameters of |x - x_first| / std_err (0 on the first rung).
-  double max_shift_se = 0.0;
-  int worst_param = -1;      ///< where max_shift_se was attained
+/// One scanned band: the torque RMS the pilot predicts there and the one measured (N m, joints pooled).
+struct BandScan {
+  double from_hz = 0.0, to_hz = 0.0;
+  double predicted_rms_Nm = 0.0, measured_rms_Nm = 0.0;
+  double ratio() const;  ///< predicted / measured amplitude (1 when both are zero)
 };
 
 struct BandChoice {
   Eigen::Vector2d joint_motion_bandwidth_hz = Eigen::Vector2d::Zero();
-  double motion_bandwidth_hz = 0.0;  ///< f_m
-  std::vector<BandRung> ladder;      ///< every rung tried, in order (the last may be the one refused)
+  double motion_bandwidth_hz = 0.0;  ///< f_m (the joints' power pooled)
   /// The lowest cutoff the record's length allows: its edge trims (3 / cutoff each) keep half of it.
   double record_floor_hz = 0.0;
+  double pilot_cutoff_hz = 0.0;
+  std::vector<BandScan> scan;  ///< every band scanned, in order (the last is the inconsistent one, if any)
   double cutoff_hz = 0.0;
   double derivative_cutoff_hz = 0.0;
   int decimation = 1;
-  /// "drift" (the next rung moved an estimate by more than the rule allows), "cap" (max_factor
-  /// f_m reached), "nyquist" (the sampling rate's limit reached first).
+  /// "consistency" (the first inconsistent band), "motion" (inconsistent right above the motion:
+  /// the band stops at f_m), "cap" (max_factor f_m), "nyquist" (the sampling rate's limit).
   std::string limited_by;
-  double motion_fraction = 0.0, max_factor = 0.0, max_shift_se = 0.0;  ///< the rule's, for describe()
+  double motion_fraction = 0.0, max_factor = 0.0;  ///< the rule's, for describe()
   /// One line for a person: the numbers above and the reason.
   std::string describe() const;
 };
 
 /// The band of record d (parallel processing; `base` supplies the other options). Throws
-/// std::invalid_argument as processRecord does (too short, bad options).
+/// std::invalid_argument as processRecord does (too short, bad options), and for a record sampled
+/// below 20 Hz or too short to choose a band.
 BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule = {});
 
-/// base with the choice's cutoff, derivative cutoff and decimation in place of the ones to be
-/// chosen (SignalOptions::cutoff_from_data, derivative_cutoff_from_data).
+/// base with the choice's cutoff (and derivative cutoff, when base leaves it to the data) in place
+/// of the ones to be chosen (SignalOptions::cutoff_from_data, derivative_cutoff_from_data).
 SignalOptions withBand(const SignalOptions& base, const BandChoice& choice);
 
 }  // namespace exoid::ident
