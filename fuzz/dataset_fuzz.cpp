@@ -32,10 +32,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   EXOID_FUZZ_CHECK(d.t_s.allFinite() && d.q_rad.allFinite() && d.tau_Nm.allFinite() && d.extra.allFinite());
   for (Eigen::Index i = 1; i < n; ++i) EXOID_FUZZ_CHECK(d.t_s[i] > d.t_s[i - 1]);
   if (!(data[0] & 8)) return 0;
-  // And the parallel processing of what was read (the default of `exoid identify`).
+  // And the parallel processing of what was read: `exoid identify`'s default, the band chosen from
+  // the record (its spectrum, a pilot fit and the consistency scan), or a fixed 10 Hz band.
   SignalOptions s;
   s.processing = Processing::kParallel;
   s.differentiation = Differentiation::kCentral4;
+  s.cutoff_from_data = s.derivative_cutoff_from_data = (data[0] & 16) != 0;
   try {
     const ProcessedRecord r = processRecord(d, LegConstants{0.45, 9.81}, s);
     EXOID_FUZZ_CHECK(r.hip.allFinite() && r.knee.allFinite() && r.tau_Nm.allFinite());
