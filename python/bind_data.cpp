@@ -1,10 +1,10 @@
 // Datasets, the regressor and signal processing.
-#include <optional>
-
 #include "bindings.hpp"
 #include "convert.hpp"
 
 #include "exoid/ident/signals.hpp"
+
+#include <optional>
 
 namespace exoid::python {
 

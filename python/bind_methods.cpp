@@ -1,12 +1,14 @@
-// Identification methods, the segmental strategy, IDIM-IV and identifiability.
-#include <optional>
-
+// Identification methods, the segmental strategy, IDIM-IV, identifiability and consistent LS.
 #include "bindings.hpp"
 #include "convert.hpp"
 
 #include "exoid/experiments/controller_io.hpp"
+#include "exoid/ident/consistency.hpp"
 #include "exoid/ident/identifiability.hpp"
 #include "exoid/ident/idim_iv.hpp"
+
+#include <limits>
+#include <optional>
 
 namespace exoid::python {
 
@@ -105,6 +107,30 @@ void bindMethods(py::module_& m) {
         "What y = H x can identify: rank, condition number of the column-scaled H, unidentifiable columns, the "
         "Cramer-Rao std of each parameter for white noise of std noise_sigma (and relative to the LS estimate), each "
         "column's R^2 on the others.");
+
+  m.def("consistent_least_squares",
+        [](const Eigen::MatrixXd& H, const Eigen::VectorXd& y, double thigh_length_m, std::optional<Eigen::VectorXd> x_ls,
+           std::optional<Eigen::MatrixXd> covariance, double significance_sigmas) {
+          const Eigen::VectorXd x = x_ls ? *x_ls : solveLeastSquares(H, y).x;
+          const Eigen::MatrixXd cov = covariance ? *covariance : Eigen::MatrixXd::Constant(H.cols(), H.cols(), std::numeric_limits<double>::infinity());
+          ConsistencyOptions o;
+          o.significance_sigmas = significance_sigmas;
+          const ConsistentEstimate e = solveConsistentLeastSquares(H, y, thigh_length_m, x, cov, o);
+          py::list checks;
+          for (const ConsistencyCheck& k : e.checks) {
+            checks.append(py::dict(py::arg("condition") = k.name, py::arg("value") = k.value, py::arg("standard_error") = k.standard_error,
+                                   py::arg("violated") = k.violated(), py::arg("significant") = k.significant(significance_sigmas),
+                                   py::arg("active") = k.active));
+          }
+          return py::dict(py::arg("x") = e.x, py::arg("constrained") = e.constrained, py::arg("checks") = checks,
+                          py::arg("significant_violations") = e.significantViolations(significance_sigmas));
+        },
+        py::arg("H"), py::arg("y"), py::arg("thigh_length_m"), py::arg("x_ls") = py::none(), py::arg("covariance") = py::none(),
+        py::arg("significance_sigmas") = 2.0,
+        "The physically consistent least-squares estimate of X (10 columns, or 11 with the knee armature Ia2 last): "
+        "min ||y - H x|| subject to friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2) (and Ia2 >= 0), "
+        "by a log-barrier interior point; x_ls (default: the LS estimate) is returned unchanged when it satisfies them. "
+        "covariance (of x_ls) gives each condition's standard error; checks lists every condition at x_ls.");
 }
 
 }  // namespace exoid::python
