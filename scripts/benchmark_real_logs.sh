@@ -22,6 +22,7 @@ combos=(
   "paper processing, LS|--processing paper"
   "band from the data, lad|--method lad"
   "band from the data, knee armature|--knee-armature"
+  "band from the data, iv-band (instruments from the motion's band)|--method iv-band"
 )
 sets=("00-05+11" 00 01 02 03 04 05 11 12 13)
 

@@ -7,6 +7,7 @@
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/band.hpp"
+#include "exoid/ident/band_iv.hpp"
 #include "exoid/ident/consistency.hpp"
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/identifiability.hpp"
@@ -190,6 +191,11 @@ void checkArguments(const IdentifyArgs& a, const std::vector<ident::Method>& met
   if (iv && (a.data.size() > 1 || a.knee_data.size() > 1 || a.both_data.size() > 1)) {
     throw CLI::ValidationError("--method idim-iv", "takes one record per role for now (its instruments simulate each record "
                                "under its controller); stack records with the other methods");
+  }
+  const bool band_iv = std::find(methods.begin(), methods.end(), ident::Method::kIvBand) != methods.end();
+  if (band_iv && (segmental || a.signals.processing != ident::Processing::kParallel)) {
+    throw CLI::ValidationError("--method iv-band", "needs --data (both equations of each record) and the parallel processing "
+                               "(the default) for now");
   }
 }
 
@@ -501,7 +507,15 @@ void run(const IdentifyArgs& a) {
 
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) {
-    if (m == ident::Method::kIdimIv) {
+    if (m == ident::Method::kIvBand) {
+      // Instruments from each record's angles low-passed at its motion's bandwidth, processed in its band.
+      std::vector<ident::BandIvRows> rows;
+      for (std::size_t k = 0; k < primary.data.size(); ++k) {
+        const double fm = primary.bands[k] ? primary.bands[k]->motion_bandwidth_hz : ident::motionBandwidth(primary.data[k]);
+        rows.push_back(ident::bandIvRows(primary.data[k], c, primary.signals[k], fm, a.knee_armature));
+      }
+      outcomes.push_back(identifyAll(ident::solveBandIv(rows, mo.ls), a.knee_armature));
+    } else if (m == ident::Method::kIdimIv) {
       // Each record's instruments are processed as its measured rows were (its band).
       outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, primary.signals.front(), a.iv, a.knee_armature)
                                 : identifySegmentedIdimIv(cl_knee, cl_primary, c, primary.signals.front(), a.iv));
@@ -552,7 +566,8 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--method", args->methods,
-                  "ls, rls, pso, rls-pso, lad, idim-iv, or all (= all but idim-iv) (repeatable). idim-iv needs the\n"
+                  "ls, rls, pso, rls-pso, lad, idim-iv, iv-band, or all (= all but idim-iv and iv-band) (repeatable).\n"
+                  "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
                   "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
                   "'# controller_*' metadata exoid simulate writes)")
       ->capture_default_str()->delimiter(',')->group("Input");

@@ -130,6 +130,11 @@ MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, cons
   return allOutcome(m, ident::estimate(m, all.H, all.y, o), knee_armature);
 }
 
+MethodOutcome identifyAll(ident::Estimate e, bool knee_armature) {
+  const ident::Method m = e.method;
+  return allOutcome(m, std::move(e), knee_armature);
+}
+
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
                           const ident::MethodOptions& o) {
   return identifyAll(m, ident::regressorRecord(s, c), o);

@@ -97,6 +97,14 @@ SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, double deriv
 
 }  // namespace
 
+double motionBandwidth(const Dataset& d, double fraction) {
+  if (!(fraction > 0.5 && fraction < 1.0)) throw std::invalid_argument("motion bandwidth: fraction must be in (0.5, 1), got " + core::toText(fraction));
+  const double fs = 1.0 / d.sampleInterval_s();
+  PowerSpectrum pooled = welchPsd(d.q_rad.col(0), fs, WelchOptions{});
+  pooled.density += welchPsd(d.q_rad.col(1), fs, WelchOptions{}).density;
+  return bandwidthAt(pooled, fraction);
+}
+
 BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule) {
   rule.validate();
   const double fs = 1.0 / d.sampleInterval_s();
@@ -117,9 +125,7 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   }
   // The motion's: both angles' power pooled, so a joint held still (its angle is encoder noise,
   // spread up to Nyquist) does not set it.
-  PowerSpectrum pooled = welchPsd(d.q_rad.col(0), fs, WelchOptions{});
-  pooled.density += welchPsd(d.q_rad.col(1), fs, WelchOptions{}).density;
-  out.motion_bandwidth_hz = bandwidthAt(pooled, rule.motion_fraction);
+  out.motion_bandwidth_hz = motionBandwidth(d, rule.motion_fraction);
   // After decimation by at least 1 the cutoff must stay 2.5 samples per period below fs.
   const double ceiling = 0.2 * fs;
   // The filter's edge trims (3 / cutoff at each end) must leave at least half the record.

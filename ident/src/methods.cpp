@@ -16,6 +16,7 @@ const char* toString(Method m) {
     case Method::kRlsPso: return "rls-pso";
     case Method::kLad: return "lad";
     case Method::kIdimIv: return "idim-iv";
+    case Method::kIvBand: return "iv-band";
   }
   return "unknown";
 }
@@ -31,8 +32,9 @@ Method parseMethod(const std::string& name) {
     if (name == toString(m)) return m;
   }
   if (name == toString(Method::kIdimIv)) return Method::kIdimIv;
-  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad or idim-iv; the "
-                              "command line also takes all = every method but idim-iv)");
+  if (name == toString(Method::kIvBand)) return Method::kIvBand;
+  throw std::invalid_argument("unknown method '" + name + "' (expected ls, rls, pso, rls-pso, lad, idim-iv or iv-band; "
+                              "the command line also takes all = every method but idim-iv and iv-band)");
 }
 
 void MethodOptions::validate() const {
@@ -71,6 +73,10 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
   if (method == Method::kIdimIv) {
     throw std::invalid_argument("idim-iv is not a method over y = H x alone: it simulates the model under the "
                                 "record's controller (identifySegmentalIv, identifyAllIv)");
+  }
+  if (method == Method::kIvBand) {
+    throw std::invalid_argument("iv-band is not a method over y = H x alone: its instruments come from the records "
+                                "(band_iv.hpp, identifyBandIv)");
   }
   Estimate e;
   e.method = method;
@@ -112,7 +118,8 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
       e.x = lad->x;
       e.summary = lad->summary;
       break;
-    case Method::kIdimIv: break;  // rejected above
+    case Method::kIdimIv:
+    case Method::kIvBand: break;  // rejected above
   }
   holdToConditionBound(e, H, o.ls.max_condition);
   e.l1_cost = (y - H * e.x).cwiseAbs().sum();

@@ -73,6 +73,8 @@ MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, cons
                           bool knee_armature = false);
 MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
                           const ident::MethodOptions& o);
+/// The outcome of an estimate of all parameters made elsewhere (iv-band), stage "all".
+MethodOutcome identifyAll(ident::Estimate e, bool knee_armature = false);
 /// The paper's segmental strategy.
 MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
                                 const ident::ProcessedRecord& both_record, const ident::MethodOptions& o);

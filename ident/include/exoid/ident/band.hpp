@@ -76,6 +76,10 @@ struct BandChoice {
   std::string describe() const;
 };
 
+/// The motion's bandwidth of record d: the frequency below which `fraction` (in (0.5, 1)) of the
+/// angles' mean-removed variance lies, both joints' power pooled (Welch, 2 s segments).
+double motionBandwidth(const Dataset& d, double fraction = 0.99);
+
 /// The band of record d (parallel processing; `base` supplies the other options). Throws
 /// std::invalid_argument as processRecord does (too short, bad options), and for a record sampled
 /// below 20 Hz or too short to choose a band.

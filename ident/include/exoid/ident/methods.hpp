@@ -20,11 +20,14 @@ enum class Method {
   /// Instrumental variables from closed-loop simulations of the model (idim_iv.hpp). Not a
   /// method over y = H x alone: estimate() rejects it; it needs records and their controller.
   kIdimIv,
+  /// Instrumental variables from the motion's band (band_iv.hpp): needs no controller model, but
+  /// the records themselves, not y = H x alone: estimate() rejects it.
+  kIvBand,
 };
-const char* toString(Method m);  ///< "ls", "rls", "pso", "rls-pso", "lad", "idim-iv"
-/// Parses a method name (allMethods() or "idim-iv"); throws std::invalid_argument listing them.
+const char* toString(Method m);  ///< "ls", "rls", "pso", "rls-pso", "lad", "idim-iv", "iv-band"
+/// Parses a method name (allMethods(), "idim-iv" or "iv-band"); throws std::invalid_argument listing them.
 Method parseMethod(const std::string& name);
-/// The methods over a linear problem y = H x (estimate() runs them): all but kIdimIv.
+/// The methods over a linear problem y = H x (estimate() runs them): all but kIdimIv and kIvBand.
 const std::vector<Method>& allMethods();
 
 struct MethodOptions {
