@@ -41,6 +41,7 @@ struct IdentifyArgs {
   CLI::Option* wide_box_option = nullptr;  ///< given explicitly? else sized from the data
   bool history = false;
   bool consistency = true;  ///< LS over --data: the physically consistent estimate (--no-consistency)
+  bool timing = false;      ///< wall times in the table and the JSON (they differ run to run)
   ident::ConsistencyOptions consistency_options;
 };
 
@@ -66,7 +67,7 @@ bool unidentifiable(const MethodOutcome& m, int i) {
   return false;
 }
 
-void printResults(const std::vector<MethodOutcome>& outcomes,
+void printResults(bool timing, const std::vector<MethodOutcome>& outcomes,
                   const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                   const std::map<std::string, ident::ParamVector>& truths) {
   std::vector<std::string> header{"param", "unit"};
@@ -109,7 +110,7 @@ void printResults(const std::vector<MethodOutcome>& outcomes,
     t.addRow(row);
   }
   t.addRow(status);
-  t.addRow(time);
+  if (timing) t.addRow(time);  // wall times differ run to run: only when asked (--timing)
   t.print(std::cout);
   if (!truths.empty()) std::cout << "(percent: relative error against '" << truths.begin()->first << "')\n";
   for (const MethodOutcome& m : outcomes) {
@@ -391,6 +392,16 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
   }
 }
 
+// Every "wall_time_s" in j, at any depth: the one entry that differs between identical runs.
+void eraseWallTimes(nlohmann::json& j) {
+  if (j.is_object()) {
+    j.erase("wall_time_s");
+    for (auto& [key, value] : j.items()) eraseWallTimes(value);
+  } else if (j.is_array()) {
+    for (auto& value : j) eraseWallTimes(value);
+  }
+}
+
 void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
                        const Role& primary, const Role& knee, const ident::MethodOptions& mo,
                        const std::vector<MethodOutcome>& outcomes,
@@ -465,6 +476,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
     j["band_sensitivity"] = {{"cutoff_factor", sensitivity->factor}, {"shift_standard_errors", sh},
                              {"over_one_standard_error", sensitivity->over_one}};
   }
+  if (!a.timing) eraseWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
     for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
@@ -538,7 +550,7 @@ void run(const IdentifyArgs& a) {
     validations.emplace_back(file, std::move(v));
   }
 
-  printResults(outcomes, validations, truths);
+  printResults(a.timing, outcomes, validations, truths);
   printConsistency(outcomes);
   if (sensitivity) printSensitivity(*sensitivity);
   if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths, sensitivity);
@@ -597,6 +609,9 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--significance", args->consistency_options.significance_sigmas,
                   "Standard errors beyond which a violated physical condition is significant (exit code 3)")
       ->check(positiveNumber())->capture_default_str()->group("Identification");
+  cmd->add_flag("--timing", args->timing,
+                "Wall times of each method in the table and the JSON (without it, the same input gives the same bytes)")
+      ->group("Output");
   cmd->add_flag("--history", args->history, "Include PSO best-cost histories in the JSON")->group("Output");
   addConstantsOptions(*cmd, args->constants);
   addLogInputOptions(*cmd, args->log);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <random>
 
 namespace exoid::experiments {
 namespace {
@@ -80,6 +81,42 @@ TEST(IdentifyCli, DefaultOptionsRecoverExactDataExactly) {
     worst = std::max(worst, std::abs(p["parameters"][n].get<double>() - truth[i]) / std::abs(truth[i]));
   }
   EXPECT_GT(worst, 0.01);
+}
+
+TEST(IdentifyCli, EveryChoiceMadeFromTheDataIsPrintedAndInTheJsonAndTheBytesRepeat) {
+  // A noisy record (the band is then a real choice), identified twice with the defaults: the band's
+  // reason is printed, the JSON carries it per record with the consistency step, and both runs give
+  // the same bytes on stdout and in the JSON (wall times only with --timing).
+  const ident::Dataset exact = test::multisineRecord(10.0, true, false);
+  ident::Dataset d = exact;
+  std::mt19937_64 gen(5);
+  std::normal_distribution<double> n(0.0, 1e-4);
+  d.q_rad += Eigen::MatrixX2d::NullaryExpr(d.size(), 2, [&] { return n(gen); });
+  d.comments = {" thigh_length_m: 0.45"};
+  const std::string csv = ::testing::TempDir() + "/noisy_multisine.csv";
+  ident::writeDatasetCsv(d, csv);
+  std::string outputs[2], jsons[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string out = ::testing::TempDir() + "/repeat" + std::to_string(k) + ".json";
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(runExoid({"identify", "--data", csv, "--json", out}), 0);
+    outputs[k] = testing::internal::GetCapturedStdout();
+    std::ifstream in(out);
+    jsons[k].assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  EXPECT_EQ(outputs[0], outputs[1]);
+  EXPECT_EQ(jsons[0], jsons[1]);
+  EXPECT_NE(outputs[0].find("band: motion up to"), std::string::npos) << outputs[0];
+  EXPECT_NE(outputs[0].find("standard errors (from the residuals"), std::string::npos) << outputs[0];
+  EXPECT_NE(outputs[0].find("band sensitivity"), std::string::npos) << outputs[0];
+  const nlohmann::json j = nlohmann::json::parse(jsons[0]);
+  const nlohmann::json& band = j["processing_per_record"][csv];
+  EXPECT_TRUE(band["chosen_from_data"].get<bool>());
+  EXPECT_GT(band["cutoff_hz"].get<double>(), 0.0);
+  EXPECT_FALSE(band["reason"].get<std::string>().empty());
+  EXPECT_TRUE(j["methods"]["ls"].contains("consistency"));
+  EXPECT_TRUE(j.contains("band_sensitivity"));
+  EXPECT_EQ(jsons[0].find("wall_time_s"), std::string::npos);
 }
 
 TEST(IdentifyCli, PhysicallyImplausibleEstimateExitsThree) {
