@@ -179,6 +179,10 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   app.add_option("--ramp", c.ramp_s, "Smooth start ramp, s (run before recording)")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--noise-q-deg", c.sensors.noise_q_deg, "Encoder noise std, deg")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--quantisation-deg", c.sensors.quantisation_deg, "Encoder resolution, deg (0 = none)")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  app.add_option("--encoder-backlash-deg", c.sensors.encoder_backlash_deg,
+                 "Play between each joint and its encoder, deg (a motor-side encoder behind a gear's backlash: angle motion "
+                 "the torque does not drive; the controller reads it too); 0 = none")
+      ->check(CLI::Range(0.0, 89.999))->capture_default_str()->group(g);
   app.add_option("--noise-tau", c.sensors.noise_tau_Nm, "Torque sensor noise std, N m")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--tau-bias-hip", c.sensors.tau_bias_Nm[0], "Torque sensor bias, hip, N m")->capture_default_str()->group(g);
   app.add_option("--tau-bias-knee", c.sensors.tau_bias_Nm[1], "Torque sensor bias, knee, N m")->capture_default_str()->group(g);

@@ -1,5 +1,6 @@
 #include "exoid/sim/sensors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +19,8 @@ void SensorOptions::validate() const {
   check("noise_q_deg", noise_q_deg, std::isfinite(noise_q_deg) && noise_q_deg >= 0 && noise_q_deg < 90, "in [0, 90)");
   check("quantisation_deg", quantisation_deg,
         std::isfinite(quantisation_deg) && quantisation_deg >= 0 && quantisation_deg < 90, "in [0, 90)");
+  check("encoder_backlash_deg", encoder_backlash_deg,
+        std::isfinite(encoder_backlash_deg) && encoder_backlash_deg >= 0 && encoder_backlash_deg < 90, "in [0, 90)");
   // Physical bounds, so that no setting can put an infinite or absurd number into a record: a
   // torque sensor noisier than 1 kN m (or biased more) measures nothing of a leg.
   check("noise_tau_Nm", noise_tau_Nm, std::isfinite(noise_tau_Nm) && noise_tau_Nm >= 0 && noise_tau_Nm <= 1e3, "in [0, 1000] N m");
@@ -44,6 +47,7 @@ Sensors::Sensors(const SensorOptions& o, std::uint64_t seed, double dt_s)
     : o_(o),
       noise_q_rad_(o.noise_q_deg * M_PI / 180.0),
       quant_rad_(o.quantisation_deg * M_PI / 180.0),
+      backlash_rad_(o.encoder_backlash_deg * M_PI / 180.0),
       enc_(streamSeed(seed, kStreamEncoder)),
       tau_(streamSeed(seed, kStreamTorque)),
       imu_(streamSeed(seed, kStreamImu)),
@@ -67,10 +71,16 @@ Eigen::Vector2d Sensors::angles(const Eigen::Vector2d& q) {
   Eigen::Vector2d out;
   for (int j = 0; j < 2; ++j) {
     double v = q[j];
+    if (backlash_rad_ > 0) {
+      double& r = play_[static_cast<std::size_t>(j)];
+      r = play_started_ ? std::clamp(r, v - 0.5 * backlash_rad_, v + 0.5 * backlash_rad_) : v;
+      v = r;
+    }
     if (noise_q_rad_ > 0) v += noise_q_rad_ * enc_.normal();
     if (quant_rad_ > 0) v = std::nearbyint(v / quant_rad_) * quant_rad_;
     out[j] = v;
   }
+  play_started_ = true;
   return out;
 }
 

@@ -32,6 +32,7 @@ nlohmann::json configJson(const SimConfig& c) {
   j["dt_s"] = c.dt_s;
   j["sensors"] = {{"noise_q_deg", c.sensors.noise_q_deg},
                   {"quantisation_deg", c.sensors.quantisation_deg},
+                  {"encoder_backlash_deg", c.sensors.encoder_backlash_deg},
                   {"noise_tau_Nm", c.sensors.noise_tau_Nm},
                   {"tau_bias_Nm", {{"hip", c.sensors.tau_bias_Nm[0]}, {"knee", c.sensors.tau_bias_Nm[1]}}},
                   {"tau_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},

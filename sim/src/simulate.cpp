@@ -358,6 +358,7 @@ struct Simulator::Impl {
     meta("gravity_mps2", core::formatNumber(r.truth.gravity_mps2, 17));
     meta("noise_q_deg", core::formatNumber(cfg.sensors.noise_q_deg, 17));
     meta("quantisation_deg", core::formatNumber(cfg.sensors.quantisation_deg, 17));
+    if (cfg.sensors.encoder_backlash_deg > 0) meta("encoder_backlash_deg", core::formatNumber(cfg.sensors.encoder_backlash_deg, 17));
     meta("noise_tau_Nm", core::formatNumber(cfg.sensors.noise_tau_Nm, 17));
     meta("vibration_level", core::formatNumber(cfg.variant.vibration_level, 17));
     meta("cylinder_mass_scale", core::formatNumber(cfg.variant.cylinder_mass_scale, 17));

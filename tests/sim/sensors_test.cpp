@@ -150,6 +150,38 @@ TEST(SensorsTest, ImuNoiseHasTheSetStandardDeviations) {
   }
 }
 
+TEST(SensorsTest, EncoderBacklashIsAPlayOperator) {
+  // A 1 Hz sine of 0.3 rad through 0.5 deg of play: the reading lags the joint by b/2 while it
+  // moves, stands still at each reversal until the joint has moved b, and never strays more than
+  // b/2 (the definition of a play operator).
+  SensorOptions o;
+  o.encoder_backlash_deg = 0.5;
+  Sensors s(o, 3, kDt);
+  const double b = 0.5 * kDeg;
+  double worst = 0.0;
+  int standing = 0;
+  Eigen::Vector2d prev;
+  for (int i = 0; i < 2000; ++i) {
+    const double q = 0.3 * std::sin(2 * M_PI * 1.0 * i * kDt);
+    const Eigen::Vector2d r = s.angles(Eigen::Vector2d(q, -q));
+    worst = std::max(worst, std::abs(r[0] - q));
+    if (i > 0 && r[0] == prev[0]) ++standing;
+    if (i == 100) EXPECT_NEAR(r[0], q - 0.5 * b, 1e-12);  // moving up: lags by b/2
+    if (i == 500) EXPECT_NEAR(r[0], q + 0.5 * b, 1e-12);  // moving down: leads by b/2
+    prev = r;
+  }
+  EXPECT_LE(worst, 0.5 * b * (1 + 1e-12));
+  // At each of the 4 reversals it stands from the peak until the joint is back by b: near a peak
+  // of 0.3 sin(w t), 0.3 w^2 t^2 / 2 = b, t = sqrt(2 b / (0.3 w^2)) = 38.4 samples; plus the
+  // start, where it stands until the joint has moved b/2 (2.3 samples). One sample of rounding
+  // per stand.
+  const double per_reversal = std::sqrt(2.0 * b / (0.3 * std::pow(2 * M_PI, 2))) / kDt;
+  const double at_start = 0.5 * b / (0.3 * 2 * M_PI) / kDt;
+  EXPECT_NEAR(standing, 4.0 * per_reversal + at_start, 5.0);
+  o.encoder_backlash_deg = -1.0;
+  EXPECT_THROW(o.validate(), std::invalid_argument);
+}
+
 TEST(SensorsTest, ValidationNamesTheField) {
   SensorOptions o;
   o.noise_tau_Nm = -1;

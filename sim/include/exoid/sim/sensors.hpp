@@ -16,6 +16,14 @@ struct SensorOptions {
   double noise_q_deg = 0.0;
   /// Encoder resolution (deg per count), >= 0; 0 = no quantisation. Reading = round(x/r) r.
   double quantisation_deg = 0.0;
+  /// Play between each joint and its encoder (deg, in [0, 90)), e.g. a motor-side encoder reading
+  /// the joint through a gear's backlash: the reading follows the joint only once the joint has
+  /// taken up the play (a play operator: r = clamp(r, q - b/2, q + b/2)), so at every reversal it
+  /// stands still while the joint moves b. The angles then carry motion the joint torque does not
+  /// drive (errors-in-variables in the regressor columns, as on the DFKI double pendulum's logs),
+  /// and the controller, which reads the same encoder, reacts to it. Applied before noise and
+  /// quantisation. 0 = none (default).
+  double encoder_backlash_deg = 0.0;
   /// Torque sensor white noise, standard deviation (N m), >= 0.
   double noise_tau_Nm = 0.0;
   /// Constant torque sensor bias (N m), hip and knee; finite.
@@ -49,7 +57,9 @@ class Sensors {
 
  private:
   SensorOptions o_;
-  double noise_q_rad_, quant_rad_;
+  double noise_q_rad_, quant_rad_, backlash_rad_;
+  std::array<double, 2> play_{0.0, 0.0};  ///< the play operator's state (the encoder side)
+  bool play_started_ = false;
   Rng enc_, tau_, imu_;
   std::array<SecondOrderLowpass, 2> tau_filter_;
 };
