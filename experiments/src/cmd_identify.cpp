@@ -343,7 +343,12 @@ std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role
   lo.max_condition = std::numeric_limits<double>::max();
   const Eigen::VectorXd wider = ident::solveLeastSquares(p.H, p.y, lo).x;
   const ConsistencyStep& cs = *ls->consistency;
-  out.shift_se = (wider - cs.unconstrained).cwiseQuotient(cs.std_err);
+  out.shift_se.resize(wider.size());
+  for (Eigen::Index i = 0; i < wider.size(); ++i) {
+    const double se = cs.std_err[i], change = wider[i] - cs.unconstrained[i];
+    // A parameter without a finite, positive standard error has no scale to judge a change by.
+    out.shift_se[i] = se > 0.0 && std::isfinite(se) ? change / se : 0.0;
+  }
   for (Eigen::Index i = 0; i < out.shift_se.size(); ++i) {
     if (std::abs(out.shift_se[i]) > 1.0) out.over_one.emplace_back(ident::paramName(static_cast<int>(i)));
   }
@@ -544,7 +549,13 @@ void run(const IdentifyArgs& a) {
       single ? bandSensitivity(a, primary, c, outcomes) : std::nullopt;
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
-    const ident::ProcessedRecord rv = ident::processRecord(readLog(file, log), c, a.signals);
+    // In the band the fit used (its first record's), so the errors are the fit's yardstick.
+    ident::ProcessedRecord rv;
+    try {
+      rv = ident::processRecord(readLog(file, log), c, primary.signals.front());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
     std::vector<Validation> v;
     for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
     validations.emplace_back(file, std::move(v));

@@ -162,6 +162,10 @@ void run(RenderArgs& a) {
                                 core::toText(a.clip.render.width + a.clip.render.width % 2) + " --height " +
                                 core::toText(a.clip.render.height + a.clip.render.height % 2));
   }
+  if (a.signals.cutoff_from_data || a.signals.derivative_cutoff_from_data) {
+    throw std::invalid_argument("render's predicted torque uses the paper's signal processing: give --cutoff-hz and "
+                                "--derivative-cutoff-hz as numbers, not auto");
+  }
   // Fail fast, before simulating or rendering: ffmpeg present, output folder writable.
   if (!still) render::requireFfmpeg(a.clip.ffmpeg);
   core::checkOutputWritable(a.out);

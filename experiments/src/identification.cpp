@@ -144,8 +144,8 @@ std::vector<std::string> ConsistencyStep::withinNoise() const {
   std::vector<std::string> out;
   for (const ident::ConsistencyCheck& k : fit.checks) {
     if (!k.violated() || k.significant(significance_sigmas)) continue;
-    out.push_back(k.name + " (value " + core::formatNumber(k.value, 4) + ", " + core::formatNumber(-k.t(), 3) +
-                  " standard errors outside)");
+    out.push_back(k.name + " (value " + core::formatNumber(k.value, 4) + ", " +
+                  (std::isinf(k.standard_error) ? std::string("standard error unknown") : core::formatNumber(-k.t(), 3) + " standard errors outside") + ")");
   }
   return out;
 }
@@ -158,11 +158,13 @@ void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const i
   const bool armature = m.knee_armature.has_value();
   const ident::SegmentalProblem p = ident::bothEquations(r, armature);
   const Eigen::VectorXd x = m.stages.front().estimate.x;
-  if (!m.stages.front().estimate.unidentifiable.empty()) return;  // rank: reported as not usable already
+  // Rank, conditioning: reported as not usable already; the plain plausibility rule stays.
+  if (!ident::usable(m.stages.front().estimate.summary.status)) return;
   ConsistencyStep step;
   step.unconstrained = x;
   step.significance_sigmas = options.significance_sigmas;
-  const Eigen::MatrixXd cov = ident::residualCovariance(p.H, p.y - p.H * x, ident::interleavedChannels(p.H.rows()));
+  // One channel, both equations of a sample one step (their residuals are correlated).
+  const Eigen::MatrixXd cov = ident::residualCovariance(p.H, p.y - p.H * x, ident::interleavedChannels(p.H.rows(), 1), -1, 2);
   step.std_err = cov.diagonal().cwiseSqrt();
   step.fit = ident::solveConsistentLeastSquares(p.H, p.y, c.thigh_length_m, x, cov, options);
   m.x = step.fit.x.head(kNumParams);

@@ -49,6 +49,10 @@ Variant parseVariant(const std::string& name) {
 
 void ProtocolConfig::validate() const {
   sim.validate();
+  if (signals.cutoff_from_data || signals.derivative_cutoff_from_data) {
+    throw std::invalid_argument("the protocol's arms use fixed cutoffs (its 'default' arm chooses its own band per record): "
+                                "give --cutoff-hz and --derivative-cutoff-hz as numbers, not auto");
+  }
   signals.validateFor(1.0 / sim.dt_s);  // the records' rate: a cutoff above its Nyquist fails every run
   if (signals.processing != ident::Processing::kPaper) {
     throw std::invalid_argument("the protocol's arms use the paper's signal processing ('--processing paper'); "

@@ -44,8 +44,12 @@ std::string BandChoice::describe() const {
     s << "from " << core::formatNumber(scan.back().from_hz, 3) << " Hz the states predict " << core::formatNumber(scan.back().ratio(), 3)
       << "x the torque measured (content the torque does not follow: errors-in-variables), so no wider";
   } else if (limited_by == "motion" && !scan.empty()) {
-    s << "the states predict " << core::formatNumber(scan.back().ratio(), 3)
-      << "x the torque measured right above the motion: the band stops at the motion's";
+    s << "the states predict " << core::formatNumber(scan.back().ratio(), 3) << "x the torque measured right above "
+      << (record_floor_hz > motion_bandwidth_hz ? "the lowest band the record's length allows: the band stops there"
+                                                : "the motion: the band stops at the motion's");
+  } else if (limited_by == "length") {
+    s << "the lowest band the record's length allows is above the cap of " << core::formatNumber(max_factor, 3)
+      << "x the motion's bandwidth: the band is that lowest one";
   } else if (limited_by == "cap") {
     s << "the torque follows the states up to the cap of " << core::formatNumber(max_factor, 3) << "x the motion's bandwidth";
   } else {
@@ -137,7 +141,9 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   out.record_floor_hz = floor_hz;
   const double first = std::clamp(out.motion_bandwidth_hz, floor_hz, ceiling);
   const double cap = std::clamp(rule.max_factor * out.motion_bandwidth_hz, first, ceiling);
-  out.limited_by = cap < rule.max_factor * out.motion_bandwidth_hz ? "nyquist" : "cap";
+  out.limited_by = floor_hz >= rule.max_factor * out.motion_bandwidth_hz ? "length"
+                  : cap < rule.max_factor * out.motion_bandwidth_hz                ? "nyquist"
+                                                                                    : "cap";
   // The pilot: least squares in a band just wider than the motion.
   const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule.derivative_factor, fs);
   out.pilot_cutoff_hz = pilot.cutoff_hz;
@@ -159,7 +165,7 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   for (double from = first; from < cap - 1e-9; from += rule.scan_band_hz) {
     BandScan b;
     b.from_hz = from;
-    b.to_hz = from + rule.scan_band_hz;
+    b.to_hz = std::min(from + rule.scan_band_hz, cap);  // nothing above the cap has a say
     b.predicted_rms_Nm = std::sqrt(bandPower(predicted, b.from_hz, b.to_hz));
     b.measured_rms_Nm = std::sqrt(bandPower(measured, b.from_hz, b.to_hz));
     out.scan.push_back(b);

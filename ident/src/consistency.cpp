@@ -34,8 +34,9 @@ std::vector<std::string> ConsistentEstimate::significantViolations(double sigmas
   std::vector<std::string> out;
   for (const ConsistencyCheck& c : checks) {
     if (!c.significant(sigmas)) continue;
-    out.push_back(c.name + " violated by " + core::formatNumber(-c.t(), 3) + " standard errors (value " +
-                  core::formatNumber(c.value, 4) + ")");
+    out.push_back(c.name + " violated by " + (std::isfinite(c.t()) ? core::formatNumber(-c.t(), 3) + " standard errors"
+                                                                  : std::string("far more than its standard error (0)")) +
+                  " (value " + core::formatNumber(c.value, 4) + ")");
   }
   return out;
 }
@@ -182,9 +183,9 @@ ConsistentEstimate solveConsistentLeastSquares(const Eigen::MatrixXd& H, const E
   const double yy = y.squaredNorm();
   if (!(yy > 0.0)) throw std::invalid_argument("consistent least squares: the torque is zero");
   Barrier b{cond, s.asDiagonal() * (H.transpose() * H) * s.asDiagonal() / yy, s.asDiagonal() * (H.transpose() * y) / yy, s};
-  if (Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(b.G).rank() < n) {
-    throw std::invalid_argument("consistent least squares: the regressor is rank deficient");
-  }
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> rank_qr(H * s.asDiagonal());
+  rank_qr.setThreshold(LsOptions{}.rank_tolerance);  // least squares' own rank rule
+  if (rank_qr.rank() < n) throw std::invalid_argument("consistent least squares: the regressor is rank deficient");
   // Margins: a 0.1 % share of the torque's norm in each column's units.
   const Eigen::VectorXd margin = 1e-3 * std::sqrt(yy) * s;
   Eigen::VectorXd z = strictlyFeasible(cond, x_ls, margin).cwiseQuotient(s);

@@ -278,9 +278,12 @@ SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, cons
     return withBand(o, chooseBand(d, c, o, rule));
   }
   SignalOptions r = o;
-  r.derivative_cutoff_from_data = false;
-  r.derivative_cutoff_hz = BandRule{}.derivative_factor * o.cutoff_hz;
-  if (r.derivative_cutoff_hz >= 0.5 / d.sampleInterval_s()) r.derivative_cutoff_hz = 0.0;  // above Nyquist: none
+  r.cutoff_from_data = false;  // unfiltered (--no-filter): no band to choose
+  if (o.derivative_cutoff_from_data) {
+    r.derivative_cutoff_from_data = false;
+    r.derivative_cutoff_hz = BandRule{}.derivative_factor * o.cutoff_hz;
+    if (r.derivative_cutoff_hz >= 0.5 / d.sampleInterval_s()) r.derivative_cutoff_hz = 0.0;  // above Nyquist: none
+  }
   return r;
 }
 

@@ -23,7 +23,8 @@ std::vector<Channel> interleavedChannels(Eigen::Index rows, int equations) {
 }
 
 Eigen::MatrixXd residualCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& residual,
-                                   const std::vector<Channel>& channels, int lags) {
+                                   const std::vector<Channel>& channels, int lags, int rows_per_step) {
+  if (rows_per_step < 1) throw std::invalid_argument("residual covariance: rows_per_step must be >= 1");
   const Eigen::Index p = H.cols();
   if (residual.size() != H.rows()) {
     throw std::invalid_argument("residual covariance: " + core::toText(H.rows()) + " rows but " +
@@ -36,12 +37,16 @@ Eigen::MatrixXd residualCovariance(const Eigen::MatrixXd& H, const Eigen::Vector
       if (i < 0 || i >= H.rows()) throw std::invalid_argument("residual covariance: row index " + core::toText(i) + " out of range");
     }
   }
-  const int L = lags >= 0 ? lags : neweyWestLags(static_cast<Eigen::Index>(longest));
+  const int L = lags >= 0 ? lags : neweyWestLags(static_cast<Eigen::Index>(longest) / rows_per_step);
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(p, p);
   for (const Channel& c : channels) {
-    const Eigen::Index n = static_cast<Eigen::Index>(c.size());
-    Eigen::MatrixXd u(n, p);  // h_t r_t
-    for (Eigen::Index k = 0; k < n; ++k) u.row(k) = H.row(c[static_cast<std::size_t>(k)]) * residual[c[static_cast<std::size_t>(k)]];
+    const Eigen::Index rows = static_cast<Eigen::Index>(c.size());
+    const Eigen::Index n = (rows + rows_per_step - 1) / rows_per_step;
+    Eigen::MatrixXd u = Eigen::MatrixXd::Zero(n, p);  // sum over the step's rows of h r
+    for (Eigen::Index k = 0; k < rows; ++k) {
+      const Eigen::Index row = c[static_cast<std::size_t>(k)];
+      u.row(k / rows_per_step) += H.row(row) * residual[row];
+    }
     S.noalias() += u.transpose() * u;
     for (int l = 1; l <= L && l < n; ++l) {
       const double w = 1.0 - static_cast<double>(l) / (L + 1.0);

@@ -105,6 +105,14 @@ TEST(InputErrors, TimeInTheWrongUnitIsSuggested) {
   EXPECT_EQ(o.text.find("pole"), std::string::npos) << o.text;
 }
 
+TEST(InputErrors, AutoCutoffsAreIdentifysNotTheProtocols) {
+  // The protocol's arms and render's prediction use fixed cutoffs; 'auto' there would be silently
+  // ignored or mismatch the arms' noise paths, so it is refused by name.
+  const Outcome o = run({"reproduce", "--cutoff-hz", "auto", "--out", scratch("auto_reproduce"), "--no-plots", "--no-optimised-arm"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("not auto"), std::string::npos) << o.text;
+}
+
 TEST(InputErrors, ARecordTooShortForTheProcessingSaysHowLongItMustBe) {
   const std::string out = scratch("short_reproduce");
   const Outcome o = run({"reproduce", "--duration", "0.002", "--out", out, "--no-plots", "--no-optimised-arm"});

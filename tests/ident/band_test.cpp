@@ -77,6 +77,22 @@ TEST(Band, AJointHeldStillDoesNotSetTheMotionsBandwidth) {
   EXPECT_GT(b.joint_motion_bandwidth_hz[0], 100.0);
 }
 
+TEST(Band, AGivenDerivativeCutoffIsKeptAndAnUnfilteredRecordHasNoBandToChoose) {
+  const Dataset d = test::multisineRecord(10.0, true, false);
+  SignalOptions o = identifyDefaults();
+  o.filter = false;                       // --no-filter
+  o.derivative_cutoff_from_data = false;  // --derivative-cutoff-hz 30
+  o.derivative_cutoff_hz = 30.0;
+  const SignalOptions r = resolveSignalOptions(d, LegConstants{}, o);
+  EXPECT_EQ(r.derivative_cutoff_hz, 30.0);
+  EXPECT_FALSE(r.cutoff_from_data);
+  // A given cutoff with the derivative pre-filter left to the data: 5x it.
+  SignalOptions g = identifyDefaults();
+  g.cutoff_from_data = false;
+  g.cutoff_hz = 4.0;
+  EXPECT_EQ(resolveSignalOptions(d, LegConstants{}, g).derivative_cutoff_hz, 20.0);
+}
+
 TEST(Band, RefusalsSayWhy) {
   Dataset slow = test::multisineRecord(10.0);
   slow.t_s *= 1000.0;  // milliseconds read as seconds: 1 Hz sampling

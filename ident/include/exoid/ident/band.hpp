@@ -68,8 +68,9 @@ struct BandChoice {
   double cutoff_hz = 0.0;
   double derivative_cutoff_hz = 0.0;
   int decimation = 1;
-  /// "consistency" (the first inconsistent band), "motion" (inconsistent right above the motion:
-  /// the band stops at f_m), "cap" (max_factor f_m), "nyquist" (the sampling rate's limit).
+  /// "consistency" (the first inconsistent band), "motion" (inconsistent right above the motion, or
+  /// above the record's floor: the band stops there), "cap" (max_factor f_m), "nyquist" (the
+  /// sampling rate's limit), "length" (the record's floor is above the cap).
   std::string limited_by;
   double motion_fraction = 0.0, max_factor = 0.0;  ///< the rule's, for describe()
   /// One line for a person: the numbers above and the reason.

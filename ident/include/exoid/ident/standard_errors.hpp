@@ -26,9 +26,12 @@ using Channel = std::vector<Eigen::Index>;
 std::vector<Channel> interleavedChannels(Eigen::Index rows, int equations = 2);
 
 /// The covariance C above of x = argmin ||y - H x|| given residual = y - H x. lags < 0: the
-/// automatic lag of the longest channel. Every entry +inf when H^T H is singular. Throws
-/// std::invalid_argument on size mismatches or a row index out of range.
+/// automatic lag of the longest channel (in steps). rows_per_step: consecutive rows of a channel
+/// that belong to one instant and whose scores h r are summed before the lags (2 for both joint
+/// equations of a sample, interleaved: noise in qdd2 and the shank's model error enter both, so
+/// their residuals are correlated). Every entry +inf when H^T H is singular. Throws
+/// std::invalid_argument on size mismatches, a row index out of range or rows_per_step < 1.
 Eigen::MatrixXd residualCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& residual,
-                                   const std::vector<Channel>& channels, int lags = -1);
+                                   const std::vector<Channel>& channels, int lags = -1, int rows_per_step = 1);
 
 }  // namespace exoid::ident
