@@ -3,6 +3,7 @@
 #include "convert.hpp"
 
 #include "exoid/experiments/controller_io.hpp"
+#include "exoid/ident/band.hpp"
 #include "exoid/ident/consistency.hpp"
 #include "exoid/ident/identifiability.hpp"
 #include "exoid/ident/idim_iv.hpp"

@@ -90,13 +90,8 @@ void run(const Args& a) {
   ident::SignalOptions signals = a.signals;  // with the band chosen from this record, as identify does
   std::optional<ident::BandChoice> band;
   try {
-    if (signals.processing == ident::Processing::kParallel && signals.filter && signals.cutoff_from_data) {
-      band = ident::chooseBand(d, c, signals);
-      signals = ident::withBand(signals, *band);
-      std::cout << "band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-    } else {
-      signals = ident::resolveSignalOptions(d, c, signals);
-    }
+    signals = ident::resolveSignalOptions(d, c, signals, false, &band);
+    if (band) std::cout << "band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
     s = ident::processRecord(d, c, signals);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(d));

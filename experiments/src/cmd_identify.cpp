@@ -223,17 +223,10 @@ void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegCo
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
       try {
-        ident::SignalOptions o = a.signals;
+        // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
         std::optional<ident::BandChoice> band;
-        if (o.processing == ident::Processing::kParallel && o.filter && o.cutoff_from_data) {
-          ident::BandRule rule;
-          rule.knee_only = role == &knee;  // the segmental knee record: its hip is locked, no hip torque
-          band = ident::chooseBand(role->data[k], c, o, rule);
-          o = ident::withBand(o, *band);
-          std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-        } else {
-          o = ident::resolveSignalOptions(role->data[k], c, o);
-        }
+        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], c, a.signals, role == &knee, &band);
+        if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
         rows.push_back(ident::processRecord(role->data[k], c, o));
         role->signals.push_back(o);
         role->bands.push_back(band);
@@ -331,10 +324,7 @@ std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role
     if (primary.bands[k]) {
       const double fs = 1.0 / primary.data[k].sampleInterval_s();
       o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
-      if (a.signals.derivative_cutoff_from_data) {
-        const double fd = ident::BandRule{}.derivative_factor * o.cutoff_hz;
-        o.derivative_cutoff_hz = fd < 0.5 * fs ? fd : 0.0;
-      }
+      if (a.signals.derivative_cutoff_from_data) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs);
     }
     rows.push_back(ident::processRecord(primary.data[k], c, o));
   }

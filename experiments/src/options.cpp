@@ -64,6 +64,21 @@ static CLI::Validator autoOrNumber(bool zero_allowed) {
       zero_allowed ? "auto|HZ>=0" : "auto|HZ>0");
 }
 
+// An option taking "auto" (from_data = true) or a number (from_data = false, value = it).
+static void addAutoOrNumber(CLI::App& app, const std::string& name, bool& from_data, double& value, bool zero_allowed,
+                            const std::string& help) {
+  app.add_option_function<std::string>(
+         name,
+         [&from_data, &value](const std::string& v) {
+           from_data = v == "auto";
+           if (!from_data) value = *wholeNumber(v);
+         },
+         help)
+      ->check(autoOrNumber(zero_allowed))
+      ->default_str(from_data ? "auto" : core::formatNumber(value, 6))
+      ->group("Signal processing");
+}
+
 const CLI::Validator& positiveNumber() {
   static const CLI::Validator v(
       [](std::string& text) -> std::string {
@@ -88,17 +103,9 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
       ->group("Signal processing");
   app.add_option("--decimation", o.decimation, "Parallel processing: keep every n-th row (0 = auto: fs / (5 cutoff))")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
-  app.add_option_function<std::string>(
-         "--derivative-cutoff-hz",
-         [&o](const std::string& v) {
-           o.derivative_cutoff_from_data = v == "auto";
-           if (!o.derivative_cutoff_from_data) o.derivative_cutoff_hz = *wholeNumber(v);
-         },
-         "Parallel processing: the angles' pre-filter before differentiating, Hz (0 = none), or auto: 5 x the\n"
-         "cutoff in use")
-      ->check(autoOrNumber(true))
-      ->default_str(o.derivative_cutoff_from_data ? "auto" : core::formatNumber(o.derivative_cutoff_hz, 6))
-      ->group("Signal processing");
+  addAutoOrNumber(app, "--derivative-cutoff-hz", o.derivative_cutoff_from_data, o.derivative_cutoff_hz, true,
+                  "Parallel processing: the angles' pre-filter before differentiating, Hz (0 = none), or auto: 5 x the\n"
+                  "cutoff in use");
   static const std::map<std::string, ident::BaseTerms> kBase = {
       {"off", ident::BaseTerms::kOff}, {"auto", ident::BaseTerms::kAuto}, {"on", ident::BaseTerms::kOn}};
   app.add_option("--base-terms", o.base_terms,
@@ -116,18 +123,10 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
       ->group("Signal processing");
   app.add_flag("!--no-filter", o.filter, "Do not low-pass filter (paper: zero-phase 10 Hz)")
       ->group("Signal processing");
-  app.add_option_function<std::string>(
-         "--cutoff-hz",
-         [&o](const std::string& v) {
-           o.cutoff_from_data = v == "auto";
-           if (!o.cutoff_from_data) o.cutoff_hz = *wholeNumber(v);
-         },
-         "Zero-phase Butterworth cutoff of one pass, Hz, or auto (parallel processing): chosen from each\n"
-         "record, the motion's bandwidth and the first band where the states predict more than twice the\n"
-         "torque measured (printed with the reason); the paper's processing uses 10 Hz")
-      ->check(autoOrNumber(false))
-      ->default_str(o.cutoff_from_data ? "auto" : core::formatNumber(o.cutoff_hz, 6))
-      ->group("Signal processing");
+  addAutoOrNumber(app, "--cutoff-hz", o.cutoff_from_data, o.cutoff_hz, false,
+                  "Zero-phase Butterworth cutoff of one pass, Hz, or auto (parallel processing): chosen from each\n"
+                  "record, the motion's bandwidth and the first band where the states predict more than twice the\n"
+                  "torque measured (printed with the reason); the paper's processing uses 10 Hz");
   app.add_option("--filter-order", o.filter_order, "Butterworth order of one pass (forward-backward doubles it)")
       ->check(CLI::Range(1, 8))
       ->capture_default_str()

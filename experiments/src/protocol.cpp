@@ -122,9 +122,8 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.closed_loop.controller = controllerOf(sc, k < 2);
     r.closed_loop_base = r.closed_loop;
     r.closed_loop_base.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals, true));
-    ident::BandRule rule;
-    rule.knee_only = k == 0;  // record 1's hip is held by the rig's lock: no hip torque is measured
-    r.default_signals = ident::withBand(defaultIdentifySignals(), ident::chooseBand(r.data, lc, defaultIdentifySignals(), rule));
+    // Record 1's hip is held by the rig's lock: no hip torque is measured, its knee equation judges.
+    r.default_signals = ident::resolveSignalOptions(r.data, lc, defaultIdentifySignals(), k == 0);
     r.default_rows = ident::processRecord(r.data, lc, r.default_signals);
   }
   return out;

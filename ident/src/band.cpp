@@ -88,14 +88,12 @@ double bandPower(const PowerSpectrum& p, double from, double to) {
   return sum * p.df_Hz;
 }
 
-SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, double derivative_factor, double fs) {
+SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, const BandRule& rule, double fs) {
   SignalOptions o = base;
   o.processing = Processing::kParallel;
   o.cutoff_from_data = o.derivative_cutoff_from_data = false;
   o.cutoff_hz = cutoff_hz;
-  if (base.derivative_cutoff_from_data) {
-    o.derivative_cutoff_hz = derivative_factor * cutoff_hz < 0.5 * fs ? derivative_factor * cutoff_hz : 0.0;
-  }
+  if (base.derivative_cutoff_from_data) o.derivative_cutoff_hz = derivativeCutoffFor(cutoff_hz, fs, rule);
   return o;
 }
 
@@ -145,7 +143,7 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
                   : cap < rule.max_factor * out.motion_bandwidth_hz                ? "nyquist"
                                                                                     : "cap";
   // The pilot: least squares in a band just wider than the motion.
-  const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule.derivative_factor, fs);
+  const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule, fs);
   out.pilot_cutoff_hz = pilot.cutoff_hz;
   const ProcessedRecord pilot_rows = processRecord(d, c, pilot);
   const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
@@ -175,10 +173,35 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
       break;
     }
   }
-  const SignalOptions chosen = atCutoff(base, out.cutoff_hz, rule.derivative_factor, fs);
+  const SignalOptions chosen = atCutoff(base, out.cutoff_hz, rule, fs);
   out.derivative_cutoff_hz = chosen.derivative_cutoff_hz;
   out.decimation = chosen.decimationFactor(fs);
   return out;
+}
+
+double derivativeCutoffFor(double cutoff_hz, double sample_rate_hz, const BandRule& rule) {
+  const double fd = rule.derivative_factor * cutoff_hz;
+  return fd < 0.5 * sample_rate_hz ? fd : 0.0;
+}
+
+SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only,
+                                   std::optional<BandChoice>* chosen) {
+  if (chosen) chosen->reset();
+  if (o.processing != Processing::kParallel || !(o.cutoff_from_data || o.derivative_cutoff_from_data)) return o;
+  if (o.cutoff_from_data && o.filter) {
+    BandRule rule;
+    rule.knee_only = knee_only;
+    const BandChoice band = chooseBand(d, c, o, rule);
+    if (chosen) *chosen = band;
+    return withBand(o, band);
+  }
+  SignalOptions r = o;
+  r.cutoff_from_data = false;  // unfiltered (--no-filter): no band to choose
+  if (o.derivative_cutoff_from_data) {
+    r.derivative_cutoff_from_data = false;
+    r.derivative_cutoff_hz = derivativeCutoffFor(o.cutoff_hz, 1.0 / d.sampleInterval_s());
+  }
+  return r;
 }
 
 SignalOptions withBand(const SignalOptions& base, const BandChoice& choice) {

@@ -270,23 +270,6 @@ Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) 
   return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
 }
 
-SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only) {
-  if (o.processing != Processing::kParallel || !(o.cutoff_from_data || o.derivative_cutoff_from_data)) return o;
-  if (o.cutoff_from_data && o.filter) {
-    BandRule rule;
-    rule.knee_only = knee_only;
-    return withBand(o, chooseBand(d, c, o, rule));
-  }
-  SignalOptions r = o;
-  r.cutoff_from_data = false;  // unfiltered (--no-filter): no band to choose
-  if (o.derivative_cutoff_from_data) {
-    r.derivative_cutoff_from_data = false;
-    r.derivative_cutoff_hz = BandRule{}.derivative_factor * o.cutoff_hz;
-    if (r.derivative_cutoff_hz >= 0.5 / d.sampleInterval_s()) r.derivative_cutoff_hz = 0.0;  // above Nyquist: none
-  }
-  return r;
-}
-
 JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) {
   return parallelStates(d, o, 1.0 / d.sampleInterval_s(), 0, d.size());
 }

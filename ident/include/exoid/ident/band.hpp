@@ -26,6 +26,7 @@
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -85,6 +86,18 @@ double motionBandwidth(const Dataset& d, double fraction = 0.99);
 /// std::invalid_argument as processRecord does (too short, bad options), and for a record sampled
 /// below 20 Hz or too short to choose a band.
 BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule = {});
+
+/// The derivative pre-filter for a cutoff: rule.derivative_factor x cutoff_hz, or 0 (none) when
+/// that is at or above the Nyquist frequency of sample_rate_hz.
+double derivativeCutoffFor(double cutoff_hz, double sample_rate_hz, const BandRule& rule = {});
+
+/// o with the choices it leaves to the data made for record d: the band (cutoff_from_data, parallel
+/// processing, filtering on; chooseBand with rule.knee_only = knee_only: a record whose hip is held
+/// by a lock is judged by its knee equation) and the derivative pre-filter
+/// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use). o itself when it leaves
+/// none or uses the paper's processing. chosen, when given, receives the band (or is reset).
+SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only = false,
+                                   std::optional<BandChoice>* chosen = nullptr);
 
 /// base with the choice's cutoff (and derivative cutoff, when base leaves it to the data) in place
 /// of the ones to be chosen (SignalOptions::cutoff_from_data, derivative_cutoff_from_data).

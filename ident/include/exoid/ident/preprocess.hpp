@@ -128,12 +128,7 @@ ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
 /// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
 /// prepareSignals does.
 ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
-/// o with the choices it leaves to the data made for record d (band.hpp: cutoff_from_data,
-/// derivative_cutoff_from_data); o itself when it leaves none or uses the paper's processing.
-/// processRecord applies this first.
-/// knee_only: the record's hip is held by a lock (the segmental strategy's knee record), so the
-/// band is chosen from its knee equation alone.
-SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only = false);
+/// processRecord first makes the choices o leaves to the data (resolveSignalOptions, band.hpp).
 /// The parallel processing's full-rate states of record d: recorded derivatives, else five-point
 /// differences of the angles after the derivative pre-filter (unfiltered angles and torques).
 JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o);
