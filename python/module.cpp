@@ -13,5 +13,6 @@ PYBIND11_MODULE(exoid, m) {
   m.attr("git_revision") = exoid::kGitRevision;
   exoid::python::bindData(m);
   exoid::python::bindMethods(m);
+  exoid::python::bindModel(m);
   exoid::python::bindSim(m);
 }

@@ -19,7 +19,7 @@ MAIN_PACKAGES=(
 )
 TEST_PACKAGES=(
   libgtest-dev libbenchmark-dev libpagmo-dev
-  python3-dev pybind11-dev python3-pytest python3-cvxopt
+  python3-dev pybind11-dev python3-pytest python3-cvxopt python3-pykdl
   strace
 )
 

@@ -1,0 +1,80 @@
+// Robot models: a serial chain of revolute joints and its regressor (ident/model).
+#include "bindings.hpp"
+
+#include "exoid/ident/model/chain_regressor.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+
+namespace exoid::python {
+
+namespace py = pybind11;
+using namespace exoid::ident;
+
+namespace {
+
+template <typename T>
+T item(const py::dict& d, const char* key, const T& fallback) {
+  return d.contains(key) ? d[key].cast<T>() : fallback;
+}
+
+ChainJoint jointFrom(const py::dict& d) {
+  ChainJoint j;
+  if (!d.contains("name") || !d.contains("link")) throw py::value_error("ChainModel: every joint needs 'name' and 'link'");
+  j.name = d["name"].cast<std::string>();
+  j.link = d["link"].cast<std::string>();
+  j.parent_R_joint = item<Eigen::Matrix3d>(d, "rotation", Eigen::Matrix3d::Identity());
+  j.parent_p_joint_m = item<Eigen::Vector3d>(d, "origin_m", Eigen::Vector3d::Zero());
+  j.axis = item<Eigen::Vector3d>(d, "axis", Eigen::Vector3d::UnitZ());
+  j.friction = item<bool>(d, "friction", true);
+  j.armature = item<bool>(d, "armature", false);
+  return j;
+}
+
+}  // namespace
+
+void bindModel(py::module_& m) {
+  py::class_<ChainModel>(m, "ChainModel",
+                         "A serial chain of revolute joints (URDF frames): joints is a list of dicts with name, link, "
+                         "rotation (3x3, the joint frame in the parent link's frame), origin_m (3), axis (3, unit, joint "
+                         "frame), friction (bool, default True), armature (bool, default False); gravity_mps2 in the "
+                         "base frame.")
+      .def(py::init([](const py::list& joints, const Eigen::Vector3d& gravity, const std::string& name) {
+             ChainModel model;
+             model.name = name;
+             model.gravity_mps2 = gravity;
+             for (const py::handle& j : joints) model.joints.push_back(jointFrom(j.cast<py::dict>()));
+             model.validate();
+             return model;
+           }),
+           py::arg("joints"), py::arg("gravity_mps2") = Eigen::Vector3d(0.0, 0.0, -9.81), py::arg("name") = "chain")
+      .def_property_readonly("dof", &ChainModel::dof)
+      .def_property_readonly("parameter_names", &ChainModel::standardParameterNames,
+                             "Standard parameters in order: per joint its link's m, mx, my, mz, Ixx, Ixy, Ixz, Iyy, Iyz, "
+                             "Izz (about the link frame's origin), then the joint's fc, fv (friction) and Ia (armature).")
+      .def(
+          "regressor",
+          [](const ChainModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
+             const std::optional<Eigen::Vector3d>& specific_force_mps2, const Eigen::Vector3d& omega_radps,
+             const Eigen::Vector3d& alpha_radps2) {
+            ChainBaseMotion base = ChainBaseMotion::still(model);
+            if (specific_force_mps2) base.specific_force_mps2 = *specific_force_mps2;
+            base.omega_radps = omega_radps;
+            base.alpha_radps2 = alpha_radps2;
+            return chainRegressor(model, q, qd, qdd, base);
+          },
+          py::arg("q"), py::arg("qd"), py::arg("qdd"), py::arg("specific_force_mps2") = py::none(),
+          py::arg("omega_radps") = Eigen::Vector3d::Zero(), py::arg("alpha_radps2") = Eigen::Vector3d::Zero(),
+          "dof x len(parameter_names) regressor Y: tau = Y @ phi. The base is still under gravity unless "
+          "specific_force_mps2 (a - g of the base origin), omega_radps, alpha_radps2 (base frame) are given.");
+  m.def("link_parameters",
+        [](double mass_kg, const Eigen::Vector3d& com_m, const Eigen::Matrix3d& inertia_com_kgm2) {
+          return Eigen::VectorXd(linkParameters(mass_kg, com_m, inertia_com_kgm2));
+        },
+        py::arg("mass_kg"), py::arg("com_m"), py::arg("inertia_com_kgm2"),
+        "A link's 10 standard parameters from its mass, centre of mass and inertia about the centre of mass (link frame).");
+}
+
+}  // namespace exoid::python
