@@ -1,0 +1,16 @@
+#pragma once
+// sim's serial chain (structure and true bodies, read from an MJCF or a URDF) as ident's
+// ChainModel and its standard parameter vector: the one place the two meet.
+#include "exoid/ident/model/chain.hpp"
+#include "exoid/sim/serial_chain.hpp"
+
+#include <Eigen/Core>
+
+namespace exoid::experiments {
+
+/// The chain's structure; every joint with friction, armature where the model has any.
+ident::ChainModel chainModel(const sim::SerialChain& chain);
+/// The true standard parameters in chainModel(chain)'s layout.
+Eigen::VectorXd standardParameters(const sim::SerialChain& chain);
+
+}  // namespace exoid::experiments

@@ -1,0 +1,37 @@
+#include "exoid/experiments/chain_bridge.hpp"
+
+namespace exoid::experiments {
+
+ident::ChainModel chainModel(const sim::SerialChain& chain) {
+  ident::ChainModel model;
+  model.name = chain.name;
+  model.gravity_mps2 = chain.gravity_mps2;
+  for (const sim::ChainLinkBody& l : chain.links) {
+    ident::ChainJoint j;
+    j.name = l.joint;
+    j.link = l.link;
+    j.parent_R_joint = l.parent_R_joint;
+    j.parent_p_joint_m = l.parent_p_joint_m;
+    j.axis = l.axis;
+    j.friction = true;
+    j.armature = l.armature_kgm2 != 0.0;
+    model.joints.push_back(j);
+  }
+  model.validate();
+  return model;
+}
+
+Eigen::VectorXd standardParameters(const sim::SerialChain& chain) {
+  const ident::ChainModel model = chainModel(chain);
+  const std::vector<ident::JointParameterLayout> layout = model.layout();
+  Eigen::VectorXd phi(model.standardParameterCount());
+  for (std::size_t i = 0; i < chain.links.size(); ++i) {
+    const sim::ChainLinkBody& l = chain.links[i];
+    phi.segment<ident::kLinkParams>(layout[i].link) = ident::linkParameters(l.mass_kg, l.com_m, l.inertia_com_kgm2);
+    phi.segment<2>(layout[i].friction) << l.coulomb_Nm, l.damping_Nms;
+    if (layout[i].armature >= 0) phi[layout[i].armature] = l.armature_kgm2;
+  }
+  return phi;
+}
+
+}  // namespace exoid::experiments

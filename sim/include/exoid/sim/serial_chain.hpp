@@ -1,0 +1,46 @@
+#pragma once
+// A robot model read as a serial chain of revolute joints with its rigid bodies: the structure and
+// the true physical parameters, in URDF's frame convention (each link's frame on its joint's axis,
+// the joint frame placed in the parent link's frame). experiments turns it into ident's
+// ChainModel and standard parameter vector; sim itself never includes ident.
+#include "exoid/sim/model.hpp"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace exoid::sim {
+
+struct ChainLinkBody {
+  std::string joint;  ///< the joint that moves this link, e.g. "hip"
+  std::string link;   ///< e.g. "thigh"
+  Eigen::Matrix3d parent_R_joint = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d parent_p_joint_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< unit, in the link frame
+  double mass_kg = 0.0;
+  Eigen::Vector3d com_m = Eigen::Vector3d::Zero();                     ///< link frame
+  Eigen::Matrix3d inertia_com_kgm2 = Eigen::Matrix3d::Zero();          ///< about the COM, link frame
+  double coulomb_Nm = 0.0, damping_Nms = 0.0, armature_kgm2 = 0.0;
+};
+
+struct SerialChain {
+  std::string name, source;
+  std::vector<ChainLinkBody> links;  ///< base to tip
+  Eigen::Vector3d gravity_mps2{0.0, 0.0, -9.81};  ///< in the base (world) frame
+  /// Bodies with their own degrees of freedom hanging off the chain (e.g. the four-bar's
+  /// cylinder and rod): left out of every link, named here so that nothing is dropped silently.
+  std::vector<std::string> left_out;
+};
+
+/// The chain of `joints` (hinge joint ids, base to tip) of a compiled model at qpos0, each link the
+/// joint's body and every body welded below it. `coulomb_Nm` per joint (MuJoCo's frictionloss is a
+/// soft constraint, not fc sgn(qd): the caller says what its rig applies). Throws
+/// std::invalid_argument naming the joint when a joint is not a hinge or is not below the previous one.
+SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints, const std::vector<double>& coulomb_Nm,
+                                const std::string& source);
+
+/// The APAL leg's chain (hip, knee) of a loaded leg, with its Coulomb settings.
+SerialChain serialChain(const LegModel& leg);
+
+}  // namespace exoid::sim

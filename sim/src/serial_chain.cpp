@@ -1,0 +1,118 @@
+#include "exoid/sim/serial_chain.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace exoid::sim {
+
+namespace {
+
+using Matrix3r = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+
+Eigen::Matrix3d bodyRotation(const mjData* d, int body) { return Eigen::Map<const Matrix3r>(d->xmat + 9 * body); }
+
+std::string nameOf(const mjModel* m, mjtObj type, int id) {
+  const char* n = mj_id2name(m, type, id);
+  return n ? n : "#" + std::to_string(id);
+}
+
+// The bodies welded to `root` (reached from it without crossing a joint), root included.
+std::vector<int> weldedTo(const mjModel* m, int root) {
+  std::vector<int> out{root};
+  for (int b = root + 1; b < m->nbody; ++b) {
+    int p = b;
+    while (p > root && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+    if (p == root && b != root) out.push_back(b);
+  }
+  return out;
+}
+
+// Bodies below `root` that move by a joint of their own not in the chain.
+void collectLeftOut(const mjModel* m, int root, const std::vector<int>& chain_bodies, std::vector<std::string>& out) {
+  for (int b = root + 1; b < m->nbody; ++b) {
+    if (m->body_jntnum[b] == 0) continue;
+    bool in_chain = false;
+    for (int c : chain_bodies) in_chain = in_chain || c == b;
+    if (in_chain) continue;
+    int p = m->body_parentid[b];
+    while (p > root && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+    if (p == root) out.push_back(nameOf(m, mjOBJ_BODY, b));
+  }
+}
+
+// Mass, COM and inertia about the COM of `bodies`, in the frame (R, o).
+void lumpBodies(const mjModel* m, const mjData* d, const std::vector<int>& bodies, const Eigen::Matrix3d& R,
+                const Eigen::Vector3d& o, ChainLinkBody& link) {
+  double mass = 0.0;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d I_origin = Eigen::Matrix3d::Zero();
+  for (int b : bodies) {
+    const double mb = m->body_mass[b];
+    const Eigen::Vector3d c = R.transpose() * (Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b) - o);
+    const Eigen::Matrix3d A = R.transpose() * Eigen::Map<const Matrix3r>(d->ximat + 9 * b);
+    const Eigen::Matrix3d I_com = A * Eigen::Map<const Eigen::Vector3d>(m->body_inertia + 3 * b).asDiagonal() * A.transpose();
+    mass += mb;
+    first += mb * c;
+    I_origin += I_com + mb * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  }
+  link.mass_kg = mass;
+  link.com_m = mass > 0.0 ? Eigen::Vector3d(first / mass) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d& c = link.com_m;
+  link.inertia_com_kgm2 = I_origin - mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+}
+
+}  // namespace
+
+SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints, const std::vector<double>& coulomb_Nm,
+                                const std::string& source) {
+  if (joints.empty()) throw std::invalid_argument("'" + source + "': no joints given for the chain");
+  if (coulomb_Nm.size() != joints.size()) throw std::invalid_argument("'" + source + "': one Coulomb value per chain joint expected");
+  DataPtr d = makeData(m);
+  mju_copy(d->qpos, m->qpos0, m->nq);
+  mj_kinematics(m, d.get());
+  SerialChain chain;
+  chain.source = source;
+  chain.gravity_mps2 = Eigen::Map<const Eigen::Vector3d>(m->opt.gravity);
+  std::vector<int> bodies;
+  for (int j : joints) bodies.push_back(m->jnt_bodyid[j]);
+  Eigen::Matrix3d R_parent = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o_parent = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const int j = joints[i], b = bodies[i];
+    const std::string at = "'" + source + "', joint '" + nameOf(m, mjOBJ_JOINT, j) + "'";
+    if (m->jnt_type[j] != mjJNT_HINGE) throw std::invalid_argument(at + ": not a hinge (exoid's chains are revolute joints)");
+    if (m->body_jntnum[b] != 1) throw std::invalid_argument(at + ": its body has " + std::to_string(m->body_jntnum[b]) + " joints (one expected)");
+    if (i > 0) {  // directly below the previous link, through welded bodies only
+      int p = m->body_parentid[b];
+      while (p != bodies[i - 1] && p > 0 && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+      if (p != bodies[i - 1]) throw std::invalid_argument(at + ": not below joint '" + nameOf(m, mjOBJ_JOINT, joints[i - 1]) + "' (not a serial chain)");
+    }
+    ChainLinkBody link;
+    link.joint = nameOf(m, mjOBJ_JOINT, j);
+    link.link = nameOf(m, mjOBJ_BODY, b);
+    const Eigen::Matrix3d R = bodyRotation(d.get(), b);
+    const Eigen::Vector3d o = Eigen::Map<const Eigen::Vector3d>(d->xanchor + 3 * j);  // the link frame on the axis
+    link.parent_R_joint = R_parent.transpose() * R;
+    link.parent_p_joint_m = R_parent.transpose() * (o - o_parent);
+    link.axis = Eigen::Map<const Eigen::Vector3d>(m->jnt_axis + 3 * j).normalized();
+    lumpBodies(m, d.get(), weldedTo(m, b), R, o, link);
+    const int dof = m->jnt_dofadr[j];
+    link.coulomb_Nm = coulomb_Nm[i];
+    link.damping_Nms = m->dof_damping[dof];
+    link.armature_kgm2 = m->dof_armature[dof];
+    collectLeftOut(m, b, bodies, chain.left_out);
+    chain.links.push_back(link);
+    R_parent = R;
+    o_parent = o;
+  }
+  return chain;
+}
+
+SerialChain serialChain(const LegModel& leg) {
+  const std::vector<int> joints{leg.idx.jnt[0], leg.idx.jnt[1]};
+  SerialChain chain = serialChainFromMjcf(leg.model.get(), joints, {leg.coulomb.fc_Nm[0], leg.coulomb.fc_Nm[1]}, leg.path);
+  chain.name = "apal_leg";
+  return chain;
+}
+
+}  // namespace exoid::sim
