@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <sstream>
 
 namespace {
 
@@ -39,7 +40,9 @@ void expectEqualsMjInverse(const sim::ModelVariant& v, std::uint64_t seed) {
   }
   // Torques are O(100 N m): roundoff is ~1e-13 N m; 1e-8 leaves margin and nothing more (a wrong
   // term is O(1 N m)).
-  ::testing::Test::RecordProperty("max_abs_difference_Nm", std::to_string(worst));
+  std::ostringstream text;
+  text << std::scientific << worst;
+  ::testing::Test::RecordProperty("max_abs_difference_Nm", text.str());
   EXPECT_LT(worst, 1e-8);
 }
 
