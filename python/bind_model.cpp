@@ -1,6 +1,7 @@
 // Robot models: a serial chain of revolute joints and its regressor (ident/model).
 #include "bindings.hpp"
 
+#include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
 
 #include <pybind11/eigen.h>
@@ -68,7 +69,23 @@ void bindModel(py::module_& m) {
           py::arg("q"), py::arg("qd"), py::arg("qdd"), py::arg("specific_force_mps2") = py::none(),
           py::arg("omega_radps") = Eigen::Vector3d::Zero(), py::arg("alpha_radps2") = Eigen::Vector3d::Zero(),
           "dof x len(parameter_names) regressor Y: tau = Y @ phi. The base is still under gravity unless "
-          "specific_force_mps2 (a - g of the base origin), omega_radps, alpha_radps2 (base frame) are given.");
+          "specific_force_mps2 (a - g of the base origin), omega_radps, alpha_radps2 (base frame) are given.")
+      .def(
+          "base_parameters",
+          [](const ChainModel& model, int samples, std::uint64_t seed) {
+            BaseParameterOptions o;
+            o.samples = samples;
+            o.seed = seed;
+            const BaseParameters b = baseParameters(model, o);
+            return py::dict(py::arg("rank") = b.rank, py::arg("names") = b.names, py::arg("combination") = b.combination,
+                            py::arg("independent") = b.independent, py::arg("no_effect") = b.no_effect,
+                            py::arg("regrouped") = b.regrouped);
+          },
+          py::arg("samples") = 200, py::arg("seed") = 1,
+          "The identifiable combinations (QR with column pivoting of the regressor over random states): rank; "
+          "names, one readable combination each; combination (rank x parameters: beta = combination @ phi); "
+          "independent (the standard parameter each is named after); no_effect (parameters that move no torque); "
+          "regrouped ((parameter, [base indices]) pairs).");
   m.def("link_parameters",
         [](double mass_kg, const Eigen::Vector3d& com_m, const Eigen::Matrix3d& inertia_com_kgm2) {
           return Eigen::VectorXd(linkParameters(mass_kg, com_m, inertia_com_kgm2));

@@ -10,32 +10,12 @@ namespace exoid::ident {
 
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return s;
-}
-
-// I v = L(v) [Ixx Ixy Ixz Iyy Iyz Izz]' for a symmetric I.
-Eigen::Matrix<double, 3, 6> inertiaColumns(const Eigen::Vector3d& v) {
-  Eigen::Matrix<double, 3, 6> L;
-  L << v.x(), v.y(), v.z(), 0.0, 0.0, 0.0,  //
-      0.0, v.x(), 0.0, v.y(), v.z(), 0.0,   //
-      0.0, 0.0, v.x(), 0.0, v.y(), v.z();
-  return L;
-}
-
-// The wrench (force; moment about the link frame's origin) a link needs for its motion, per
-// standard parameter: f = m a + wd x mc + w x (w x mc), n = I wd + w x (I w) + mc x a.
-Eigen::Matrix<double, 6, kLinkParams> linkWrenchColumns(const Eigen::Vector3d& w, const Eigen::Vector3d& wd,
-                                                        const Eigen::Vector3d& a) {
-  Eigen::Matrix<double, 6, kLinkParams> A = Eigen::Matrix<double, 6, kLinkParams>::Zero();
-  const Eigen::Matrix3d W = skew(w);
-  A.block<3, 1>(0, 0) = a;
-  A.block<3, 3>(0, 1) = skew(wd) + W * W;
-  A.block<3, 3>(3, 1) = -skew(a);
-  A.block<3, 6>(3, 4) = inertiaColumns(wd) + W * inertiaColumns(w);
-  return A;
+// v' L(x), where I x = L(x) [Ixx Ixy Ixz Iyy Iyz Izz]' for a symmetric I.
+Eigen::Matrix<double, 1, 6> inertiaRow(const Eigen::Vector3d& v, const Eigen::Vector3d& x) {
+  Eigen::Matrix<double, 1, 6> r;
+  r << v.x() * x.x(), v.x() * x.y() + v.y() * x.x(), v.x() * x.z() + v.z() * x.x(), v.y() * x.y(),
+      v.y() * x.z() + v.z() * x.y(), v.z() * x.z();
+  return r;
 }
 
 void requireSize(const char* what, Eigen::Index got, int dof) {
@@ -47,6 +27,13 @@ void requireSize(const char* what, Eigen::Index got, int dof) {
 
 }  // namespace
 
+// Link k needs the wrench (f; n about its origin), linear in its parameters phi_k:
+//   f = m a + wd x mc + w x (w x mc),   n = I wd + w x (I w) + mc x a   (w, wd, a in its frame).
+// Joint i (i <= k) carries it; its torque is the moment about its axis z through its origin O:
+//   tau_ik = z . (n - r x f) = u_n' n + u_f' f,  u_n = z, u_f = r x z,  r = O - O_k,
+// with z and r seen from link k. So each block of the regressor is a 6-vector times the link's
+// wrench columns, written out below without forming them (Khalil and Dombre, ch. 9; the
+// "projection" form of Atkeson, An and Hollerbach's regressor).
 void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                         const Eigen::Ref<const Eigen::VectorXd>& qd, const Eigen::Ref<const Eigen::VectorXd>& qdd,
                         const ChainBaseMotion& base, ChainRegressorWorkspace& work, Eigen::Ref<Eigen::MatrixXd> out) {
@@ -55,58 +42,64 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
   requireSize("qd", qd.size(), n);
   requireSize("qdd", qdd.size(), n);
   const std::size_t un = static_cast<std::size_t>(n);
-  if (work.R.size() != un) {
-    work.R.resize(un);
-    work.w.resize(un);
-    work.wd.resize(un);
-    work.a.resize(un);
-  }
-  work.wrench.setZero(6, kLinkParams * n);
-  out.setZero();
+  work.axis_seen.resize(un);
+  work.origin_seen.resize(un);
+  work.link_column.resize(un);
 
-  // Forward: each link's motion in its own frame.
   Eigen::Vector3d w = base.omega_radps, wd = base.alpha_radps2, a = base.specific_force_mps2;
-  for (int i = 0; i < n; ++i) {
-    const ChainJoint& j = model.joints[static_cast<std::size_t>(i)];
-    const Eigen::Matrix3d R = j.parent_R_joint * Eigen::AngleAxisd(q[i], j.axis).toRotationMatrix();
+  int column = 0;
+  for (int k = 0; k < n; ++k) {
+    const std::size_t uk = static_cast<std::size_t>(k);
+    const ChainJoint& j = model.joints[uk];
+    // Link k's motion in its own frame.
+    // Most robot files place joint frames unrotated: skip the product then (same bits).
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(q[k], j.axis).toRotationMatrix();
+    const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
     const Eigen::Vector3d& p = j.parent_p_joint_m;
     const Eigen::Vector3d a_joint = a + wd.cross(p) + w.cross(w.cross(p));  // the joint origin, parent frame
     const Eigen::Vector3d w_carried = R.transpose() * w;
-    w = w_carried + j.axis * qd[i];
-    wd = R.transpose() * wd + w_carried.cross(j.axis * qd[i]) + j.axis * qdd[i];
+    w = w_carried + j.axis * qd[k];
+    wd = R.transpose() * wd + w_carried.cross(j.axis * qd[k]) + j.axis * qdd[k];
     a = R.transpose() * a_joint;
-    const std::size_t ui = static_cast<std::size_t>(i);
-    work.R[ui] = R;
-    work.w[ui] = w;
-    work.wd[ui] = wd;
-    work.a[ui] = a;
-  }
-
-  // Backward: the wrench on each joint from every link beyond it, per parameter; the joint's
-  // torque is its moment about the joint axis.
-  const std::vector<JointParameterLayout> layout = model.layout();
-  for (int i = n - 1; i >= 0; --i) {
-    const std::size_t ui = static_cast<std::size_t>(i);
-    const ChainJoint& j = model.joints[ui];
-    const int cols = kLinkParams * (n - i);  // the links this joint carries: i .. n - 1
-    auto carried = work.wrench.middleCols(kLinkParams * i, cols);
-    carried.leftCols<kLinkParams>() += linkWrenchColumns(work.w[ui], work.wd[ui], work.a[ui]);
-    const Eigen::RowVectorXd tau = j.axis.transpose() * carried.bottomRows<3>();
-    for (int k = i; k < n; ++k) {
-      out.block<1, kLinkParams>(i, layout[static_cast<std::size_t>(k)].link) = tau.segment<kLinkParams>(kLinkParams * (k - i));
+    // The joints below, seen from link k.
+    for (int i = 0; i < k; ++i) {
+      const std::size_t ui = static_cast<std::size_t>(i);
+      work.axis_seen[ui] = R.transpose() * work.axis_seen[ui];
+      work.origin_seen[ui] = R.transpose() * (work.origin_seen[ui] - p);
+    }
+    work.axis_seen[uk] = j.axis;
+    work.origin_seen[uk].setZero();
+    work.link_column[uk] = column;
+    const double w_squared = w.squaredNorm();
+    for (int i = 0; i <= k; ++i) {
+      const std::size_t ui = static_cast<std::size_t>(i);
+      const Eigen::Vector3d& un_ = work.axis_seen[ui];
+      auto row = out.block<1, kLinkParams>(i, column);
+      if (i == k) {  // its own joint: r = 0, so u_f = 0
+        row[0] = 0.0;
+        row.segment<3>(1) = a.cross(un_).transpose();
+      } else {
+        const Eigen::Vector3d uf = work.origin_seen[ui].cross(un_);
+        row[0] = uf.dot(a);
+        // u_f' ([wd]x + [w]x[w]x) - u_n' [a]x, as row vectors: (u_f x wd) + ((u_f x w) x w) + (a x u_n),
+        // and ((u_f x w) x w) = (u_f . w) w - |w|^2 u_f.
+        row.segment<3>(1) = (uf.cross(wd) + uf.dot(w) * w - w_squared * uf + a.cross(un_)).transpose();
+      }
+      // u_n' (L(wd) + [w]x L(w)) = u_n' L(wd) + (u_n x w)' L(w).
+      row.segment<6>(4) = inertiaRow(un_, wd) + inertiaRow(un_.cross(w), w);
+    }
+    for (int i = k + 1; i < n; ++i) out.block<1, kLinkParams>(i, column).setZero();  // joints above carry nothing of it
+    column += kLinkParams;
+    const int own = (j.friction ? 2 : 0) + (j.armature ? 1 : 0);  // the joint's own columns: zero but on its row
+    for (int i = 0; i < n; ++i) {
+      for (int c = column; c < column + own; ++c) out(i, c) = 0.0;
     }
     if (j.friction) {
-      out(i, layout[ui].friction) = (qd[i] > 0.0) - (qd[i] < 0.0);
-      out(i, layout[ui].friction + 1) = qd[i];
+      out(k, column) = (qd[k] > 0.0) - (qd[k] < 0.0);
+      out(k, column + 1) = qd[k];
+      column += 2;
     }
-    if (j.armature) out(i, layout[ui].armature) = qdd[i];
-    if (i == 0) break;
-    // To the parent's frame: f' = R f, n' = R n + p x (R f).
-    const Eigen::Matrix3d& R = work.R[ui];
-    const Eigen::Matrix3d P = skew(j.parent_p_joint_m);
-    const Eigen::MatrixXd f = R * carried.topRows<3>();
-    carried.bottomRows<3>() = R * carried.bottomRows<3>() + P * f;
-    carried.topRows<3>() = f;
+    if (j.armature) out(k, column++) = qdd[k];
   }
 }
 

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace exoid::ident {
 
 /// Motion of the frame the chain is mounted in, in that frame. A still base reads
@@ -36,9 +38,9 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
                         const ChainBaseMotion& base, ChainRegressorWorkspace& work, Eigen::Ref<Eigen::MatrixXd> out);
 
 struct ChainRegressorWorkspace {
-  std::vector<Eigen::Matrix3d> R;        ///< parent_R_link per joint
-  std::vector<Eigen::Vector3d> w, wd, a; ///< link angular velocity, acceleration, origin acceleration (link frame)
-  Eigen::Matrix<double, 6, Eigen::Dynamic> wrench;  ///< accumulated wrench per parameter column (force; moment)
+  /// Joint i's axis and origin seen from the link being processed (its frame), per joint i.
+  std::vector<Eigen::Vector3d> axis_seen, origin_seen;
+  std::vector<int> link_column;  ///< first column of each link's parameters
 };
 
 }  // namespace exoid::ident
