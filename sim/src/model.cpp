@@ -14,6 +14,12 @@ namespace exoid::sim {
 
 std::string defaultModelPath() { return dataPath("models/apal_leg.xml"); }
 
+std::string modelPathFor(const std::string& name_or_path) {
+  if (name_or_path == "apal") return defaultModelPath();
+  if (name_or_path == "leg3") return dataPath("models/leg3.xml");
+  return name_or_path;
+}
+
 std::string readFileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {

@@ -1,5 +1,6 @@
 #include "exoid/sim/serial_chain.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -106,6 +107,40 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
     o_parent = o;
   }
   return chain;
+}
+
+SerialChain serialChainFromMjcfFile(const std::string& path) {
+  const ModelPtr model = loadMjcfFile(path);
+  const mjModel* m = model.get();
+  std::vector<int> driven;
+  for (int a = 0; a < m->nu; ++a) {
+    if (m->actuator_trntype[a] != mjTRN_JOINT) continue;
+    const int j = m->actuator_trnid[2 * a];
+    if (m->jnt_type[j] != mjJNT_HINGE) {
+      static const char* const kTypes[] = {"free", "ball", "slide", "hinge"};
+      throw std::invalid_argument("'" + path + "': actuator '" + nameOf(m, mjOBJ_ACTUATOR, a) + "' drives joint '" +
+                                  nameOf(m, mjOBJ_JOINT, j) + "', a " + kTypes[m->jnt_type[j]] +
+                                  " joint: exoid identifies chains of revolute (hinge) joints only");
+    }
+    bool seen = false;
+    for (int k : driven) seen = seen || k == j;
+    if (!seen) driven.push_back(j);
+  }
+  if (driven.empty()) throw std::invalid_argument("'" + path + "': no actuator drives a hinge joint: no chain to identify");
+  std::sort(driven.begin(), driven.end());  // joint ids follow the tree, base to tip
+  std::vector<double> coulomb;
+  for (int j : driven) {
+    const int id = mj_name2id(m, mjOBJ_NUMERIC, ("exoid_fc_" + nameOf(m, mjOBJ_JOINT, j)).c_str());
+    coulomb.push_back(id >= 0 ? m->numeric_data[m->numeric_adr[id]] : 0.0);
+  }
+  SerialChain chain = serialChainFromMjcf(m, driven, coulomb, path);
+  chain.name = m->nnames > 0 && m->names[0] ? m->names : path;  // MuJoCo keeps <mujoco model=...> first
+  return chain;
+}
+
+SerialChain serialChainFromFile(const std::string& path) {
+  const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
+  return urdf ? serialChainFromUrdf(path) : serialChainFromMjcfFile(path);
 }
 
 SerialChain serialChain(const LegModel& leg) {

@@ -3,12 +3,14 @@
 // at random states, friction and armature included: two independent computations of the rig.
 #include "exoid/experiments/chain_bridge.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/inverse_dynamics.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
+#include <fstream>
 #include <sstream>
 
 namespace {
@@ -66,6 +68,100 @@ TEST(ChainVsMujoco, TheFourBarsBodiesAreNamedAsLeftOut) {
   v.cylinder_mass_scale = 0.0;
   const sim::SerialChain chain = sim::serialChain(sim::loadLeg(sim::defaultModelPath(), v));
   EXPECT_FALSE(chain.left_out.empty());
+}
+
+}  // namespace
+
+namespace {
+
+using namespace exoid;
+
+// The 3-DOF leg: the generic chain read from its MJCF times its true standard parameters equals
+// MuJoCo's inverse dynamics (damping and armature inside mj_inverse; the Coulomb term, which the
+// simulator applies itself, added as fc sgn(qd)).
+TEST(ChainVsMujoco, Leg3WithFrictionAndArmature) {
+  const std::string path = sim::modelPathFor("leg3");
+  const sim::SerialChain chain = sim::serialChainFromMjcfFile(path);
+  ASSERT_EQ(chain.links.size(), 3u);
+  EXPECT_EQ(chain.links[2].joint, "ankle");
+  EXPECT_EQ(chain.name, "leg3");
+  EXPECT_GT(chain.links[2].armature_kgm2, 0.0);
+  EXPECT_GT(chain.links[2].coulomb_Nm, 0.0);
+  const ident::ChainModel model = experiments::chainModel(chain);
+  const Eigen::VectorXd phi = experiments::standardParameters(chain);
+  const sim::ModelPtr m = sim::loadMjcfFile(path);
+  sim::DataPtr d = sim::makeData(m.get());
+  std::mt19937_64 gen(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  double worst = 0.0;
+  for (int k = 0; k < 500; ++k) {
+    Eigen::Vector3d q, qd, qdd;
+    for (int j = 0; j < 3; ++j) {
+      q[j] = 2 * u(gen);
+      qd[j] = 4 * u(gen);
+      qdd[j] = 40 * u(gen);
+      d->qpos[j] = q[j];
+      d->qvel[j] = qd[j];
+      d->qacc[j] = qdd[j];
+    }
+    mj_inverse(m.get(), d.get());
+    Eigen::Vector3d theirs;
+    for (int j = 0; j < 3; ++j) theirs[j] = d->qfrc_inverse[j] + chain.links[static_cast<std::size_t>(j)].coulomb_Nm * ((qd[j] > 0) - (qd[j] < 0));
+    const Eigen::Vector3d ours = ident::chainRegressor(model, q, qd, qdd) * phi;
+    worst = std::max(worst, (ours - theirs).cwiseAbs().maxCoeff());
+  }
+  EXPECT_LT(worst, 1e-9);  // O(100 N m) torques: roundoff ~1e-13 N m
+}
+
+// The URDF beside it holds the same rigid links and friction (no armature: URDF has none).
+TEST(ChainVsMujoco, Leg3UrdfEqualsItsMjcf) {
+  const sim::SerialChain a = sim::serialChainFromMjcfFile(sim::modelPathFor("leg3"));
+  const sim::SerialChain b = sim::serialChainFromUrdf(sim::dataPath("models/leg3.urdf"));
+  ASSERT_EQ(a.links.size(), b.links.size());
+  for (std::size_t i = 0; i < a.links.size(); ++i) {
+    const sim::ChainLinkBody &x = a.links[i], &y = b.links[i];
+    EXPECT_EQ(x.joint, y.joint);
+    EXPECT_LE((x.parent_R_joint - y.parent_R_joint).norm(), 1e-12) << x.joint;
+    EXPECT_LE((x.parent_p_joint_m - y.parent_p_joint_m).norm(), 1e-12) << x.joint;
+    EXPECT_LE((x.axis - y.axis).norm(), 1e-12) << x.joint;
+    EXPECT_NEAR(x.mass_kg, y.mass_kg, 1e-12) << x.joint;
+    EXPECT_LE((x.com_m - y.com_m).norm(), 1e-12) << x.joint;
+    EXPECT_LE((x.inertia_com_kgm2 - y.inertia_com_kgm2).norm(), 1e-12) << x.joint;
+    EXPECT_EQ(x.coulomb_Nm, y.coulomb_Nm) << x.joint;
+    EXPECT_EQ(x.damping_Nms, y.damping_Nms) << x.joint;
+  }
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string refusal(const std::string& path) {
+  try {
+    sim::serialChainFromFile(path);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+TEST(ChainVsMujoco, RefusesWhatIsNotASerialRevoluteChainNamingIt) {
+  const std::string prismatic = writeTemp("prismatic.urdf", R"(<robot name="r"><link name="a"/><link name="b"/>
+    <joint name="slider" type="prismatic"><parent link="a"/><child link="b"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>)");
+  EXPECT_NE(refusal(prismatic).find("joint 'slider' is prismatic"), std::string::npos) << refusal(prismatic);
+  const std::string floating = writeTemp("floating.urdf", R"(<robot name="r"><link name="a"/><link name="b"/>
+    <joint name="base" type="floating"><parent link="a"/><child link="b"/></joint></robot>)");
+  EXPECT_NE(refusal(floating).find("floating"), std::string::npos) << refusal(floating);
+  const std::string tree = writeTemp("tree.urdf", R"(<robot name="r"><link name="a"/><link name="b"/><link name="c"/>
+    <joint name="left" type="continuous"><parent link="a"/><child link="b"/></joint>
+    <joint name="right" type="continuous"><parent link="a"/><child link="c"/></joint></robot>)");
+  EXPECT_NE(refusal(tree).find("a tree, not a serial chain"), std::string::npos) << refusal(tree);
+  const std::string slide = writeTemp("slide.xml", R"(<mujoco><worldbody><body><joint name="s" type="slide"/>
+    <geom size="0.1"/></body></worldbody><actuator><motor joint="s"/></actuator></mujoco>)");
+  EXPECT_NE(refusal(slide).find("a slide joint"), std::string::npos) << refusal(slide);
 }
 
 }  // namespace

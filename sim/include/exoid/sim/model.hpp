@@ -24,6 +24,10 @@ using DataPtr = std::unique_ptr<mjData, DataDeleter>;     ///< owns an mjData
 
 /// dataPath("models/apal_leg.xml") (see data_dir.hpp).
 std::string defaultModelPath();
+/// The built-in models by name: "apal" (models/apal_leg.xml, the default) and "leg3" (the 3-DOF
+/// hip-knee-ankle leg, models/leg3.xml; its URDF is models/leg3.urdf). Anything else is taken as a
+/// file path and returned unchanged.
+std::string modelPathFor(const std::string& name_or_path);
 
 /// Whole file as bytes; throws std::invalid_argument("cannot read model file '<path>'...").
 std::string readFileBytes(const std::string& path);

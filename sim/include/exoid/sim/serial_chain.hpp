@@ -43,4 +43,20 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
 /// The APAL leg's chain (hip, knee) of a loaded leg, with its Coulomb settings.
 SerialChain serialChain(const LegModel& leg);
 
+/// The chain of an MJCF file: every hinge driven by a motor (an actuator on a joint), in tree
+/// order; Coulomb friction from the custom numerics exoid_fc_<joint> (0 when absent). Throws
+/// std::invalid_argument naming the file and what it found: a driven joint that is not a hinge
+/// (slide, ball, free), driven joints on two branches, none at all.
+SerialChain serialChainFromMjcfFile(const std::string& path);
+
+/// The chain of a URDF (urdfdom): its revolute and continuous joints from the root, each link
+/// with the links fixed below it lumped in; Coulomb and viscous friction from <dynamics friction
+/// damping>; gravity 9.81 m/s^2 along -z; no armature (URDF has none). Throws
+/// std::invalid_argument naming the file and what it found: a prismatic, planar or floating joint,
+/// a branch with moving joints on two sides, no revolute joint.
+SerialChain serialChainFromUrdf(const std::string& path);
+
+/// By the file's extension: .urdf -> serialChainFromUrdf, else serialChainFromMjcfFile.
+SerialChain serialChainFromFile(const std::string& path);
+
 }  // namespace exoid::sim
