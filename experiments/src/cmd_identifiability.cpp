@@ -3,6 +3,9 @@
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/log_input.hpp"
+#ifdef EXOID_WITH_MUJOCO
+#include "exoid/experiments/model_report.hpp"
+#endif
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/band.hpp"
@@ -22,7 +25,7 @@ namespace exoid::experiments {
 namespace {
 
 struct Args {
-  std::string data, json_out, reference;
+  std::string data, json_out, reference, model;
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
   LogInputFlags log;
@@ -82,6 +85,19 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
 }
 
 void run(const Args& a) {
+  if (!a.model.empty()) {
+    if (!a.data.empty()) {
+      throw std::invalid_argument("--model with --data: a record's identifiability is reported for the built-in APAL leg "
+                                  "only so far; give --model alone for what the model lets anyone identify");
+    }
+#ifdef EXOID_WITH_MUJOCO
+    reportModel(a.model, a.json_out, std::cout);
+    return;
+#else
+    throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
+#endif
+  }
+  if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
   const ident::Dataset d = readLog(a.data, log);
@@ -180,7 +196,11 @@ void addIdentifiabilityCommand(CLI::App& app) {
       "and of each joint's regressor, unidentifiable parameters, Cramer-Rao std at a torque noise\n"
       "level (relative to --reference or the record's simulated truth when known), and each\n"
       "column's collinearity (R^2 on the others).");
-  cmd->add_option("--data", args->data, "Dataset CSV")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--data", args->data, "Dataset CSV (the APAL leg's columns)")->check(CLI::ExistingFile);
+  cmd->add_option("--model", args->model,
+                  "A robot model instead of a record: 'apal', 'leg3' (built in) or an MJCF / URDF file. Prints its\n"
+                  "serial chain and base parameters: rank, each identifiable combination of the standard parameters\n"
+                  "in words with its true value, what no torque shows, what is regrouped");
   cmd->add_option("--noise-tau", args->noise_tau_Nm, "Torque noise std for the Cramer-Rao bound, N m")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");

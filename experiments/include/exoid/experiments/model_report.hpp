@@ -1,0 +1,14 @@
+#pragma once
+// What a robot model lets anyone identify, before any record: `exoid identifiability --model`.
+#include <iosfwd>
+#include <string>
+
+namespace exoid::experiments {
+
+/// Reads `model` (a built-in name, "apal" or "leg3", or an MJCF / URDF file), prints its chain,
+/// its standard parameters' true values, the base parameters (rank, each combination in words and
+/// its true value), what no torque shows and what is regrouped; writes the same as JSON to
+/// json_out unless empty. Throws std::invalid_argument naming the file for a model exoid cannot take.
+void reportModel(const std::string& model, const std::string& json_out, std::ostream& out);
+
+}  // namespace exoid::experiments
