@@ -3,6 +3,7 @@
 
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/consistent_fit.hpp"
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -85,7 +86,29 @@ void bindModel(py::module_& m) {
           "The identifiable combinations (QR with column pivoting of the regressor over random states): rank; "
           "names, one readable combination each; combination (rank x parameters: beta = combination @ phi); "
           "independent (the standard parameter each is named after); no_effect (parameters that move no torque); "
-          "regrouped ((parameter, [base indices]) pairs).");
+          "regrouped ((parameter, [base indices]) pairs).")
+      .def(
+          "consistent_fit",
+          [](const ChainModel& model, const Eigen::MatrixXd& W, const Eigen::VectorXd& y, const Eigen::VectorXd& phi_start,
+             double max_link_mass_kg, double link_radius_m, double barrier_gap) {
+            ConsistentFitOptions o;
+            o.max_link_mass_kg = max_link_mass_kg;
+            o.link_radius_m = link_radius_m;
+            o.barrier_gap = barrier_gap;
+            const BaseParameters base = baseParameters(model);
+            const ConsistentFit f = consistentFit(model, base, W, y, phi_start, o);
+            return py::dict(py::arg("phi") = f.phi, py::arg("beta") = f.beta, py::arg("beta_ls") = f.beta_ls,
+                            py::arg("combination") = base.combination, py::arg("excess_cost") = f.excess_cost,
+                            py::arg("ls_cost") = f.ls_cost, py::arg("status") = std::string(toString(f.status)),
+                            py::arg("link_min_eigenvalue") = f.link_min_eigenvalue, py::arg("message") = f.message);
+          },
+          py::arg("W"), py::arg("y"), py::arg("phi_start"), py::arg("max_link_mass_kg") = ConsistentFitOptions{}.max_link_mass_kg,
+          py::arg("link_radius_m") = ConsistentFitOptions{}.link_radius_m, py::arg("barrier_gap") = ConsistentFitOptions{}.barrier_gap,
+          "Physically consistent least squares in base-parameter space: W (stacked regressor rows), y (torques), "
+          "phi_start (standard parameters to start from). Every link's pseudo-inertia positive definite, its mass "
+          "below max_link_mass_kg and within link_radius_m of its origin, friction and armature >= 0. Returns phi, "
+          "beta (= combination @ phi), beta_ls, excess_cost ((beta - beta_ls)' Wb' Wb (beta - beta_ls)), ls_cost, "
+          "status, link_min_eigenvalue, message.");
   m.def("link_parameters",
         [](double mass_kg, const Eigen::Vector3d& com_m, const Eigen::Matrix3d& inertia_com_kgm2) {
           return Eigen::VectorXd(linkParameters(mass_kg, com_m, inertia_com_kgm2));
