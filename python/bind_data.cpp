@@ -19,7 +19,7 @@ CsvReadOptions readOptions(const std::map<std::string, std::string>& columns, co
   for (const auto& [ours, theirs] : columns) o.format.columns.emplace_back(ours, theirs);
   o.format.time_scale_s = parseTimeUnit(time_unit);
   o.format.angle_scale_rad = parseAngleUnit(angle_unit);
-  o.format.torque_sign << torque_sign.first, torque_sign.second;
+  o.format.torque_sign = {torque_sign.first, torque_sign.second};
   o.sampling = strict_sampling ? SamplingMode::kStrict : SamplingMode::kResample;
   o.max_gap_s = max_gap_s;
   return o;

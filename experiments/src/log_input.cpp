@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -77,10 +78,13 @@ LogInput readLogProfile(const std::string& path) {
           in.csv.format.time_scale_s = ident::parseTimeUnit(text(v, full));
         } else if (full == "units.angle") {
           in.csv.format.angle_scale_rad = ident::parseAngleUnit(text(v, full));
-        } else if (full == "torque_sign.hip" || full == "torque_sign.knee") {
+        } else if (full.rfind("torque_sign.", 0) == 0 &&
+                   std::find(in.csv.joints.begin(), in.csv.joints.end(), key) != in.csv.joints.end()) {
           const double sgn = number(v, full);
           if (std::abs(sgn) != 1.0) throw std::invalid_argument("must be 1 or -1");
-          in.csv.format.torque_sign[key == "hip" ? 0 : 1] = sgn;
+          std::vector<double>& signs = in.csv.format.torque_sign;
+          signs.resize(in.csv.joints.size(), 1.0);
+          signs[static_cast<std::size_t>(std::find(in.csv.joints.begin(), in.csv.joints.end(), key) - in.csv.joints.begin())] = sgn;
         } else if (full == "model.thigh_length_m") {
           in.thigh_length_m = number(v, full);
           if (!(*in.thigh_length_m > 0)) throw std::invalid_argument("must be > 0 m");
@@ -92,7 +96,7 @@ LogInput readLogProfile(const std::string& path) {
           if (!(in.csv.max_gap_s > 0)) throw std::invalid_argument("must be > 0 ms");
         } else {
           throw std::invalid_argument("unknown key; a profile has [columns] (exoid name = log name), [units] time, angle, "
-                                      "[torque_sign] hip, knee, [model] thigh_length_m, gravity_mps2, [sampling] max_gap_ms");
+                                      "[torque_sign] one per joint (hip, knee), [model] thigh_length_m, gravity_mps2, [sampling] max_gap_ms");
         }
       } catch (const std::invalid_argument& e) {
         if (std::string(e.what()).rfind(path, 0) == 0) throw;
@@ -126,10 +130,14 @@ LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz) {
   if (!f.time_unit.empty()) in.csv.format.time_scale_s = ident::parseTimeUnit(f.time_unit);
   if (!f.angle_unit.empty()) in.csv.format.angle_scale_rad = ident::parseAngleUnit(f.angle_unit);
   if (!f.torque_sign.empty()) {
-    if (f.torque_sign.size() != 2 || std::abs(f.torque_sign[0]) != 1.0 || std::abs(f.torque_sign[1]) != 1.0) {
-      throw std::invalid_argument("--torque-sign: expected hip,knee, each 1 or -1");
+    const bool ok = f.torque_sign.size() == in.csv.joints.size() &&
+                    std::all_of(f.torque_sign.begin(), f.torque_sign.end(), [](double x) { return std::abs(x) == 1.0; });
+    if (!ok) {
+      std::string joints;
+      for (const std::string& j : in.csv.joints) joints += (joints.empty() ? "" : ",") + j;
+      throw std::invalid_argument("--torque-sign: expected " + joints + ", each 1 or -1");
     }
-    in.csv.format.torque_sign << f.torque_sign[0], f.torque_sign[1];
+    in.csv.format.torque_sign = f.torque_sign;
   }
   if (f.strict_sampling) in.csv.sampling = ident::SamplingMode::kStrict;
   if (f.max_gap_ms) {

@@ -103,7 +103,7 @@ double motionBandwidth(const Dataset& d, double fraction) {
   if (!(fraction > 0.5 && fraction < 1.0)) throw std::invalid_argument("motion bandwidth: fraction must be in (0.5, 1), got " + core::toText(fraction));
   const double fs = 1.0 / d.sampleInterval_s();
   PowerSpectrum pooled = welchPsd(d.q_rad.col(0), fs, WelchOptions{});
-  pooled.density += welchPsd(d.q_rad.col(1), fs, WelchOptions{}).density;
+  for (Eigen::Index j = 1; j < d.q_rad.cols(); ++j) pooled.density += welchPsd(d.q_rad.col(j), fs, WelchOptions{}).density;
   return bandwidthAt(pooled, fraction);
 }
 

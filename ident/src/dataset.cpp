@@ -30,8 +30,20 @@ std::string where(const std::string& source, long line, long column) {
   return s;
 }
 
-constexpr std::array<const char*, 5> kRequired = {"t", "q_hip", "q_knee", "tau_hip", "tau_knee"};
-constexpr std::array<const char*, 4> kDerivatives = {"qd_hip", "qd_knee", "qdd_hip", "qdd_knee"};
+// The required columns of a robot with these joints: t, q_<joint>..., tau_<joint>...
+std::vector<std::string> requiredColumns(const std::vector<std::string>& joints) {
+  std::vector<std::string> out = {"t"};
+  for (const char* prefix : {"q_", "tau_"}) {
+    for (const std::string& j : joints) out.push_back(prefix + j);
+  }
+  return out;
+}
+
+std::string joinNames(const std::vector<std::string>& names, const char* separator) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
+  return out;
+}
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
@@ -53,6 +65,13 @@ DatasetError::DatasetError(std::string source, long line, long column, const std
       source_(std::move(source)),
       line_(line),
       column_(column) {}
+
+void Dataset::requireJoints(const std::vector<std::string>& expected, const std::string& who) const {
+  if (joints != expected) {
+    throw std::invalid_argument(who + " needs a record of the joints " + joinNames(expected, ", ") + "; this one has " +
+                                joinNames(joints, ", ") + " (pass the robot's model, --model)");
+  }
+}
 
 double Dataset::sampleInterval_s() const {
   if (size() < 2) throw std::invalid_argument("dataset: need >= 2 samples for a sampling interval");
@@ -78,9 +97,13 @@ Eigen::VectorXd Dataset::extraColumn(const std::string& name) const {
 
 namespace {
 
-bool isKnown(const std::string& name) {
-  for (const char* r : kRequired) if (name == r) return true;
-  for (const char* r : kDerivatives) if (name == r) return true;
+bool isKnown(const std::string& name, const std::vector<std::string>& joints) {
+  if (name == "t") return true;
+  for (const std::string& j : joints) {
+    for (const char* prefix : {"q_", "tau_", "qd_", "qdd_"}) {
+      if (name == prefix + j) return true;
+    }
+  }
   return false;
 }
 
@@ -104,8 +127,8 @@ std::string listNames(const std::vector<std::string>& names) {
 void LogFormat::validate() const {
   if (!(time_scale_s > 0 && std::isfinite(time_scale_s))) throw std::invalid_argument("log format: time unit must be > 0 s");
   if (!(angle_scale_rad > 0 && std::isfinite(angle_scale_rad))) throw std::invalid_argument("log format: angle unit must be > 0 rad");
-  for (int j = 0; j < 2; ++j) {
-    if (std::abs(torque_sign[j]) != 1.0) throw std::invalid_argument("log format: torque signs must be +1 or -1");
+  for (double sign : torque_sign) {
+    if (std::abs(sign) != 1.0) throw std::invalid_argument("log format: torque signs must be +1 or -1");
   }
   std::map<std::string, int> seen;
   for (const auto& [ours, theirs] : columns) {
@@ -178,7 +201,8 @@ class LogParser {
 
   Dataset finish() {
     if (header_line_ == 0) {
-      throw DatasetError(source_, 0, 0, "empty file: expected a header line 't,q_hip,q_knee,tau_hip,tau_knee' followed by data rows");
+      throw DatasetError(source_, 0, 0, "empty file: expected a header line '" + joinNames(requiredColumns(options_.joints), ",") +
+                                            "' followed by data rows");
     }
     if (row_ < options_.min_rows) {
       throw DatasetError(source_, 0, 0,
@@ -243,18 +267,26 @@ class LogParser {
         throw DatasetError(source_, header_line_, col, "duplicate column '" + names_[c] + "'");
       }
     }
-    for (const char* r : kRequired) {
+    const std::vector<std::string> required = requiredColumns(options_.joints);
+    for (const std::string& r : required) {
       if (!index_.count(r)) {
         throw DatasetError(source_, header_line_, 0,
-                           std::string("missing required column '") + r + "' (required: t,q_hip,q_knee,tau_hip,tau_knee; "
-                           "a log with its own names needs a column map, e.g. --columns t=time,q_hip=pos_meas1,...); the "
-                           "header has: " + listNames(names_));
+                           "missing required column '" + r + "' (required: " + joinNames(required, ",") +
+                               "; a log with its own names needs a column map, e.g. --columns t=time,q_" + options_.joints.front() +
+                               "=pos_meas1,...); the header has: " + listNames(names_));
       }
     }
-    for (const auto& [a, b] : {std::pair<const char*, const char*>{"qd_hip", "qd_knee"}, {"qdd_hip", "qdd_knee"}}) {
-      if (index_.count(a) != index_.count(b)) {
-        throw DatasetError(source_, header_line_, 0,
-                           std::string("missing column '") + (index_.count(a) ? b : a) + "': derivative columns come in hip/knee pairs");
+    // Derivative columns: all joints or none.
+    for (const char* prefix : {"qd_", "qdd_"}) {
+      long present = 0;
+      for (const std::string& j : options_.joints) present += static_cast<long>(index_.count(prefix + j));
+      if (present == 0 || present == static_cast<long>(options_.joints.size())) continue;
+      for (const std::string& j : options_.joints) {
+        if (!index_.count(prefix + j)) {
+          throw DatasetError(source_, header_line_, 0,
+                             std::string("missing column '") + prefix + j + "': derivative columns come for every joint (" +
+                                 joinNames(options_.joints, ", ") + ") or for none");
+        }
       }
     }
   }
@@ -264,25 +296,29 @@ class LogParser {
     ncol_ = names_.size();
     const Eigen::Index n = std::max<Eigen::Index>(rows_, 0);
     d_.t_s.resize(n);
-    d_.q_rad.resize(n, 2);
-    d_.tau_Nm.resize(n, 2);
-    if (index_.count("qd_hip")) d_.qd_radps = Eigen::MatrixX2d(n, 2);
-    if (index_.count("qdd_hip")) d_.qdd_radps2 = Eigen::MatrixX2d(n, 2);
+    const auto dof = static_cast<Eigen::Index>(options_.joints.size());
+    d_.joints = options_.joints;
+    d_.q_rad.resize(n, dof);
+    d_.tau_Nm.resize(n, dof);
+    const std::string& first = options_.joints.front();
+    if (index_.count("qd_" + first)) d_.qd_radps = Eigen::MatrixXd(n, dof);
+    if (index_.count("qdd_" + first)) d_.qdd_radps2 = Eigen::MatrixXd(n, dof);
     for (std::size_t c = 0; c < ncol_; ++c) {
-      if (!isKnown(names_[c])) d_.extra_names.push_back(names_[c]);
+      if (!isKnown(names_[c], options_.joints)) d_.extra_names.push_back(names_[c]);
     }
     d_.extra.resize(n, static_cast<Eigen::Index>(d_.extra_names.size()));
-    std::map<std::string, double*> where = {{"t", d_.t_s.data()},
-                                            {"q_hip", d_.q_rad.col(0).data()},
-                                            {"q_knee", d_.q_rad.col(1).data()},
-                                            {"tau_hip", d_.tau_Nm.col(0).data()},
-                                            {"tau_knee", d_.tau_Nm.col(1).data()}};
-    if (d_.qd_radps) where.insert({{"qd_hip", d_.qd_radps->col(0).data()}, {"qd_knee", d_.qd_radps->col(1).data()}});
-    if (d_.qdd_radps2) where.insert({{"qdd_hip", d_.qdd_radps2->col(0).data()}, {"qdd_knee", d_.qdd_radps2->col(1).data()}});
+    std::map<std::string, double*> where = {{"t", d_.t_s.data()}};
+    for (Eigen::Index j = 0; j < dof; ++j) {
+      const std::string& name = options_.joints[static_cast<std::size_t>(j)];
+      where["q_" + name] = d_.q_rad.col(j).data();
+      where["tau_" + name] = d_.tau_Nm.col(j).data();
+      if (d_.qd_radps) where["qd_" + name] = d_.qd_radps->col(j).data();
+      if (d_.qdd_radps2) where["qdd_" + name] = d_.qdd_radps2->col(j).data();
+    }
     for (std::size_t k = 0; k < d_.extra_names.size(); ++k) where[d_.extra_names[k]] = d_.extra.col(static_cast<Eigen::Index>(k)).data();
     for (std::size_t c = 0; c < ncol_; ++c) {
       target_.push_back(where.at(names_[c]));
-      known_.push_back(isKnown(names_[c]));
+      known_.push_back(isKnown(names_[c], options_.joints));
     }
     row_lines_.reserve(static_cast<std::size_t>(n));
   }
@@ -348,8 +384,7 @@ class LogParser {
       if (d_.qd_radps) *d_.qd_radps *= f.angle_scale_rad;
       if (d_.qdd_radps2) *d_.qdd_radps2 *= f.angle_scale_rad;
     }
-    d_.tau_Nm.col(0) *= f.torque_sign[0];
-    d_.tau_Nm.col(1) *= f.torque_sign[1];
+    for (std::size_t j = 0; j < f.torque_sign.size(); ++j) d_.tau_Nm.col(static_cast<Eigen::Index>(j)) *= f.torque_sign[j];
   }
 
   // Time strictly increasing; uniform, or resampled onto a uniform grid (strict: refused).
@@ -442,6 +477,16 @@ template <typename Open>
 Dataset parseLog(Open&& open, const std::string& source, const CsvReadOptions& options) {
   try {
     options.format.validate();
+    if (options.joints.empty()) throw std::invalid_argument("dataset: the model names no joints");
+    for (std::size_t j = 0; j < options.joints.size(); ++j) {
+      if (options.joints[j].empty() || std::count(options.joints.begin(), options.joints.end(), options.joints[j]) > 1) {
+        throw std::invalid_argument("dataset: joint names must be distinct and non-empty, got " + joinNames(options.joints, ", "));
+      }
+    }
+    if (!options.format.torque_sign.empty() && options.format.torque_sign.size() != options.joints.size()) {
+      throw std::invalid_argument("log format: " + core::toText(options.format.torque_sign.size()) + " torque signs for " +
+                                  core::toText(options.joints.size()) + " joints (" + joinNames(options.joints, ", ") + ")");
+    }
   } catch (const std::invalid_argument& e) {
     throw DatasetError(source, 0, 0, e.what());
   }
@@ -542,12 +587,13 @@ Dataset resampleUniform(const Dataset& d, double dt_s) {
   const auto n = static_cast<Eigen::Index>(std::floor(span / dt_s * (1.0 + 1e-12))) + 1;
   Eigen::VectorXd tq(n);
   for (Eigen::Index k = 0; k < n; ++k) tq[k] = t0 + static_cast<double>(k) * dt_s;
-  const auto pair = [&](const Eigen::MatrixX2d& m) {
-    Eigen::MatrixX2d out(n, 2);
-    for (int j = 0; j < 2; ++j) out.col(j) = hermite(d.t_s, m.col(j), tq);
+  const auto pair = [&](const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd out(n, m.cols());
+    for (Eigen::Index j = 0; j < m.cols(); ++j) out.col(j) = hermite(d.t_s, m.col(j), tq);
     return out;
   };
   Dataset r;
+  r.joints = d.joints;
   r.comments = d.comments;
   r.t_s = tq;
   r.q_rad = pair(d.q_rad);
@@ -565,14 +611,24 @@ Dataset resampleUniform(const Dataset& d, double dt_s) {
 
 void writeDatasetCsv(const Dataset& d, std::ostream& out) {
   const Eigen::Index n = d.size();
-  if (d.q_rad.rows() != n || d.tau_Nm.rows() != n || (!d.extra_names.empty() && d.extra.rows() != n) ||
-      d.extra.cols() != static_cast<Eigen::Index>(d.extra_names.size())) {
-    throw std::invalid_argument("dataset: column sizes disagree with t (" + core::toText(n) + " rows)");
+  const Eigen::Index dof = d.dof();
+  const auto fits = [&](const Eigen::MatrixXd& m) { return m.rows() == n && m.cols() == dof; };
+  if (!fits(d.q_rad) || !fits(d.tau_Nm) || (d.qd_radps && !fits(*d.qd_radps)) || (d.qdd_radps2 && !fits(*d.qdd_radps2)) ||
+      (!d.extra_names.empty() && d.extra.rows() != n) || d.extra.cols() != static_cast<Eigen::Index>(d.extra_names.size())) {
+    throw std::invalid_argument("dataset: column sizes disagree with t (" + core::toText(n) + " rows) and the joints (" +
+                                core::toText(dof) + ")");
   }
   for (const std::string& c : d.comments) out << '#' << c << '\n';
-  out << "t,q_hip,q_knee,tau_hip,tau_knee";
-  if (d.qd_radps) out << ",qd_hip,qd_knee";
-  if (d.qdd_radps2) out << ",qdd_hip,qdd_knee";
+  out << 't';
+  for (const char* prefix : {"q_", "tau_"}) {
+    for (const std::string& j : d.joints) out << ',' << prefix << j;
+  }
+  if (d.qd_radps) {
+    for (const std::string& j : d.joints) out << ",qd_" << j;
+  }
+  if (d.qdd_radps2) {
+    for (const std::string& j : d.joints) out << ",qdd_" << j;
+  }
   for (const std::string& name : d.extra_names) out << ',' << name;
   out << '\n';
   char buf[32];
@@ -583,17 +639,13 @@ void writeDatasetCsv(const Dataset& d, std::ostream& out) {
   };
   for (Eigen::Index i = 0; i < n; ++i) {
     put(d.t_s[i], true);
-    put(d.q_rad(i, 0));
-    put(d.q_rad(i, 1));
-    put(d.tau_Nm(i, 0));
-    put(d.tau_Nm(i, 1));
+    for (Eigen::Index j = 0; j < dof; ++j) put(d.q_rad(i, j));
+    for (Eigen::Index j = 0; j < dof; ++j) put(d.tau_Nm(i, j));
     if (d.qd_radps) {
-      put((*d.qd_radps)(i, 0));
-      put((*d.qd_radps)(i, 1));
+      for (Eigen::Index j = 0; j < dof; ++j) put((*d.qd_radps)(i, j));
     }
     if (d.qdd_radps2) {
-      put((*d.qdd_radps2)(i, 0));
-      put((*d.qdd_radps2)(i, 1));
+      for (Eigen::Index j = 0; j < dof; ++j) put((*d.qdd_radps2)(i, j));
     }
     for (Eigen::Index k = 0; k < d.extra.cols(); ++k) put(d.extra(i, k));
     out << '\n';

@@ -28,6 +28,12 @@ void JointSignals::validate() const {
                                 core::toText(qdd_radps2.rows()) + ", " +
                                 core::toText(tau_Nm.rows()));
   }
+  const Eigen::Index dof = q_rad.cols();
+  if (dof < 1 || qd_radps.cols() != dof || qdd_radps2.cols() != dof || tau_Nm.cols() != dof) {
+    throw std::invalid_argument("joint signals: expected the same number of joints (>= 1) in q, qd, qdd and tau, got " +
+                                core::toText(dof) + ", " + core::toText(qd_radps.cols()) + ", " +
+                                core::toText(qdd_radps2.cols()) + ", " + core::toText(tau_Nm.cols()));
+  }
   if (base.rows() != 0 && base.rows() != n) {
     throw std::invalid_argument("joint signals: expected 0 or " + core::toText(n) + " rows of base motion, got " +
                                 core::toText(base.rows()));
@@ -77,6 +83,10 @@ template <typename Fn>
 void forEachSample(const JointSignals& s, const LegConstants& c, Fn&& fn) {
   c.validate();
   s.validate();
+  if (s.q_rad.cols() != 2) {
+    throw std::invalid_argument("the 2-link leg's regressor needs 2 joints (hip, knee), got " + core::toText(s.q_rad.cols()) +
+                                ": a chain's signals go to the chain regressor (ident/model)");
+  }
   RegressorRow hip, knee;
   const bool moving = s.base.rows() > 0;
   for (Eigen::Index i = 0; i < s.size(); ++i) {
@@ -107,8 +117,8 @@ Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c) {
 }
 
 Eigen::VectorXd stackedTorque(const JointSignals& s) {
-  // Row-major copy of an N x 2 matrix is the interleaved [hip_0, knee_0, hip_1, ...].
-  const Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rows = s.tau_Nm;
+  // Row-major copy of an N x dof matrix is the interleaved [hip_0, knee_0, hip_1, ...].
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows = s.tau_Nm;
   return Eigen::Map<const Eigen::VectorXd>(rows.data(), rows.size());
 }
 

@@ -74,7 +74,7 @@ TEST(DatasetFormats, ColumnMapUnitsAndSigns) {
   o.format.columns = parseColumnMap("t=time_ms, q_hip=pos1,q_knee=pos2,tau_hip=eff1,tau_knee=eff2");
   o.format.time_scale_s = parseTimeUnit("ms");
   o.format.angle_scale_rad = parseAngleUnit("deg");
-  o.format.torque_sign << 1.0, -1.0;
+  o.format.torque_sign = {1.0, -1.0};
   const Dataset d = parse(text, o);
   ASSERT_EQ(d.size(), 30);
   EXPECT_DOUBLE_EQ(d.t_s[1], 0.002);

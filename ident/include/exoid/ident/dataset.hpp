@@ -5,6 +5,9 @@
 //   t,q_hip,q_knee,tau_hip,tau_knee[,qd_hip,qd_knee,qdd_hip,qdd_knee][,any other column...]
 //   0,-0.1745,0.7854,1.2,3.4
 //
+// That is the APAL leg's; a robot with other joints has q_<joint> and tau_<joint> (and qd_, qdd_)
+// for each joint the model names (CsvReadOptions::joints), in the model's order.
+//
 // SI units: s, rad, rad/s, rad/s^2, N m, unless a LogFormat maps a lab's own column names, angle
 // and time units and torque signs onto these. Columns may come in any order; names are exact.
 // qd_* and qdd_* must each come in pairs (both joints). Other columns are kept when numeric and
@@ -48,17 +51,23 @@ struct SamplingReport {
 
 struct Dataset {
   std::vector<std::string> comments;  ///< metadata lines, without the leading '#'
+  /// The joints, base to tip: column j of q_rad, tau_Nm, ... is joints[j] (the APAL leg: hip, knee).
+  std::vector<std::string> joints = {"hip", "knee"};
   Eigen::VectorXd t_s;
-  Eigen::MatrixX2d q_rad;   ///< col 0 hip, col 1 knee
-  Eigen::MatrixX2d tau_Nm;  ///< measured joint (motor) torques
-  std::optional<Eigen::MatrixX2d> qd_radps;     ///< recorded velocities, if any
-  std::optional<Eigen::MatrixX2d> qdd_radps2;   ///< recorded accelerations, if any
+  Eigen::MatrixXd q_rad;   ///< N x joints.size()
+  Eigen::MatrixXd tau_Nm;  ///< measured joint (motor) torques
+  std::optional<Eigen::MatrixXd> qd_radps;     ///< recorded velocities, if any
+  std::optional<Eigen::MatrixXd> qdd_radps2;   ///< recorded accelerations, if any
   std::vector<std::string> extra_names;  ///< other numeric columns, in file order
   Eigen::MatrixXd extra;                 ///< N x extra_names.size()
   std::vector<std::string> text_columns;  ///< other columns with a non-numeric cell (ignored)
   SamplingReport sampling;
 
   Eigen::Index size() const { return t_s.size(); }
+  Eigen::Index dof() const { return static_cast<Eigen::Index>(joints.size()); }
+  /// Throws std::invalid_argument unless the joints are exactly these (e.g. the APAL leg's
+  /// hip, knee for the hand-written 2-link path), naming both lists.
+  void requireJoints(const std::vector<std::string>& expected, const std::string& who) const;
   /// Mean sampling interval (s). Requires size() >= 2.
   double sampleInterval_s() const;
   /// Value of a "# key: value" metadata line, if present.
@@ -73,7 +82,8 @@ struct LogFormat {
   std::vector<std::pair<std::string, std::string>> columns;
   double time_scale_s = 1.0;     ///< seconds per unit of the time column (1e-3 for ms)
   double angle_scale_rad = 1.0;  ///< radians per unit of angles and their derivatives (pi/180 for deg)
-  Eigen::Vector2d torque_sign{1.0, 1.0};  ///< multiplies each joint's torque (+1 or -1)
+  /// Multiplies each joint's torque (+1 or -1), in the joints' order; empty = all +1.
+  std::vector<double> torque_sign;
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 /// "t=time,q_hip=pos_meas1,...": exoid name = log name pairs. Throws std::invalid_argument.
@@ -93,6 +103,9 @@ enum class SamplingMode {
 };
 
 struct CsvReadOptions {
+  /// The robot's joints, base to tip: the reader requires q_<joint> and tau_<joint> for each.
+  /// Default: the APAL leg's.
+  std::vector<std::string> joints = {"hip", "knee"};
   /// Fewer data rows than this is an error: differentiation and filtering need a record.
   long min_rows = 20;
   /// An interval within dt_rel_tolerance * median of the median counts as uniform.

@@ -45,13 +45,14 @@ struct BaseMotion {
 void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
                    const Eigen::Vector2d& qdd, const BaseMotion& base, RegressorRow& hip, RegressorRow& knee);
 
-/// Time series of the two joints (column 0 = hip, 1 = knee), SI units. Rows are samples.
+/// Time series of the joints (the APAL leg: column 0 = hip, 1 = knee; a chain: its joints base to
+/// tip), SI units. Rows are samples.
 struct JointSignals {
   Eigen::VectorXd t_s;
-  Eigen::MatrixX2d q_rad;
-  Eigen::MatrixX2d qd_radps;
-  Eigen::MatrixX2d qdd_radps2;
-  Eigen::MatrixX2d tau_Nm;
+  Eigen::MatrixXd q_rad;
+  Eigen::MatrixXd qd_radps;
+  Eigen::MatrixXd qdd_radps2;
+  Eigen::MatrixXd tau_Nm;
   /// Optional base motion per sample, columns (f_x, f_z, omega, alpha) as in BaseMotion; empty =
   /// a still base under gravity (LegConstants::gravity_mps2).
   Eigen::Matrix<double, Eigen::Dynamic, 4> base;
