@@ -1,5 +1,6 @@
 // `exoid simulate` and `exoid truth`.
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/experiments/chain_commands.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
 #include "exoid/experiments/options.hpp"
@@ -8,6 +9,7 @@
 #include "exoid/sim/sidecar.hpp"
 #include "exoid/sim/truth.hpp"
 
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -25,9 +27,42 @@ std::string sidecarPath(const std::string& csv) {
 struct SimulateArgs {
   sim::SimConfig config;
   std::string out;
+  bool record_derivatives = false;  ///< chain models: exact qd_, qdd_ columns
+  double coulomb_v0_radps = -1.0;   ///< chain models: Coulomb smoothing (< 0: the model's)
+  double bandwidth_hz = 4.0;        ///< chain models: PD bandwidth
+  CLI::App* cmd = nullptr;
 };
 
+// A model other than the APAL leg: the serial-chain simulator. The APAL rig's own options (its
+// pedestal, four-bar, actuators, paper trajectories) do not apply and are refused by name.
+void runChainSimulate(const SimulateArgs& a) {
+  for (const char* apal_only :
+       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--excitation", "--ramp", "--encoder-backlash-deg",
+        "--tau-bias-hip", "--tau-bias-knee", "--vibration", "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random",
+        "--cylinder-mass-scale", "--fc-hip", "--fv-hip", "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward",
+        "--no-feedforward", "--hip-actuator-bandwidth", "--knee-actuator-bandwidth", "--torque-sensor-bandwidth", "--imu-acc-noise",
+        "--imu-gyro-noise", "--no-exact"}) {
+    if (a.cmd->count(apal_only) > 0) {
+      throw CLI::ValidationError(apal_only, std::string("is an option of the APAL leg's rig; '") + a.config.model_path +
+                                                "' runs on the serial-chain simulator (see exoid simulate --help, group 'Chain models')");
+    }
+  }
+  sim::ChainSimConfig c;
+  c.model_path = a.config.model_path;
+  c.duration_s = a.config.duration_s;
+  c.dt_s = a.config.dt_s;
+  c.encoder_noise_rad = a.config.sensors.noise_q_deg * M_PI / 180.0;
+  c.encoder_resolution_rad = a.config.sensors.quantisation_deg * M_PI / 180.0;
+  c.torque_noise_Nm = a.config.sensors.noise_tau_Nm;
+  c.coulomb_v0_radps = a.coulomb_v0_radps;
+  c.bandwidth_hz = a.bandwidth_hz;
+  c.record_derivatives = a.record_derivatives;
+  c.seed = a.config.seed;
+  simulateChainToFiles(c, a.out);
+}
+
 void runSimulate(const SimulateArgs& a) {
+  if (!isApalLegModel(a.config.model_path)) return runChainSimulate(a);
   core::checkOutputWritable(a.out);  // before the simulation, not after it
   core::checkOutputWritable(sidecarPath(a.out));
   const sim::SimResult r = sim::simulate(a.config);
@@ -101,6 +136,16 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->check(seedValidator())->capture_default_str();
   cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");
   cmd->add_option("--out", args->out, "Dataset CSV to write")->required();
+  cmd->add_flag("--record-derivatives", args->record_derivatives,
+                "Chain models: also write qd_<joint>, qdd_<joint>, the exact derivatives (a rig that logs them)")
+      ->group("Chain models");
+  cmd->add_option("--coulomb-v0", args->coulomb_v0_radps,
+                  "Chain models: Coulomb friction -fc tanh(qd / v0), rad/s; 0 = -fc sgn(qd), the regressor's own shape "
+                  "(default: the model's exoid_coulomb_v0)")
+      ->check(CLI::NonNegativeNumber)->group("Chain models");
+  cmd->add_option("--bandwidth", args->bandwidth_hz, "Chain models: PD tracking bandwidth per joint, Hz")
+      ->check(positiveNumber())->capture_default_str()->group("Chain models");
+  args->cmd = cmd;
   cmd->callback([args] { runSimulate(*args); });
 }
 

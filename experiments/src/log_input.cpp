@@ -36,7 +36,7 @@ void addLogInputOptions(CLI::App& app, LogInputFlags& f) {
       ->check(positiveNumber())->group(g);
 }
 
-LogInput readLogProfile(const std::string& path) {
+LogInput readLogProfile(const std::string& path, const std::vector<std::string>& joints) {
   toml::table t;
   try {
     t = toml::parse_file(path);
@@ -45,6 +45,7 @@ LogInput readLogProfile(const std::string& path) {
                                 core::toText(e.source().begin.column) + ": " + std::string(e.description()));
   }
   LogInput in;
+  in.csv.joints = joints;
   in.profile = path;
   const auto at = [&](const toml::node& n) {
     return path + ":" + core::toText(n.source().begin.line) + ":" + core::toText(n.source().begin.column);
@@ -108,8 +109,10 @@ LogInput readLogProfile(const std::string& path) {
   return in;
 }
 
-LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz) {
-  LogInput in = f.profile.empty() ? LogInput{} : readLogProfile(f.profile);
+LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz, const std::vector<std::string>& joints) {
+  LogInput in;
+  in.csv.joints = joints;
+  if (!f.profile.empty()) in = readLogProfile(f.profile, joints);
   try {
     if (!f.columns.empty()) {
       // Flags override the profile name by name.

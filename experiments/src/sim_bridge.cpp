@@ -217,7 +217,13 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--imu-gyro-noise", c.sensors.imu_gyro_noise_radps, "Pedestal gyro noise std, rad/s")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
-  app.add_option("--model", c.model_path, "MJCF model")->check(CLI::ExistingFile)->capture_default_str()->group(g);
+  app.add_option("--model", c.model_path,
+                 "MJCF model: apal (the built-in APAL leg), leg3 (the built-in hip-knee-ankle leg) or a file; a model other "
+                 "than the APAL leg (its <mujoco model=\"apal_leg\">) runs on the serial-chain simulator")
+      ->transform([](const std::string& s) { return sim::modelPathFor(s); })
+      ->check(CLI::ExistingFile)
+      ->capture_default_str()
+      ->group(g);
 }
 
 }  // namespace exoid::experiments

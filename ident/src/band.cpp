@@ -33,8 +33,12 @@ double BandScan::ratio() const {
 
 std::string BandChoice::describe() const {
   std::ostringstream s;
-  s << "motion up to " << core::formatNumber(motion_bandwidth_hz, 3) << " Hz (hip " << core::formatNumber(joint_motion_bandwidth_hz[0], 3)
-    << ", knee " << core::formatNumber(joint_motion_bandwidth_hz[1], 3) << " Hz: " << core::formatNumber(100.0 * motion_fraction, 4)
+  s << "motion up to " << core::formatNumber(motion_bandwidth_hz, 3) << " Hz (";
+  for (Eigen::Index j = 0; j < joint_motion_bandwidth_hz.size(); ++j) {
+    s << (j ? ", " : "") << (static_cast<std::size_t>(j) < joints.size() ? joints[static_cast<std::size_t>(j)] : "joint " + std::to_string(j))
+      << " " << core::formatNumber(joint_motion_bandwidth_hz[j], 3);
+  }
+  s << " Hz: " << core::formatNumber(100.0 * motion_fraction, 4)
     << " % of the angles' variance, pooled); ";
   if (record_floor_hz > motion_bandwidth_hz) {
     s << "the record's length allows no band below " << core::formatNumber(record_floor_hz, 3)
@@ -107,7 +111,7 @@ double motionBandwidth(const Dataset& d, double fraction) {
   return bandwidthAt(pooled, fraction);
 }
 
-BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule) {
+BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const BandRule& rule, const PilotFit& pilot_fit) {
   rule.validate();
   const double fs = 1.0 / d.sampleInterval_s();
   if (!(fs >= 20.0) || !std::isfinite(fs)) {
@@ -122,7 +126,9 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   BandChoice out;
   out.motion_fraction = rule.motion_fraction;
   out.max_factor = rule.max_factor;
-  for (int j = 0; j < 2; ++j) {
+  out.joints = d.joints;
+  out.joint_motion_bandwidth_hz.resize(d.q_rad.cols());
+  for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) {
     out.joint_motion_bandwidth_hz[j] = bandwidthAt(welchPsd(d.q_rad.col(j), fs, WelchOptions{}), rule.motion_fraction);
   }
   // The motion's: both angles' power pooled, so a joint held still (its angle is encoder noise,
@@ -145,19 +151,13 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   // The pilot: least squares in a band just wider than the motion.
   const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule, fs);
   out.pilot_cutoff_hz = pilot.cutoff_hz;
-  const ProcessedRecord pilot_rows = processRecord(d, c, pilot);
-  const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
-  LsOptions ls;
-  ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
-  const Eigen::VectorXd theta = solveLeastSquares(p.H, p.y, ls).x;
-  // The torque the pilot predicts from the measured states, against the torque measured, band by band.
-  const JointSignals states = differentiatedStates(d, pilot);
+  const PilotTorques torques = pilot_fit(pilot);
   const WelchOptions w;
-  PowerSpectrum predicted = welchPsd(jointRegressor(states, Joint::kKnee, c) * theta, fs, w);
-  PowerSpectrum measured = welchPsd(d.tau_Nm.col(1), fs, w);
-  if (!rule.knee_only) {
-    predicted.density += welchPsd(jointRegressor(states, Joint::kHip, c) * theta, fs, w).density;
-    measured.density += welchPsd(d.tau_Nm.col(0), fs, w).density;
+  PowerSpectrum predicted = welchPsd(torques.predicted_Nm.col(0), fs, w);
+  PowerSpectrum measured = welchPsd(torques.measured_Nm.col(0), fs, w);
+  for (Eigen::Index j = 1; j < torques.predicted_Nm.cols(); ++j) {
+    predicted.density += welchPsd(torques.predicted_Nm.col(j), fs, w).density;
+    measured.density += welchPsd(torques.measured_Nm.col(j), fs, w).density;
   }
   out.cutoff_hz = cap;
   for (double from = first; from < cap - 1e-9; from += rule.scan_band_hz) {
@@ -177,6 +177,30 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   out.derivative_cutoff_hz = chosen.derivative_cutoff_hz;
   out.decimation = chosen.decimationFactor(fs);
   return out;
+}
+
+BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule) {
+  d.requireJoints({"hip", "knee"}, "the 2-link leg's band choice");
+  // The pilot: least squares of the leg's equations (the knee's alone when knee_only) at the
+  // pilot band, its torque predicted from the measured states.
+  return chooseBandWith(d, base, rule, [&](const SignalOptions& pilot) {
+    const ProcessedRecord pilot_rows = processRecord(d, c, pilot);
+    const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
+    LsOptions ls;
+    ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
+    const Eigen::VectorXd theta = solveLeastSquares(p.H, p.y, ls).x;
+    const JointSignals states = differentiatedStates(d, pilot);
+    PilotTorques t;
+    if (rule.knee_only) {
+      t.predicted_Nm = jointRegressor(states, Joint::kKnee, c) * theta;
+      t.measured_Nm = d.tau_Nm.col(1);
+    } else {
+      t.predicted_Nm.resize(d.size(), 2);
+      t.predicted_Nm << jointRegressor(states, Joint::kHip, c) * theta, jointRegressor(states, Joint::kKnee, c) * theta;
+      t.measured_Nm = d.tau_Nm;
+    }
+    return t;
+  });
 }
 
 double derivativeCutoffFor(double cutoff_hz, double sample_rate_hz, const BandRule& rule) {

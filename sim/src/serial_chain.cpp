@@ -109,9 +109,7 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
   return chain;
 }
 
-SerialChain serialChainFromMjcfFile(const std::string& path) {
-  const ModelPtr model = loadMjcfFile(path);
-  const mjModel* m = model.get();
+std::vector<int> drivenHinges(const mjModel* m, const std::string& path) {
   std::vector<int> driven;
   for (int a = 0; a < m->nu; ++a) {
     if (m->actuator_trntype[a] != mjTRN_JOINT) continue;
@@ -128,6 +126,13 @@ SerialChain serialChainFromMjcfFile(const std::string& path) {
   }
   if (driven.empty()) throw std::invalid_argument("'" + path + "': no actuator drives a hinge joint: no chain to identify");
   std::sort(driven.begin(), driven.end());  // joint ids follow the tree, base to tip
+  return driven;
+}
+
+SerialChain serialChainFromMjcfFile(const std::string& path) {
+  const ModelPtr model = loadMjcfFile(path);
+  const mjModel* m = model.get();
+  const std::vector<int> driven = drivenHinges(m, path);
   std::vector<double> coulomb;
   for (int j : driven) {
     const int id = mj_name2id(m, mjOBJ_NUMERIC, ("exoid_fc_" + nameOf(m, mjOBJ_JOINT, j)).c_str());

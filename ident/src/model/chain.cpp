@@ -25,6 +25,12 @@ std::vector<JointParameterLayout> ChainModel::layout() const {
   return out;
 }
 
+std::vector<std::string> ChainModel::jointNames() const {
+  std::vector<std::string> out;
+  for (const ChainJoint& j : joints) out.push_back(j.name);
+  return out;
+}
+
 int ChainModel::standardParameterCount() const {
   int n = 0;
   for (const ChainJoint& j : joints) n += kLinkParams + (j.friction ? 2 : 0) + (j.armature ? 1 : 0);

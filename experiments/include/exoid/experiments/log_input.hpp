@@ -31,10 +31,13 @@ struct LogInput {
 /// Profile first, then the flags over it. `filter_cutoff_hz` > 0 sets the longest gap resampling
 /// bridges to a tenth of the filter's period unless --max-gap-ms says otherwise. Throws
 /// std::invalid_argument naming the profile's file:line:column or the flag.
-LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz);
+/// `joints`: the model's (the APAL leg's hip, knee by default); the reader requires their columns
+/// and a profile's [torque_sign] names them.
+LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz,
+                         const std::vector<std::string>& joints = {"hip", "knee"});
 
 /// Reads a profile TOML; throws std::invalid_argument naming file:line:column and the key.
-LogInput readLogProfile(const std::string& path);
+LogInput readLogProfile(const std::string& path, const std::vector<std::string>& joints = {"hip", "knee"});
 
 /// A dataset CSV, or a gzipped one (.gz). Throws ident::DatasetError naming the file.
 ident::Dataset readLog(const std::string& path, const LogInput& in);

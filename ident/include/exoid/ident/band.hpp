@@ -60,7 +60,8 @@ struct BandScan {
 };
 
 struct BandChoice {
-  Eigen::Vector2d joint_motion_bandwidth_hz = Eigen::Vector2d::Zero();
+  std::vector<std::string> joints;            ///< the record's joints
+  Eigen::VectorXd joint_motion_bandwidth_hz;  ///< one per joint
   double motion_bandwidth_hz = 0.0;  ///< f_m (the joints' power pooled)
   /// The lowest cutoff the record's length allows: its edge trims (3 / cutoff each) keep half of it.
   double record_floor_hz = 0.0;
@@ -86,6 +87,16 @@ double motionBandwidth(const Dataset& d, double fraction = 0.99);
 /// std::invalid_argument as processRecord does (too short, bad options), and for a record sampled
 /// below 20 Hz or too short to choose a band.
 BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule = {});
+
+/// The torque a pilot fit predicts from the measured states along the whole record (N x k) and
+/// the torque measured that it is compared with (N x k): the model's part of chooseBand. The
+/// pilot options are parallel processing at the pilot's cutoff.
+struct PilotTorques {
+  Eigen::MatrixXd predicted_Nm, measured_Nm;
+};
+using PilotFit = std::function<PilotTorques(const SignalOptions& pilot)>;
+/// chooseBand for any model: the same rule, the model's pilot given as a function.
+BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const BandRule& rule, const PilotFit& pilot_fit);
 
 /// The derivative pre-filter for a cutoff: rule.derivative_factor x cutoff_hz, or 0 (none) when
 /// that is at or above the Nyquist frequency of sample_rate_hz.

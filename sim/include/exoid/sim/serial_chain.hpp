@@ -43,6 +43,10 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
 /// The APAL leg's chain (hip, knee) of a loaded leg, with its Coulomb settings.
 SerialChain serialChain(const LegModel& leg);
 
+/// The hinge joints a model's actuators drive, base to tip (joint ids). Throws
+/// std::invalid_argument naming `path` when an actuator drives a slide, ball or free joint, or
+/// none drives a hinge.
+std::vector<int> drivenHinges(const mjModel* m, const std::string& path);
 /// The chain of an MJCF file: every hinge driven by a motor (an actuator on a joint), in tree
 /// order; Coulomb friction from the custom numerics exoid_fc_<joint> (0 when absent). Throws
 /// std::invalid_argument naming the file and what it found: a driven joint that is not a hinge

@@ -43,6 +43,8 @@ struct ChainModel {
   /// Layout of joint i's parameters (see JointParameterLayout).
   std::vector<JointParameterLayout> layout() const;
   int standardParameterCount() const;
+  /// The joints' names, base to tip (a dataset's columns: q_<name>, tau_<name>).
+  std::vector<std::string> jointNames() const;
   /// "thigh.m", "thigh.mx", ..., "thigh.Izz", "hip.fc", "hip.fv", "knee.Ia", in layout order.
   std::vector<std::string> standardParameterNames() const;
   /// Throws std::invalid_argument naming the joint: no joints, an empty or repeated name, a

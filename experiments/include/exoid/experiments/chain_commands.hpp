@@ -1,0 +1,42 @@
+#pragma once
+// The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
+// its MJCF or URDF): simulate it, identify its base parameters from logs.
+#include "exoid/experiments/log_input.hpp"
+#include "exoid/ident/preprocess.hpp"
+#include "exoid/sim/chain_simulate.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// True when the MJCF at `path` is the APAL leg (its <mujoco model="apal_leg">, as the built-in
+/// models/apal_leg.xml and copies of it): its own simulator (four-bar, pedestal) runs it.
+bool isApalLegModel(const std::string& path);
+
+/// `exoid simulate` on a chain model: writes the CSV and its sidecar (same name, .json: the
+/// settings, seed, versions, and the truth: standard and base parameters).
+void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path);
+
+/// The sidecar of a chain simulation.
+nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
+
+struct ChainIdentifyArgs {
+  std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)
+  std::vector<std::string> data;     ///< records, fitted together
+  std::string truth;                 ///< a chain simulation's sidecar: errors against its base parameters
+  std::string json_out;
+  LogInputFlags log;
+  ident::SignalOptions signals;
+  bool consistency = true;
+  double significance_sigmas = 2.0;
+  double max_condition = 1e5;
+};
+/// `exoid identify --model` for a chain: base parameters by least squares, their standard errors,
+/// the physically consistent estimate; returns the exit code (0, or 3 naming why the result must
+/// not be used).
+int identifyChain(const ChainIdentifyArgs& args);
+
+}  // namespace exoid::experiments

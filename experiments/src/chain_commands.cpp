@@ -1,0 +1,211 @@
+// `exoid simulate` and `exoid identify` on a chain model (not the APAL leg).
+#include "exoid/experiments/chain_commands.hpp"
+
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/experiments/chain_bridge.hpp"
+#include "exoid/experiments/commands.hpp"
+#include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/table.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/sim/model.hpp"
+#include "exoid/sim/serial_chain.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+namespace exoid::experiments {
+
+namespace {
+
+std::string sidecarOf(const std::string& csv) {
+  const auto dot = csv.rfind('.'), slash = csv.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
+}
+
+nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::VectorXd& v) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = v[static_cast<Eigen::Index>(i)];
+  return j;
+}
+
+std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+
+}  // namespace
+
+bool isApalLegModel(const std::string& path) {
+  if (endsWith(path, ".urdf")) return false;
+  const sim::ModelPtr m = sim::loadMjcfFile(path);
+  return m->nnames > 0 && std::string(m->names) == "apal_leg";
+}
+
+nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
+  const ident::ChainModel model = chainModel(r.chain);
+  const Eigen::VectorXd phi = standardParameters(r.chain);
+  const ident::BaseParameters base = ident::baseParameters(model);
+  const sim::ChainSimConfig& c = r.config;
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["mujoco_version"] = r.mujoco_version;
+  j["model"] = {{"name", r.chain.name}, {"path", c.model_path}, {"joints", model.jointNames()}};
+  j["config"] = {{"duration_s", c.duration_s},
+                 {"dt_s", c.dt_s},
+                 {"seed", c.seed},
+                 {"encoder_noise_rad", c.encoder_noise_rad},
+                 {"encoder_resolution_rad", c.encoder_resolution_rad},
+                 {"torque_noise_Nm", c.torque_noise_Nm},
+                 {"coulomb_v0_radps", c.coulomb_v0_radps},
+                 {"bandwidth_hz", c.bandwidth_hz},
+                 {"record_derivatives", c.record_derivatives},
+                 {"trajectory",
+                  {{"base_frequency_hz", c.trajectory.base_frequency_hz},
+                   {"offset_rad", toVector(c.trajectory.offset_rad)},
+                   {"sin_rad", nlohmann::json::array()},
+                   {"cos_rad", nlohmann::json::array()}}}};
+  for (Eigen::Index i = 0; i < c.trajectory.sin_rad.rows(); ++i) {
+    j["config"]["trajectory"]["sin_rad"].push_back(toVector(c.trajectory.sin_rad.row(i).transpose()));
+    j["config"]["trajectory"]["cos_rad"].push_back(toVector(c.trajectory.cos_rad.row(i).transpose()));
+  }
+  j["tracking_rms_rad"] = r.tracking_rms_rad;
+  j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},
+                {"base_parameters", namedValues(base.names, base.combination * phi)},
+                {"coulomb", (c.coulomb_v0_radps > 0.0 ? "fc tanh(qd / v0)" : "fc sgn(qd)")},
+                {"description", "Rigid links lumped per joint (every body welded below it), the model's damping as fv and armature as Ia; "
+                                "base parameters: QR with column pivoting over random states (exoid identifiability --model)"}};
+  return j;
+}
+
+void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path) {
+  const std::string json_path = sidecarOf(csv_path);
+  core::checkOutputWritable(csv_path);
+  core::checkOutputWritable(json_path);
+  const sim::ChainSimResult r = sim::simulateChain(config);
+  const nlohmann::json side = chainSimulationSidecar(r);
+  sim::writeTableCsv(r.table, csv_path);
+  writeJsonFile(json_path, side);
+  std::cout << "wrote " << csv_path << " (" << r.table.rows() << " samples of " << r.chain.name << ": ";
+  for (std::size_t i = 0; i < r.chain.links.size(); ++i) std::cout << (i ? ", " : "") << r.chain.links[i].joint;
+  std::cout << ") and " << json_path << "\ntracking error RMS " << fmt(r.tracking_rms_rad * 180.0 / M_PI, 3) << " deg (all joints)\n";
+}
+
+int identifyChain(const ChainIdentifyArgs& a) {
+  if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  const std::string path = sim::modelPathFor(a.model);
+  const sim::SerialChain chain = sim::serialChainFromFile(path);
+  const ident::ChainModel model = chainModel(chain);
+  const Eigen::VectorXd nominal = standardParameters(chain);
+  const ident::BaseParameters base = ident::baseParameters(model);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
+  std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
+  std::vector<ident::ChainRecord> records;
+  nlohmann::json records_json = nlohmann::json::array();
+  for (const std::string& file : a.data) {
+    const ident::Dataset d = readLog(file, log);
+    std::optional<ident::BandChoice> band;
+    records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", records.back().y.size()}};
+    if (band) {
+      std::cout << file << ": " << band->describe() << "\n";
+      rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
+                    {"limited_by", band->limited_by}, {"reason", band->describe()}};
+    }
+    records_json.push_back(rj);
+  }
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = a.max_condition;
+  eo.consistent = a.consistency;
+  const ident::ChainEstimate est = ident::estimateChain(model, base, ident::stackChainRecords(records), nominal, eo);
+
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) {
+    std::ifstream in(a.truth);
+    const nlohmann::json t = nlohmann::json::parse(in, nullptr, false);
+    if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("base_parameters")) {
+      throw std::invalid_argument("--truth '" + a.truth + "': expected a chain simulation's sidecar with truth.base_parameters");
+    }
+    Eigen::VectorXd v(base.rank);
+    for (int i = 0; i < base.rank; ++i) {
+      const std::string& name = base.names[static_cast<std::size_t>(i)];
+      if (!t["truth"]["base_parameters"].contains(name)) {
+        throw std::invalid_argument("--truth '" + a.truth + "': no base parameter '" + name + "' (a sidecar of another model?)");
+      }
+      v[i] = t["truth"]["base_parameters"][name].get<double>();
+    }
+    truth = v;
+  }
+
+  const bool usable_ls = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+  std::vector<std::string> problems;
+  if (est.ls.rank < base.rank) problems.push_back("the records do not identify every base parameter (rank " + core::toText(est.ls.rank) + " of " + core::toText(base.rank) + ")");
+  if (est.ls.rank == base.rank && !usable_ls) problems.push_back(est.ls.summary.message);
+  double mahalanobis = 0.0;
+  if (est.consistent && usable_ls && est.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
+    // The distance from LS to the consistent estimate in standard errors (the metric of the fit's
+    // own covariance): beyond --significance, no physical body explains the data.
+    const double sigma2 = est.ls.residual_rms * est.ls.residual_rms * static_cast<double>(est.rows) / static_cast<double>(est.rows - base.rank);
+    mahalanobis = std::sqrt(std::max(0.0, est.consistent->excess_cost) / sigma2);
+    if (mahalanobis > a.significance_sigmas) {
+      problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(mahalanobis, 3) +
+                         " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+    }
+  }
+
+  std::vector<std::string> header = {"base parameter", "ls", "std err"};
+  if (est.consistent) header.push_back("consistent");
+  if (truth) header.insert(header.end(), {"truth", "ls err %", "err / std"});
+  TextTable table(header);
+  for (int i = 0; i < base.rank; ++i) {
+    std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], fmt(est.beta[i], 6), fmt(est.std_error[i], 3)};
+    if (est.consistent) row.push_back(fmt(est.consistent->beta[i], 6));
+    if (truth) {
+      const double err = est.beta[i] - (*truth)[i];
+      row.push_back(fmt((*truth)[i], 6));
+      row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * err / std::abs((*truth)[i]), 3) : "-");
+      row.push_back(est.std_error[i] > 0.0 ? fmt(err / est.std_error[i], 3) : "-");
+    }
+    table.addRow(row);
+  }
+  table.print(std::cout);
+  std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
+            << fmt(est.ls.residual_rms, 4) << " N m\n";
+  if (est.consistent) std::cout << "consistent estimate: " << est.consistent->message << " (" << fmt(mahalanobis, 3) << " standard errors from LS)\n";
+
+  if (!a.json_out.empty()) {
+    nlohmann::json j;
+    j["tool"] = toolJson();
+    j["model"] = {{"name", chain.name}, {"path", path}, {"joints", model.jointNames()}};
+    j["records"] = records_json;
+    j["base_parameters"] = {{"names", base.names},
+                            {"ls", toVector(est.beta)},
+                            {"std_error", toVector(est.std_error)},
+                            {"condition_number", est.ls.condition_number},
+                            {"residual_rms_Nm", est.ls.residual_rms},
+                            {"rows", est.rows}};
+    if (est.consistent) {
+      j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
+      j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
+                         {"status", ident::toString(est.consistent->status)},
+                         {"standard_errors_from_ls", mahalanobis},
+                         {"message", est.consistent->message}};
+    }
+    if (truth) j["base_parameters"]["truth"] = toVector(*truth);
+    j["problems"] = problems;
+    writeJsonFile(a.json_out, j);
+  }
+  if (!problems.empty()) {
+    std::string all;
+    for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
+    throw UnusableResult(all);
+  }
+  return 0;
+}
+
+}  // namespace exoid::experiments

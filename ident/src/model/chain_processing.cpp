@@ -1,0 +1,146 @@
+#include "exoid/ident/model/chain_processing.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/signals.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+namespace exoid::ident {
+
+namespace {
+
+ChainBaseMotion baseAt(const ChainModel& model, const JointSignals& s, Eigen::Index i) {
+  if (s.base.rows() == 0) return ChainBaseMotion::still(model);
+  ChainBaseMotion b;
+  b.specific_force_mps2 = Eigen::Vector3d(s.base(i, 0), 0.0, s.base(i, 1));
+  b.omega_radps = Eigen::Vector3d(0.0, s.base(i, 2), 0.0);
+  b.alpha_radps2 = Eigen::Vector3d(0.0, s.base(i, 3), 0.0);
+  return b;
+}
+
+void checkJoints(const JointSignals& s, const ChainModel& model) {
+  s.validate();
+  if (s.q_rad.cols() != model.dof()) {
+    throw std::invalid_argument("chain '" + model.name + "' has " + core::toText(model.dof()) + " joints; the signals have " +
+                                core::toText(s.q_rad.cols()));
+  }
+}
+
+// Every joint's regressor side by side, then the torques: N x (dof p + dof), one row per sample,
+// so that one filter pass treats every column alike.
+Eigen::MatrixXd sideBySide(const ChainModel& model, const JointSignals& s) {
+  checkJoints(s, model);
+  const Eigen::Index dof = model.dof(), p = model.standardParameterCount();
+  Eigen::MatrixXd all(s.size(), dof * p + dof);
+  ChainRegressorWorkspace work;
+  Eigen::MatrixXd Y(dof, p);
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    chainRegressorInto(model, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
+                       baseAt(model, s, i), work, Y);
+    for (Eigen::Index j = 0; j < dof; ++j) all.row(i).segment(j * p, p) = Y.row(j);
+  }
+  all.rightCols(dof) = s.tau_Nm;
+  return all;
+}
+
+// Rows first, first + r, ... <= last of a side-by-side matrix, stacked joint by joint.
+ChainRecord stackRows(const Eigen::MatrixXd& all, Eigen::Index dof, Eigen::Index p, Eigen::Index first, Eigen::Index last, int r) {
+  const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
+  ChainRecord out;
+  out.dof = dof;
+  out.W.resize(m * dof, p);
+  out.y.resize(m * dof);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = first + k * r;
+    for (Eigen::Index j = 0; j < dof; ++j) {
+      out.W.row(k * dof + j) = all.row(i).segment(j * p, p);
+      out.y[k * dof + j] = all(i, dof * p + j);
+    }
+  }
+  return out;
+}
+
+void checkRecordLength(Eigen::Index n, Eigen::Index trim, int r) {
+  if ((n - 2 * trim + r - 1) / r < 20 || n - 2 * trim < 20) {
+    throw std::invalid_argument("record too short: " + core::toText(n) + " samples, trimmed by " + core::toText(trim) +
+                                " at each end (the filter's edge transients) and decimated by " + core::toText(r) +
+                                ", leave fewer than 20 rows");
+  }
+}
+
+}  // namespace
+
+ChainRecord chainRows(const ChainModel& model, const JointSignals& s) {
+  const Eigen::MatrixXd all = sideBySide(model, s);
+  return stackRows(all, model.dof(), model.standardParameterCount(), 0, s.size() - 1, 1);
+}
+
+ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const SignalOptions& options,
+                               std::optional<BandChoice>* chosen) {
+  model.validate();
+  d.requireJoints(model.jointNames(), "model '" + model.name + "'");
+  if (chosen) chosen->reset();
+  if (options.processing == Processing::kPaper) return chainRows(model, prepareSignals(d, options));
+  SignalOptions o = options;
+  if (o.cutoff_from_data && o.filter) {
+    const BandChoice band = chooseChainBand(d, model, o);
+    if (chosen) *chosen = band;
+    o = withBand(o, band);
+  } else {
+    o = resolveSignalOptions(d, LegConstants{}, o);  // no band to choose: only the derivative pre-filter's rule
+  }
+  const double fs = 1.0 / d.sampleInterval_s();
+  o.validateFor(fs);
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  const int r = o.decimationFactor(fs);
+  checkRecordLength(d.size(), trim, r);
+  Eigen::MatrixXd all = sideBySide(model, differentiatedStates(d, o));
+  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  return stackRows(all, model.dof(), model.standardParameterCount(), trim, d.size() - 1 - trim, r);
+}
+
+BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const SignalOptions& base, const BandRule& rule) {
+  d.requireJoints(model.jointNames(), "model '" + model.name + "'");
+  const BaseParameters bp = baseParameters(model);
+  return chooseBandWith(d, base, rule, [&](const SignalOptions& pilot) {
+    const ChainRecord rows = processChainRecord(d, model, pilot);
+    LsOptions ls;
+    ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
+    const Eigen::VectorXd beta = solveLeastSquares(bp.baseRegressor(rows.W), rows.y, ls).x;
+    const ChainRecord at_states = chainRows(model, differentiatedStates(d, pilot));
+    const Eigen::VectorXd stacked = bp.baseRegressor(at_states.W) * beta;
+    PilotTorques t;
+    t.predicted_Nm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        stacked.data(), at_states.samples(), model.dof());
+    t.measured_Nm = d.tau_Nm;
+    return t;
+  });
+}
+
+ChainRecord stackChainRecords(const std::vector<ChainRecord>& records) {
+  if (records.empty()) throw std::invalid_argument("stackChainRecords: no records");
+  Eigen::Index rows = 0;
+  for (const ChainRecord& r : records) {
+    if (r.dof != records.front().dof || r.W.cols() != records.front().W.cols()) {
+      throw std::invalid_argument("stackChainRecords: records of different models");
+    }
+    rows += r.W.rows();
+  }
+  ChainRecord out;
+  out.dof = records.front().dof;
+  out.W.resize(rows, records.front().W.cols());
+  out.y.resize(rows);
+  Eigen::Index at = 0;
+  for (const ChainRecord& r : records) {
+    out.W.middleRows(at, r.W.rows()) = r.W;
+    out.y.segment(at, r.y.size()) = r.y;
+    at += r.W.rows();
+  }
+  return out;
+}
+
+}  // namespace exoid::ident
