@@ -9,6 +9,7 @@
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/chain_excitation.hpp"
 #include "exoid/ident/model/chain_processing.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
@@ -93,6 +94,112 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
   std::cout << "wrote " << csv_path << " (" << r.table.rows() << " samples of " << r.chain.name << ": ";
   for (std::size_t i = 0; i < r.chain.links.size(); ++i) std::cout << (i ? ", " : "") << r.chain.links[i].joint;
   std::cout << ") and " << json_path << "\ntracking error RMS " << fmt(r.tracking_rms_rad * 180.0 / M_PI, 3) << " deg (all joints)\n";
+}
+
+namespace {
+
+Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd& model, double scale, const char* flag) {
+  if (given.empty()) return model;
+  if (static_cast<Eigen::Index>(given.size()) != model.size()) {
+    throw CLI::ValidationError(flag, "expected one value per joint (" + core::toText(model.size()) + ")");
+  }
+  Eigen::VectorXd v(model.size());
+  for (Eigen::Index j = 0; j < v.size(); ++j) v[j] = given[static_cast<std::size_t>(j)] * scale;
+  return v;
+}
+
+}  // namespace
+
+void exciteChain(const ChainExciteArgs& a) {
+  core::checkOutputWritable(a.out);
+  const std::string path = sim::modelPathFor(a.model);
+  const sim::SerialChain chain = sim::serialChainFromFile(path);
+  const ident::ChainModel model = chainModel(chain);
+  const Eigen::VectorXd nominal = standardParameters(chain);
+  const ident::BaseParameters base = ident::baseParameters(model);
+  const int dof = model.dof();
+  ident::ChainExcitationLimits lim;
+  lim.q_min_rad.resize(dof);
+  lim.q_max_rad.resize(dof);
+  lim.qd_max_radps.resize(dof);
+  lim.qdd_max_radps2 = Eigen::VectorXd::Constant(dof, 30.0);
+  lim.tau_max_Nm.resize(dof);
+  for (int j = 0; j < dof; ++j) {
+    const sim::ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
+    lim.q_min_rad[j] = l.q_min_rad;
+    lim.q_max_rad[j] = l.q_max_rad;
+    lim.qd_max_radps[j] = std::isfinite(l.qd_max_radps) ? l.qd_max_radps : 3.0;
+    lim.tau_max_Nm[j] = l.tau_max_Nm;
+  }
+  const double deg = M_PI / 180.0;
+  lim.q_min_rad = limitOr(a.q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
+  lim.q_max_rad = limitOr(a.q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
+  lim.qd_max_radps = limitOr(a.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
+  lim.qdd_max_radps2 = limitOr(a.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
+  lim.tau_max_Nm = limitOr(a.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
+  const ident::ChainExcitationDesign d = ident::designChainExcitation(a.options, model, base, nominal, lim);
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["model"] = {{"name", chain.name}, {"path", path}};
+  j["criterion"] = ident::toString(a.options.criterion);
+  j["seed"] = a.options.seed;
+  j["f0_hz"] = d.trajectory.f0_hz;
+  j["joints"] = nlohmann::json::array();
+  for (int k = 0; k < dof; ++k) {
+    j["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(k)].name},
+                           {"offset_rad", d.trajectory.offset_rad[k]},
+                           {"cos_rad", toVector(d.trajectory.a_rad.col(k))},
+                           {"sin_rad", toVector(d.trajectory.b_rad.col(k))},
+                           {"limits", {{"q_min_rad", lim.q_min_rad[k]}, {"q_max_rad", lim.q_max_rad[k]}, {"qd_max_radps", lim.qd_max_radps[k]},
+                                       {"qdd_max_radps2", lim.qdd_max_radps2[k]}, {"tau_max_Nm", lim.tau_max_Nm[k]}}}});
+  }
+  j["score"] = {{"condition_number", d.score.condition_number},
+                {"sum_log_std", d.score.sum_log_std},
+                {"worst_violation", d.score.worst_violation},
+                {"evaluations", d.evaluations},
+                {"feasible_restarts", d.feasible_restarts}};
+  writeJsonFile(a.out, j);
+  std::cout << "wrote " << a.out << ": " << chain.name << ", " << dof << " joints, " << a.options.harmonics << " harmonics of "
+            << fmt(d.trajectory.f0_hz, 3) << " Hz; condition number " << fmt(d.score.condition_number, 4) << " (column-scaled base regressor, "
+            << base.rank << " base parameters), sum of log CRB stds " << fmt(d.score.sum_log_std, 5) << "; "
+            << (d.score.worst_violation == 0.0 ? std::string("inside every limit") : "beyond " + d.score.worst_violation_name) << "; "
+            << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
+}
+
+bool isChainExcitationFile(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return !j.is_discarded() && j.is_object() && j.contains("joints");
+}
+
+sim::ChainFourier readChainExcitation(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("joints") || !j.contains("f0_hz")) {
+    throw std::invalid_argument("'" + path + "': expected a chain excitation design (exoid excite --model ...): f0_hz and joints");
+  }
+  sim::ChainFourier f;
+  try {
+    f.base_frequency_hz = j.at("f0_hz").get<double>();
+    const auto& joints = j.at("joints");
+    const auto dof = static_cast<Eigen::Index>(joints.size());
+    const auto n = static_cast<Eigen::Index>(joints.at(0).at("cos_rad").size());
+    f.offset_rad.resize(dof);
+    f.cos_rad.resize(dof, n);
+    f.sin_rad.resize(dof, n);
+    for (Eigen::Index k = 0; k < dof; ++k) {
+      const auto& jt = joints.at(static_cast<std::size_t>(k));
+      f.offset_rad[k] = jt.at("offset_rad").get<double>();
+      for (Eigen::Index h = 0; h < n; ++h) {
+        f.cos_rad(k, h) = jt.at("cos_rad").at(static_cast<std::size_t>(h)).get<double>();
+        f.sin_rad(k, h) = jt.at("sin_rad").at(static_cast<std::size_t>(h)).get<double>();
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("'" + path + "': " + e.what());
+  }
+  f.validate();
+  return f;
 }
 
 int identifyChain(const ChainIdentifyArgs& a) {

@@ -2,6 +2,7 @@
 // rig's limits, write it as JSON for `exoid simulate --excitation`, and compare it with the
 // paper's trajectory on the same footing (condition number, Cramer-Rao bound per parameter).
 #include "exoid/core/format.hpp"
+#include "exoid/experiments/chain_commands.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/excitation_io.hpp"
 #include "exoid/experiments/identification.hpp"
@@ -32,6 +33,7 @@ struct ExciteArgs {
   std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
   std::string urdf = sim::dataPath("models/apal_leg.urdf");
   bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
+  CLI::App* cmd = nullptr;
 };
 
 // The design and the paper's trajectory sampled over one period of the design: angle, speed,
@@ -69,6 +71,23 @@ void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double 
 }
 
 void runExcite(const ExciteArgs& args) {
+  if (!isApalLegModel(args.model)) {
+    for (const char* apal_only : {"--knee-only", "--hip-locked-at-deg", "--limits", "--urdf", "--duration", "--noise-tau"}) {
+      if (args.cmd->count(apal_only) > 0) {
+        throw CLI::ValidationError(apal_only, "is an option of the APAL leg's design; '" + args.model + "' is designed as a chain (its own limits)");
+      }
+    }
+    ChainExciteArgs c;
+    c.model = args.model;
+    c.out = args.out;
+    c.options = args.options;
+    c.q_min_deg = args.q_min_deg;
+    c.q_max_deg = args.q_max_deg;
+    c.qd_max = args.qd_max;
+    c.qdd_max = args.qdd_max;
+    c.tau_max = args.tau_max;
+    return exciteChain(c);
+  }
   ExciteArgs a = args;
   a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
   a.options.validate();
@@ -197,7 +216,12 @@ void addExciteCommand(CLI::App& app) {
       "or the URDF's limits, and compare it with the paper's trajectory and with the floor no trajectory inside\n"
       "the limits can beat. `exoid simulate --excitation FILE` runs it.");
   cmd->add_option("--out", a->out, "Design JSON to write")->required();
-  cmd->add_option("--model", a->model, "MJCF model (nominal parameters, thigh length)")->check(CLI::ExistingFile)->capture_default_str();
+  cmd->add_option("--model", a->model,
+                  "The robot: apal (default), leg3 or an MJCF/URDF file: nominal parameters and, for a chain model, its\n"
+                  "joints' limits (range; speed 3 rad/s, acceleration 30 rad/s^2 where the file gives none; motor torque)")
+      ->transform([](const std::string& s) { return sim::modelPathFor(s); })
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
   cmd->add_flag("--knee-only", a->options.hip_locked, "Design the knee-only record (hip locked), the segmental strategy's first stage");
   cmd->add_option("--hip-locked-at-deg", a->hip_locked_at_deg, "Knee-only: where the hip is held, deg (the paper's -10)")
       ->capture_default_str();
@@ -225,6 +249,7 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();
+  a->cmd = cmd;
   cmd->callback([a] { runExcite(*a); });
 }
 

@@ -37,7 +37,7 @@ struct SimulateArgs {
 // pedestal, four-bar, actuators, paper trajectories) do not apply and are refused by name.
 void runChainSimulate(const SimulateArgs& a) {
   for (const char* apal_only :
-       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--excitation", "--ramp", "--encoder-backlash-deg",
+       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--ramp", "--encoder-backlash-deg",
         "--tau-bias-hip", "--tau-bias-knee", "--vibration", "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random",
         "--cylinder-mass-scale", "--fc-hip", "--fv-hip", "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward",
         "--no-feedforward", "--hip-actuator-bandwidth", "--knee-actuator-bandwidth", "--torque-sensor-bandwidth", "--imu-acc-noise",
@@ -58,11 +58,15 @@ void runChainSimulate(const SimulateArgs& a) {
   c.bandwidth_hz = a.bandwidth_hz;
   c.record_derivatives = a.record_derivatives;
   c.seed = a.config.seed;
+  if (a.cmd->count("--excitation") > 0) c.trajectory = readChainExcitation(a.cmd->get_option("--excitation")->as<std::string>());
   simulateChainToFiles(c, a.out);
 }
 
 void runSimulate(const SimulateArgs& a) {
   if (!isApalLegModel(a.config.model_path)) return runChainSimulate(a);
+  if (a.cmd->count("--excitation") > 0 && isChainExcitationFile(a.cmd->get_option("--excitation")->as<std::string>())) {
+    throw CLI::ValidationError("--excitation", "is a chain model's design (exoid excite --model ...): run it with that --model");
+  }
   core::checkOutputWritable(a.out);  // before the simulation, not after it
   core::checkOutputWritable(sidecarPath(a.out));
   const sim::SimResult r = sim::simulate(a.config);

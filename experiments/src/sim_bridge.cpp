@@ -1,4 +1,5 @@
 #include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/experiments/chain_commands.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/excitation_io.hpp"
@@ -148,7 +149,12 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
   app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(positiveNumber())->capture_default_str()->group(g);
   app.add_flag("--lock-hip", c.fourier.lock_hip, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
   CLI::Option* ex = app.add_option_function<std::string>(
-                           "--excitation", [&c](const std::string& path) { c.fourier = toFourierSpec(readExcitationFile(path)); c.trajectory = 0; },
+                           "--excitation",
+                           [&c](const std::string& path) {
+                             if (isChainExcitationFile(path)) return;  // a chain model's design: the chain simulator reads it
+                             c.fourier = toFourierSpec(readExcitationFile(path));
+                             c.trajectory = 0;
+                           },
                            "Excitation design JSON from `exoid excite` (replaces --trajectory)")
                        ->check(CLI::ExistingFile)->group(g);
   traj->excludes(fh);

@@ -276,6 +276,20 @@ class LogParser {
                                "=pos_meas1,...); the header has: " + listNames(names_));
       }
     }
+    // A joint the model does not have (q_X and tau_X, X not one of its joints nor a variant
+    // such as hip_true): a record of another robot, which the model would fit silently wrong.
+    for (const auto& [name, col] : index_) {
+      if (name.rfind("q_", 0) != 0) continue;
+      const std::string joint = name.substr(2);
+      if (!index_.count("tau_" + joint) || isKnown(name, options_.joints)) continue;
+      bool variant = false;
+      for (const std::string& j : options_.joints) variant = variant || joint.rfind(j + "_", 0) == 0;
+      if (!variant) {
+        throw DatasetError(source_, header_line_, col + 1,
+                           "the record has a joint '" + joint + "' (q_" + joint + ", tau_" + joint + ") that the model (" +
+                               joinNames(options_.joints, ", ") + ") does not: it is another robot's record; give its model (--model)");
+      }
+    }
     // Derivative columns: all joints or none.
     for (const char* prefix : {"qd_", "qdd_"}) {
       long present = 0;

@@ -57,25 +57,31 @@ void ChainFourier::validate() const {
   if (!offset_rad.allFinite() || !sin_rad.allFinite() || !cos_rad.allFinite()) throw std::invalid_argument("trajectory: a NaN or Inf coefficient");
 }
 
-ChainFourier defaultChainTrajectory(int dof, std::uint64_t seed) {
-  if (dof < 1) throw std::invalid_argument("default trajectory: dof must be >= 1");
+ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed) {
+  const int dof = static_cast<int>(chain.links.size());
+  if (dof < 1) throw std::invalid_argument("default trajectory: the chain has no joints");
   constexpr int kHarmonics = 5;
   Rng rng(core::deriveSeed(seed, 101));
   ChainFourier f;
   f.base_frequency_hz = 0.1;
   f.offset_rad = Eigen::VectorXd::Zero(dof);
-  if (dof > 1) f.offset_rad[1] = 0.6;
   f.sin_rad.resize(dof, kHarmonics);
   f.cos_rad.resize(dof, kHarmonics);
   for (int j = 0; j < dof; ++j) {
+    const ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
+    double amplitude = 0.6;
+    if (std::isfinite(l.q_min_rad) && std::isfinite(l.q_max_rad)) {
+      f.offset_rad[j] = 0.5 * (l.q_min_rad + l.q_max_rad);
+      amplitude = std::min(amplitude, 0.35 * (l.q_max_rad - l.q_min_rad));
+    }
     for (int k = 0; k < kHarmonics; ++k) {
       f.sin_rad(j, k) = rng.uniform(-1.0, 1.0);
       f.cos_rad(j, k) = rng.uniform(-1.0, 1.0);
     }
-    // |q - offset| <= sum of |coefficients| = 0.6 rad.
+    // |q - offset| <= the sum of |coefficients| = amplitude.
     const double total = f.sin_rad.row(j).cwiseAbs().sum() + f.cos_rad.row(j).cwiseAbs().sum();
-    f.sin_rad.row(j) *= 0.6 / total;
-    f.cos_rad.row(j) *= 0.6 / total;
+    f.sin_rad.row(j) *= amplitude / total;
+    f.cos_rad.row(j) *= amplitude / total;
   }
   return f;
 }
@@ -105,11 +111,6 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   m->opt.timestep = config.dt_s;
   const std::vector<int> joints = drivenHinges(m, config.model_path);
   const int dof = static_cast<int>(joints.size());
-  if (config.trajectory.dof() == 0) config.trajectory = defaultChainTrajectory(dof, config.seed);
-  if (config.trajectory.dof() != dof) {
-    throw std::invalid_argument("chain simulation: the trajectory has " + std::to_string(config.trajectory.dof()) + " joints, '" +
-                                config.model_path + "' drives " + std::to_string(dof));
-  }
   if (m->nv != dof) {
     throw std::invalid_argument("chain simulation: '" + config.model_path + "' has " + std::to_string(m->nv) +
                                 " degrees of freedom but its motors drive " + std::to_string(dof) +
@@ -128,14 +129,34 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
       if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == joints[u]) actuator[u] = a;
     }
   }
+  r.chain = serialChainFromMjcf(m, joints, coulomb, config.model_path);
+  r.chain.name = m->nnames > 0 && m->names[0] ? m->names : config.model_path;
+  if (config.trajectory.dof() == 0) config.trajectory = defaultChainTrajectory(r.chain, config.seed);
+  if (config.trajectory.dof() != dof) {
+    throw std::invalid_argument("chain simulation: the trajectory has " + std::to_string(config.trajectory.dof()) + " joints, '" +
+                                config.model_path + "' drives " + std::to_string(dof));
+  }
+  {  // The reference inside every joint's range: a limit's constraint force is no motor torque.
+    Eigen::VectorXd q, qd, qdd;
+    const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
+    for (Eigen::Index k = 0; k < n; ++k) {
+      config.trajectory.reference(static_cast<double>(k) * config.dt_s, q, qd, qdd);
+      for (int i = 0; i < dof; ++i) {
+        const ChainLinkBody& l = r.chain.links[static_cast<std::size_t>(i)];
+        if (q[i] < l.q_min_rad || q[i] > l.q_max_rad) {
+          throw std::invalid_argument("chain simulation: the trajectory takes joint '" + l.joint + "' to " + std::to_string(q[i]) +
+                                      " rad at t = " + std::to_string(static_cast<double>(k) * config.dt_s) + " s, outside its range [" +
+                                      std::to_string(l.q_min_rad) + ", " + std::to_string(l.q_max_rad) + "] rad in '" + config.model_path + "'");
+        }
+      }
+    }
+  }
   const double v0 = config.coulomb_v0_radps < 0.0 ? numericOr(m, "exoid_coulomb_v0", 2e-3) : config.coulomb_v0_radps;
   config.coulomb_v0_radps = v0;
   const auto friction = [&](int i, double qd) {
     const double fc = coulomb[static_cast<std::size_t>(i)];
     return v0 > 0.0 ? fc * std::tanh(qd / v0) : fc * static_cast<double>((qd > 0.0) - (qd < 0.0));
   };
-  r.chain = serialChainFromMjcf(m, joints, coulomb, config.model_path);
-  r.chain.name = m->nnames > 0 && m->names[0] ? m->names : config.model_path;
   r.mujoco_version = mj_versionString();
 
   DataPtr data = makeData(m), ref_data = makeData(m);

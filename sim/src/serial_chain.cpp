@@ -101,6 +101,19 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
     link.coulomb_Nm = coulomb_Nm[i];
     link.damping_Nms = m->dof_damping[dof];
     link.armature_kgm2 = m->dof_armature[dof];
+    if (m->jnt_limited[j]) {
+      link.q_min_rad = m->jnt_range[2 * j];
+      link.q_max_rad = m->jnt_range[2 * j + 1];
+    }
+    for (int a = 0; a < m->nu; ++a) {
+      if (m->actuator_trntype[a] != mjTRN_JOINT || m->actuator_trnid[2 * a] != j) continue;
+      const double gear = std::abs(m->actuator_gear[6 * a]);
+      if (m->actuator_forcelimited[a]) {
+        link.tau_max_Nm = gear * std::max(std::abs(m->actuator_forcerange[2 * a]), std::abs(m->actuator_forcerange[2 * a + 1]));
+      } else if (m->actuator_ctrllimited[a]) {
+        link.tau_max_Nm = gear * std::max(std::abs(m->actuator_ctrlrange[2 * a]), std::abs(m->actuator_ctrlrange[2 * a + 1]));
+      }
+    }
     collectLeftOut(m, b, bodies, chain.left_out);
     chain.links.push_back(link);
     R_parent = R;

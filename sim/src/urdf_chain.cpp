@@ -105,6 +105,14 @@ SerialChain serialChainFromUrdf(const std::string& path) {
       link.coulomb_Nm = j.dynamics->friction;
       link.damping_Nms = j.dynamics->damping;
     }
+    if (j.limits) {
+      if (j.type == urdf::Joint::REVOLUTE) {
+        link.q_min_rad = j.limits->lower;
+        link.q_max_rad = j.limits->upper;
+      }
+      if (j.limits->velocity > 0.0) link.qd_max_radps = j.limits->velocity;
+      if (j.limits->effort > 0.0) link.tau_max_Nm = j.limits->effort;
+    }
     std::vector<std::pair<urdf::JointConstSharedPtr, Eigen::Isometry3d>> below;
     Lump lump;
     const auto child = model->getLink(j.child_link_name);

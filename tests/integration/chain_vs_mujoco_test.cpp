@@ -87,6 +87,8 @@ TEST(ChainVsMujoco, Leg3WithFrictionAndArmature) {
   EXPECT_EQ(chain.name, "leg3");
   EXPECT_GT(chain.links[2].armature_kgm2, 0.0);
   EXPECT_GT(chain.links[2].coulomb_Nm, 0.0);
+  EXPECT_EQ(chain.links[0].q_min_rad, -1.6);  // ranges and motor limits read from the file
+  EXPECT_EQ(chain.links[2].tau_max_Nm, 80.0);
   const ident::ChainModel model = experiments::chainModel(chain);
   const Eigen::VectorXd phi = experiments::standardParameters(chain);
   const sim::ModelPtr m = sim::loadMjcfFile(path);
@@ -97,7 +99,9 @@ TEST(ChainVsMujoco, Leg3WithFrictionAndArmature) {
   for (int k = 0; k < 500; ++k) {
     Eigen::Vector3d q, qd, qdd;
     for (int j = 0; j < 3; ++j) {
-      q[j] = 2 * u(gen);
+      // Inside the joint's range: beyond it mj_inverse adds the limit's constraint force.
+      const sim::ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
+      q[j] = l.q_min_rad + 0.01 + (l.q_max_rad - l.q_min_rad - 0.02) * 0.5 * (1.0 + u(gen));
       qd[j] = 4 * u(gen);
       qdd[j] = 40 * u(gen);
       d->qpos[j] = q[j];

@@ -2,6 +2,7 @@
 // The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
 #include "exoid/experiments/log_input.hpp"
+#include "exoid/ident/excitation.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/sim/chain_simulate.hpp"
 
@@ -22,6 +23,20 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
 
 /// The sidecar of a chain simulation.
 nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
+
+struct ChainExciteArgs {
+  std::string model, out;
+  ident::ExcitationOptions options;
+  /// Overrides of the model's limits, one value per joint (empty = the model's; a joint the
+  /// model leaves unlimited gets 3 rad/s, 30 rad/s^2 and no torque limit).
+  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+};
+/// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
+void exciteChain(const ChainExciteArgs& args);
+/// A chain design file as the simulator's trajectory; throws std::invalid_argument naming the file.
+sim::ChainFourier readChainExcitation(const std::string& path);
+/// True when the JSON file at `path` is a chain design (it has "joints").
+bool isChainExcitationFile(const std::string& path);
 
 struct ChainIdentifyArgs {
   std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)

@@ -31,10 +31,11 @@ struct ChainFourier {
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
-/// A default excitation for a chain of `dof` joints: 5 harmonics of 0.1 Hz, coefficients drawn
-/// from `seed`, scaled so each joint stays within +-0.6 rad of its offset (0 for the first joint,
-/// 0.6 rad for the second: a bent knee, 0 beyond).
-ChainFourier defaultChainTrajectory(int dof, std::uint64_t seed = 1);
+/// A default excitation for a chain: 5 harmonics of 0.1 Hz per joint, coefficients drawn from
+/// `seed`; each joint about the middle of its range, within 35 % of the range's width of it (at
+/// most 0.6 rad), or about 0 within 0.6 rad when the joint has no range. (`exoid excite --model`
+/// designs better ones.)
+ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed = 1);
 
 struct ChainSimConfig {
   std::string model_path;        ///< MJCF (motors on hinge joints)

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include <limits>
+
 #include <string>
 #include <vector>
 
@@ -22,6 +24,11 @@ struct ChainLinkBody {
   Eigen::Vector3d com_m = Eigen::Vector3d::Zero();                     ///< link frame
   Eigen::Matrix3d inertia_com_kgm2 = Eigen::Matrix3d::Zero();          ///< about the COM, link frame
   double coulomb_Nm = 0.0, damping_Nms = 0.0, armature_kgm2 = 0.0;
+  /// The joint's limits, as the file gives them (MJCF: a limited joint's range, a limited motor's
+  /// force range times its gear; URDF: <limit lower upper velocity effort>); infinite when absent.
+  double q_min_rad = -std::numeric_limits<double>::infinity(), q_max_rad = std::numeric_limits<double>::infinity();
+  double qd_max_radps = std::numeric_limits<double>::infinity();
+  double tau_max_Nm = std::numeric_limits<double>::infinity();
 };
 
 struct SerialChain {

@@ -1,0 +1,195 @@
+#include "exoid/ident/model/chain_excitation.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/core/random.hpp"
+#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/nelder_mead.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace exoid::ident {
+
+namespace {
+constexpr double kTwoPi = 6.283185307179586;
+}
+
+void ChainTrajectory::at(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
+  q = offset_rad;
+  qd.setZero(dof());
+  qdd.setZero(dof());
+  for (int k = 1; k <= harmonics(); ++k) {
+    const double w = kTwoPi * f0_hz * k, c = std::cos(w * t_s), s = std::sin(w * t_s);
+    q += (a_rad.row(k - 1) * c + b_rad.row(k - 1) * s).transpose();
+    qd += (w * (-a_rad.row(k - 1) * s + b_rad.row(k - 1) * c)).transpose();
+    qdd += (-w * w * (a_rad.row(k - 1) * c + b_rad.row(k - 1) * s)).transpose();
+  }
+}
+
+void ChainTrajectory::validate() const {
+  if (!(f0_hz > 0.0 && std::isfinite(f0_hz))) throw std::invalid_argument("chain trajectory: 'f0_hz' must be > 0");
+  if (dof() < 1 || a_rad.cols() != dof() || b_rad.cols() != dof() || a_rad.rows() != b_rad.rows()) {
+    throw std::invalid_argument("chain trajectory: 'a_rad' and 'b_rad' must be harmonics x joints, one column per offset");
+  }
+  if (!offset_rad.allFinite() || !a_rad.allFinite() || !b_rad.allFinite()) throw std::invalid_argument("chain trajectory: a NaN or Inf coefficient");
+}
+
+void ChainExcitationLimits::validate(int dof) const {
+  for (const Eigen::VectorXd* v : {&q_min_rad, &q_max_rad, &qd_max_radps, &qdd_max_radps2, &tau_max_Nm}) {
+    if (v->size() != dof) throw std::invalid_argument("excitation limits: one entry per joint (" + core::toText(dof) + ") expected");
+  }
+  for (int j = 0; j < dof; ++j) {
+    if (!(q_min_rad[j] < q_max_rad[j])) throw std::invalid_argument("excitation limits: joint " + core::toText(j) + "'s range is empty");
+    if (!(qd_max_radps[j] > 0.0 && qdd_max_radps2[j] > 0.0 && tau_max_Nm[j] > 0.0)) {
+      throw std::invalid_argument("excitation limits: joint " + core::toText(j) + "'s speed, acceleration and torque limits must be > 0");
+    }
+  }
+}
+
+ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+                                          const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, int samples) {
+  const int dof = model.dof();
+  const Eigen::Index p = model.standardParameterCount();
+  Eigen::MatrixXd W(static_cast<Eigen::Index>(samples) * dof, p);
+  ChainRegressorWorkspace work;
+  Eigen::VectorXd q, qd, qdd;
+  ChainExcitationScore s;
+  const std::vector<std::string> names = model.jointNames();
+  const auto violate = [&](double value, double limit, const char* what, int j) {
+    const double excess = (std::abs(value) - limit) / limit;
+    if (excess > s.worst_violation) {
+      s.worst_violation = excess;
+      s.worst_violation_name = std::string(what) + "[" + names[static_cast<std::size_t>(j)] + "]";
+    }
+  };
+  for (int i = 0; i < samples; ++i) {
+    t.at(static_cast<double>(i) / (t.f0_hz * samples), q, qd, qdd);
+    chainRegressorInto(model, q, qd, qdd, ChainBaseMotion::still(model), work, W.middleRows(static_cast<Eigen::Index>(i) * dof, dof));
+    const Eigen::VectorXd tau = W.middleRows(static_cast<Eigen::Index>(i) * dof, dof) * phi_nominal;
+    for (int j = 0; j < dof; ++j) {
+      const double span = std::isfinite(limits.q_max_rad[j] - limits.q_min_rad[j]) ? limits.q_max_rad[j] - limits.q_min_rad[j] : 1.0;
+      if (q[j] > limits.q_max_rad[j]) violate(span + (q[j] - limits.q_max_rad[j]), span, "q_max", j);
+      if (q[j] < limits.q_min_rad[j]) violate(span + (limits.q_min_rad[j] - q[j]), span, "q_min", j);
+      violate(qd[j], limits.qd_max_radps[j], "qd", j);
+      violate(qdd[j], limits.qdd_max_radps2[j], "qdd", j);
+      violate(tau[j], limits.tau_max_Nm[j], "tau", j);
+    }
+  }
+  Eigen::MatrixXd Wb = base.baseRegressor(W);
+  const Eigen::VectorXd norms = Wb.colwise().norm().transpose();
+  s.condition_number = scaledConditionNumber(Wb);
+  // Cramer-Rao stds with unit noise per row: sqrt of diag((Wb' Wb)^-1), through the scaled
+  // columns' Cholesky (their Gram matrix is well scaled); a singular one scores +infinity.
+  for (Eigen::Index c = 0; c < Wb.cols(); ++c) Wb.col(c) /= std::max(norms[c], 1e-300);
+  Eigen::LLT<Eigen::MatrixXd> llt(Wb.transpose() * Wb);
+  if (llt.info() != Eigen::Success || !std::isfinite(s.condition_number)) {
+    s.sum_log_std = std::numeric_limits<double>::infinity();
+    return s;
+  }
+  const Eigen::MatrixXd inv = llt.solve(Eigen::MatrixXd::Identity(Wb.cols(), Wb.cols()));
+  for (Eigen::Index c = 0; c < Wb.cols(); ++c) s.sum_log_std += 0.5 * std::log(inv(c, c)) - std::log(std::max(norms[c], 1e-300));
+  return s;
+}
+
+namespace {
+
+// Free coefficients per joint: offset, a_2..a_N, b_2..b_N; a_1, b_1 put the joint at rest at t = 0.
+ChainTrajectory fromFree(const ExcitationOptions& o, int dof, const Eigen::VectorXd& p) {
+  const int n = o.harmonics;
+  ChainTrajectory t;
+  t.f0_hz = o.f0_hz;
+  t.offset_rad.resize(dof);
+  t.a_rad = Eigen::MatrixXd::Zero(n, dof);
+  t.b_rad = Eigen::MatrixXd::Zero(n, dof);
+  int at = 0;
+  for (int j = 0; j < dof; ++j) {
+    t.offset_rad[j] = p[at++];
+    double sa = 0.0, sb = 0.0;
+    for (int k = 2; k <= n; ++k) {
+      t.a_rad(k - 1, j) = p[at++];
+      sa += double(k * k) * t.a_rad(k - 1, j);
+    }
+    for (int k = 2; k <= n; ++k) {
+      t.b_rad(k - 1, j) = p[at++];
+      sb += double(k) * t.b_rad(k - 1, j);
+    }
+    t.a_rad(0, j) = -sa;  // sum k^2 a_k = 0: qdd(0) = 0
+    t.b_rad(0, j) = -sb;  // sum k b_k = 0: qd(0) = 0
+  }
+  return t;
+}
+
+}  // namespace
+
+ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const ChainModel& model, const BaseParameters& base,
+                                            const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits) {
+  o.validate();
+  model.validate();
+  const int dof = model.dof();
+  limits.validate(dof);
+  if (o.hip_locked) throw std::invalid_argument("chain excitation: no joint is locked in a chain's design (hip_locked must be false)");
+  if (phi_nominal.size() != model.standardParameterCount()) throw std::invalid_argument("chain excitation: phi_nominal has the wrong size");
+  const int per_joint = 2 * o.harmonics - 1, dim = dof * per_joint;
+  const auto score = [&](const ChainTrajectory& t, int samples) { return scoreChainExcitation(model, base, t, phi_nominal, limits, samples); };
+  const auto objective = [&](const Eigen::VectorXd& p) {
+    const ChainExcitationScore s = score(fromFree(o, dof, p), o.samples);
+    const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
+    return f + 1e5 * s.worst_violation * s.worst_violation;
+  };
+  core::Rng rng(o.seed);
+  ChainExcitationDesign d;
+  double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;
+  Eigen::VectorXd p_feasible, p_any;
+  NelderMeadOptions nm;
+  nm.max_evaluations = o.max_evaluations;
+  nm.initial_step = 0.05;
+  nm.f_tolerance = 1e-8;
+  nm.x_tolerance = 1e-6;
+  for (int r = 0; r < o.restarts; ++r) {
+    Eigen::VectorXd p(dim);
+    int at = 0;
+    for (int j = 0; j < dof; ++j) {
+      const bool ranged = std::isfinite(limits.q_min_rad[j]) && std::isfinite(limits.q_max_rad[j]);
+      const double mid = ranged ? 0.5 * (limits.q_min_rad[j] + limits.q_max_rad[j]) : 0.0;
+      const double half = ranged ? 0.5 * (limits.q_max_rad[j] - limits.q_min_rad[j]) : 1.0;
+      p[at++] = mid + 0.25 * half * rng.uniform(-1.0, 1.0);
+      for (int k = 0; k < 2 * (o.harmonics - 1); ++k) p[at++] = 0.15 * half * rng.uniform(-1.0, 1.0) / (1 + k % (o.harmonics - 1));
+    }
+    const NelderMeadResult res = minimizeNelderMead(objective, p, nm);
+    d.evaluations += res.evaluations;
+    if (score(fromFree(o, dof, res.x), o.samples).worst_violation == 0.0) {
+      ++d.feasible_restarts;
+      if (res.f < best_feasible) {
+        best_feasible = res.f;
+        p_feasible = res.x;
+      }
+    }
+    if (res.f < best_any) {
+      best_any = res.f;
+      p_any = res.x;
+    }
+  }
+  ChainTrajectory t = fromFree(o, dof, p_feasible.size() ? p_feasible : p_any);
+  // Peaks between the optimiser's samples, or no feasible end point: shrink the harmonics.
+  if (score(t, 1000).worst_violation > 0.0) {
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 40; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      ChainTrajectory s = t;
+      s.a_rad *= mid;
+      s.b_rad *= mid;
+      (score(s, 1000).worst_violation > 0.0 ? hi : lo) = mid;
+    }
+    t.a_rad *= lo;
+    t.b_rad *= lo;
+  }
+  d.trajectory = t;
+  d.score = score(t, 1000);
+  return d;
+}
+
+}  // namespace exoid::ident

@@ -1,0 +1,65 @@
+// The commands on the built-in hip-knee-ankle leg, through the CLI as a user runs them: excite
+// designs for it, simulate runs the design, identify recovers the base parameters of the exact
+// record; what the chain path does not take is refused by name.
+#include "cli_test_support.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+namespace exoid::experiments {
+namespace {
+
+using test::runExoid;
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+std::string stderrOf(const std::vector<std::string>& args, int expected_code) {
+  testing::internal::CaptureStderr();
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(runExoid(args), expected_code);
+  testing::internal::GetCapturedStdout();
+  return testing::internal::GetCapturedStderr();
+}
+
+TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
+  const std::string dir = ::testing::TempDir();
+  const std::string design = dir + "/leg3_design.json", csv = dir + "/leg3_exact.csv", side = dir + "/leg3_exact.json",
+                    out = dir + "/leg3_identified.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"excite", "--model", "leg3", "--restarts", "2", "--out", design}), 0);
+  const nlohmann::json d = readJson(design);
+  EXPECT_LE(d["score"]["condition_number"].get<double>(), 10.0);
+  EXPECT_EQ(d["score"]["worst_violation"].get<double>(), 0.0);
+  ASSERT_EQ(d["joints"].size(), 3u);
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--excitation", design, "--duration", "10", "--coulomb-v0", "0",
+                      "--record-derivatives", "--out", csv}),
+            0);
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json r = readJson(out);
+  const auto& b = r["base_parameters"];
+  ASSERT_EQ(b["names"].size(), 17u);
+  for (std::size_t i = 0; i < 17; ++i) {
+    const double truth = b["truth"][i].get<double>(), ls = b["ls"][i].get<double>();
+    EXPECT_NEAR(ls, truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
+  }
+  EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
+  // Without its model the record is refused, naming the joint the APAL leg does not have.
+  const std::string err = stderrOf({"identify", "--data", csv}, 1);
+  EXPECT_NE(err.find("a joint 'ankle'"), std::string::npos) << err;
+}
+
+TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
+  const std::string dir = ::testing::TempDir();
+  EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--vibration", "1", "--out", dir + "/x.csv"}, 105).find("--vibration"), std::string::npos);
+  EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--knee-data", dir + "/x.csv"}, 105).find("--knee-data"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace exoid::experiments
