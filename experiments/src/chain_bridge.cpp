@@ -1,5 +1,7 @@
 #include "exoid/experiments/chain_bridge.hpp"
 
+#include <stdexcept>
+
 namespace exoid::experiments {
 
 ident::ChainModel chainModel(const sim::SerialChain& chain) {
@@ -21,8 +23,10 @@ ident::ChainModel chainModel(const sim::SerialChain& chain) {
   return model;
 }
 
-Eigen::VectorXd standardParameters(const sim::SerialChain& chain) {
-  const ident::ChainModel model = chainModel(chain);
+Eigen::VectorXd standardParameters(const sim::SerialChain& chain) { return standardParameters(chain, chainModel(chain)); }
+
+Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::ChainModel& model) {
+  if (model.joints.size() != chain.links.size()) throw std::invalid_argument("standardParameters: the model is not this chain's");
   const std::vector<ident::JointParameterLayout> layout = model.layout();
   Eigen::VectorXd phi(model.standardParameterCount());
   for (std::size_t i = 0; i < chain.links.size(); ++i) {

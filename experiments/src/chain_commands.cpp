@@ -6,6 +6,7 @@
 #include "exoid/experiments/chain_bridge.hpp"
 #include "exoid/experiments/commands.hpp"
 #include "exoid/experiments/identification.hpp"
+#include "exoid/experiments/plots.hpp"
 #include "exoid/experiments/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
@@ -17,6 +18,7 @@
 #include <mujoco/mujoco.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -207,17 +209,34 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
   const std::string path = sim::modelPathFor(a.model);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = chainModel(chain);
-  const Eigen::VectorXd nominal = standardParameters(chain);
+  ident::ChainModel model = chainModel(chain);
+  for (const std::string& name : a.armature) {
+    bool found = false;
+    for (ident::ChainJoint& j : model.joints) {
+      if (name == "all" || j.name == name) {
+        j.armature = true;
+        found = true;
+      }
+    }
+    if (!found) throw CLI::ValidationError("--armature", "'" + name + "' is not a joint of " + chain.name + " (its joints: " + [&] {
+      std::string all;
+      for (const std::string& j : model.jointNames()) all += (all.empty() ? "" : ", ") + j;
+      return all;
+    }() + "; or all)");
+  }
+  const Eigen::VectorXd nominal = standardParameters(chain, model);
   const ident::BaseParameters base = ident::baseParameters(model);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
+  if (!a.plot.empty()) core::checkOutputWritable(a.plot);
   std::vector<ident::ChainRecord> records;
   nlohmann::json records_json = nlohmann::json::array();
+  std::optional<ident::SignalOptions> fit_signals;  // the first record's, for the validation records
   for (const std::string& file : a.data) {
     const ident::Dataset d = readLog(file, log);
     std::optional<ident::BandChoice> band;
     records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    if (!fit_signals) fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", records.back().y.size()}};
     if (band) {
       std::cout << file << ": " << band->describe() << "\n";
@@ -230,6 +249,58 @@ int identifyChain(const ChainIdentifyArgs& a) {
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
   const ident::ChainEstimate est = ident::estimateChain(model, base, ident::stackChainRecords(records), nominal, eo);
+
+  // Validation: each record processed as the fit's first, its torque predicted by the LS estimate.
+  nlohmann::json validation = nlohmann::json::array();
+  std::optional<ident::ChainRecord> shown;
+  for (const std::string& file : a.validate) {
+    ident::ChainRecord v = ident::processChainRecord(readLog(file, log), model, *fit_signals);
+    const Eigen::VectorXd predicted = base.baseRegressor(v.W) * est.beta;
+    nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
+    std::cout << "validation " << file << ": torque error RMS";
+    for (int j = 0; j < model.dof(); ++j) {
+      double err = 0.0, meas = 0.0;
+      for (Eigen::Index k = 0; k < v.samples(); ++k) {
+        const Eigen::Index row = k * model.dof() + j;
+        err += (v.y[row] - predicted[row]) * (v.y[row] - predicted[row]);
+        meas += v.y[row] * v.y[row];
+      }
+      err = std::sqrt(err / static_cast<double>(v.samples()));
+      meas = std::sqrt(meas / static_cast<double>(v.samples()));
+      std::cout << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
+                << " % of the measured)";
+      vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
+    }
+    std::cout << "\n";
+    validation.push_back(vj);
+    if (!shown) shown = std::move(v);
+  }
+  if (!a.plot.empty()) {
+    if (!shown) shown = records.front();
+    const Eigen::VectorXd predicted = base.baseRegressor(shown->W) * est.beta;
+    const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
+    core::writeFileAtomically(series, [&](std::ostream& out) {
+      out << "t_s";
+      for (const std::string& j : model.jointNames()) out << ",tau_" << j << ",tau_" << j << "_predicted";
+      out << "\n";
+      char buf[32];
+      for (Eigen::Index k = 0; k < shown->samples(); ++k) {
+        std::snprintf(buf, sizeof buf, "%.9g", shown->t_s[k]);
+        out << buf;
+        for (int j = 0; j < model.dof(); ++j) {
+          const Eigen::Index row = k * model.dof() + j;
+          std::snprintf(buf, sizeof buf, ",%.9g", shown->y[row]);
+          out << buf;
+          std::snprintf(buf, sizeof buf, ",%.9g", predicted[row]);
+          out << buf;
+        }
+        out << "\n";
+      }
+    });
+    runPlotScript("chain_validation_plot.py",
+                  {series, a.plot, chain.name + ": " + (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
+    std::cout << "wrote " << a.plot << " and " << series << "\n";
+  }
 
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) {
@@ -304,6 +375,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
                          {"message", est.consistent->message}};
     }
     if (truth) j["base_parameters"]["truth"] = toVector(*truth);
+    j["validation"] = validation;
     j["problems"] = problems;
     writeJsonFile(a.json_out, j);
   }

@@ -48,6 +48,8 @@ struct IdentifyArgs {
   bool timing = false;      ///< wall times in the table and the JSON (they differ run to run)
   ident::ConsistencyOptions consistency_options;
   std::string model;  ///< --model: a robot other than the APAL leg goes to the chain path
+  std::string plot;   ///< --plot (chain models): measured against predicted torques
+  std::vector<std::string> armature;  ///< --armature (chain models)
   CLI::App* cmd = nullptr;
 };
 
@@ -490,8 +492,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 // consistent estimate). What that path does not do yet is refused by name, never ignored.
 bool runChainModel(const IdentifyArgs& a) {
   if (a.model.empty() || isApalLegModel(sim::modelPathFor(a.model))) return false;
-  for (const char* apal_only : {"--knee-data", "--both-data", "--controller", "--knee-armature", "--validate", "--thigh-length",
-                                "--gravity"}) {
+  for (const char* apal_only : {"--knee-data", "--both-data", "--controller", "--knee-armature", "--thigh-length", "--gravity"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
     }
@@ -502,6 +503,9 @@ bool runChainModel(const IdentifyArgs& a) {
   ChainIdentifyArgs c;
   c.model = a.model;
   c.data = a.data;
+  c.validate = a.validate;
+  c.plot = a.plot;
+  c.armature = a.armature;
   c.truth = a.truth;
   c.json_out = a.json_out;
   c.log = a.log;
@@ -517,6 +521,8 @@ bool runChainModel(const IdentifyArgs& a) {
 void run(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (runChainModel(a)) return;
+  if (!a.armature.empty()) throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
+  if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
 #endif
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   checkArguments(a, methods);
@@ -665,6 +671,14 @@ void addIdentifyCommand(CLI::App& app) {
                   "The robot: apal (the built-in APAL leg, the default), leg3 (the built-in hip-knee-ankle leg) or its MJCF or\n"
                   "URDF file. The records then have q_<joint>, tau_<joint> for its joints; its base parameters are fitted")
       ->group("Input");
+  cmd->add_option("--plot", args->plot,
+                  "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
+                  "record (else the first --data record), and its data as <plot>_series.csv")
+      ->group("Output");
+  cmd->add_option("--armature", args->armature,
+                  "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
+                  "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
+      ->delimiter(',')->group("Identification");
 #endif
   args->cmd = cmd;
   cmd->callback([args] { run(*args); });

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <fstream>
 
 namespace exoid::experiments {
@@ -49,6 +50,22 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
     EXPECT_NEAR(ls, truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
   }
   EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
+  // The URDF of the same leg has no armature: --armature all adds it; the estimate predicts the
+  // (exact) record to rounding, and the figure is drawn.
+  const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf", png = dir + "/leg3_fit.png", out2 = dir + "/leg3_urdf.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identify", "--model", urdf, "--armature", "all", "--data", csv, "--validate", csv, "--truth", side, "--plot", png,
+                      "--json", out2}),
+            0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json u = readJson(out2);
+  EXPECT_EQ(u["base_parameters"]["names"], b["names"]);
+  for (const auto& joint : u["validation"][0]["joints"]) {
+    EXPECT_LE(joint["rms_error_Nm"].get<double>(), 1e-8 * joint["rms_measured_Nm"].get<double>()) << joint["name"];
+  }
+  EXPECT_TRUE(std::filesystem::exists(png));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/leg3_fit_series.csv"));
+  EXPECT_NE(stderrOf({"identify", "--model", urdf, "--armature", "toe", "--data", csv}, 105).find("'toe' is not a joint of leg3"), std::string::npos);
   // Without its model the record is refused, naming the joint the APAL leg does not have.
   const std::string err = stderrOf({"identify", "--data", csv}, 1);
   EXPECT_NE(err.find("a joint 'ankle'"), std::string::npos) << err;

@@ -48,14 +48,17 @@ Eigen::MatrixXd sideBySide(const ChainModel& model, const JointSignals& s) {
 }
 
 // Rows first, first + r, ... <= last of a side-by-side matrix, stacked joint by joint.
-ChainRecord stackRows(const Eigen::MatrixXd& all, Eigen::Index dof, Eigen::Index p, Eigen::Index first, Eigen::Index last, int r) {
+ChainRecord stackRows(const Eigen::MatrixXd& all, const Eigen::VectorXd& t_s, Eigen::Index dof, Eigen::Index p, Eigen::Index first,
+                      Eigen::Index last, int r) {
   const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
   ChainRecord out;
   out.dof = dof;
   out.W.resize(m * dof, p);
   out.y.resize(m * dof);
+  out.t_s.resize(m);
   for (Eigen::Index k = 0; k < m; ++k) {
     const Eigen::Index i = first + k * r;
+    out.t_s[k] = t_s[i];
     for (Eigen::Index j = 0; j < dof; ++j) {
       out.W.row(k * dof + j) = all.row(i).segment(j * p, p);
       out.y[k * dof + j] = all(i, dof * p + j);
@@ -76,7 +79,7 @@ void checkRecordLength(Eigen::Index n, Eigen::Index trim, int r) {
 
 ChainRecord chainRows(const ChainModel& model, const JointSignals& s) {
   const Eigen::MatrixXd all = sideBySide(model, s);
-  return stackRows(all, model.dof(), model.standardParameterCount(), 0, s.size() - 1, 1);
+  return stackRows(all, s.t_s, model.dof(), model.standardParameterCount(), 0, s.size() - 1, 1);
 }
 
 ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const SignalOptions& options,
@@ -100,7 +103,7 @@ ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const 
   checkRecordLength(d.size(), trim, r);
   Eigen::MatrixXd all = sideBySide(model, differentiatedStates(d, o));
   if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
-  return stackRows(all, model.dof(), model.standardParameterCount(), trim, d.size() - 1 - trim, r);
+  return stackRows(all, d.t_s, model.dof(), model.standardParameterCount(), trim, d.size() - 1 - trim, r);
 }
 
 BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const SignalOptions& base, const BandRule& rule) {
@@ -134,11 +137,14 @@ ChainRecord stackChainRecords(const std::vector<ChainRecord>& records) {
   out.dof = records.front().dof;
   out.W.resize(rows, records.front().W.cols());
   out.y.resize(rows);
-  Eigen::Index at = 0;
+  out.t_s.resize(rows / out.dof);
+  Eigen::Index at = 0, at_t = 0;
   for (const ChainRecord& r : records) {
     out.W.middleRows(at, r.W.rows()) = r.W;
     out.y.segment(at, r.y.size()) = r.y;
+    out.t_s.segment(at_t, r.t_s.size()) = r.t_s;
     at += r.W.rows();
+    at_t += r.t_s.size();
   }
   return out;
 }

@@ -12,5 +12,8 @@ namespace exoid::experiments {
 ident::ChainModel chainModel(const sim::SerialChain& chain);
 /// The true standard parameters in chainModel(chain)'s layout.
 Eigen::VectorXd standardParameters(const sim::SerialChain& chain);
+/// The same in the layout of `model` (the chain's, e.g. with armature added where the file has
+/// none: its value 0).
+Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::ChainModel& model);
 
 }  // namespace exoid::experiments

@@ -41,7 +41,12 @@ bool isChainExcitationFile(const std::string& path);
 struct ChainIdentifyArgs {
   std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)
   std::vector<std::string> data;     ///< records, fitted together
+  std::vector<std::string> validate;  ///< records the estimate predicts (torque error per joint)
+  std::string plot;                  ///< PNG: measured and predicted torques of the first validation record (else the first fit record)
   std::string truth;                 ///< a chain simulation's sidecar: errors against its base parameters
+  /// Joints that get an armature (rotor inertia) parameter although the file gives none (a URDF
+  /// never does), or {"all"}.
+  std::vector<std::string> armature;
   std::string json_out;
   LogInputFlags log;
   ident::SignalOptions signals;

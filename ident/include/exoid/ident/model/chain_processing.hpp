@@ -19,6 +19,7 @@ namespace exoid::ident {
 struct ChainRecord {
   Eigen::MatrixXd W;
   Eigen::VectorXd y;  ///< the torques, processed like the rows
+  Eigen::VectorXd t_s;  ///< each sample's time (one per dof rows)
   Eigen::Index dof = 0;
   Eigen::Index samples() const { return dof ? y.size() / dof : 0; }
 };
