@@ -84,6 +84,7 @@ TEST(ChainIdentification, TorqueNoiseGivesErrorsAsTheCramerRaoBoundSays) {
     sim::ChainSimConfig c = exactConfig(8.0);
     c.torque_noise_Nm = sigma;
     c.seed = static_cast<std::uint64_t>(100 + s);
+    c.actuator_bandwidth_hz = 0.0;  // a staircase torque: one integration step per sample (the rows are exact either way)
     const sim::ChainSimResult r = sim::simulateChain(c);
     ident::SignalOptions o;
     o.processing = ident::Processing::kParallel;
