@@ -19,6 +19,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -40,6 +41,13 @@ nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::V
 }
 
 std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+
+// An output file's folder made (as the other commands do), and the file checked writable in it.
+void prepareOutput(const std::string& path) {
+  if (path.empty()) return;
+  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
+  core::checkOutputWritable(path);
+}
 
 }  // namespace
 
@@ -87,8 +95,8 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
 
 void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path) {
   const std::string json_path = sidecarOf(csv_path);
-  core::checkOutputWritable(csv_path);
-  core::checkOutputWritable(json_path);
+  prepareOutput(csv_path);
+  prepareOutput(json_path);
   const sim::ChainSimResult r = sim::simulateChain(config);
   const nlohmann::json side = chainSimulationSidecar(r);
   sim::writeTableCsv(r.table, csv_path);
@@ -113,7 +121,7 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
 }  // namespace
 
 void exciteChain(const ChainExciteArgs& a) {
-  core::checkOutputWritable(a.out);
+  prepareOutput(a.out);
   const std::string path = sim::modelPathFor(a.model);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
   const ident::ChainModel model = chainModel(chain);
@@ -206,7 +214,7 @@ sim::ChainFourier readChainExcitation(const std::string& path) {
 
 int identifyChain(const ChainIdentifyArgs& a) {
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
-  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  prepareOutput(a.json_out);
   const std::string path = sim::modelPathFor(a.model);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
   ident::ChainModel model = chainModel(chain);
@@ -228,7 +236,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   const ident::BaseParameters base = ident::baseParameters(model);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
-  if (!a.plot.empty()) core::checkOutputWritable(a.plot);
+  prepareOutput(a.plot);
   std::vector<ident::ChainRecord> records;
   nlohmann::json records_json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  // the first record's, for the validation records
