@@ -258,6 +258,18 @@ int identifyChain(const ChainIdentifyArgs& a) {
   eo.consistent = a.consistency;
   const ident::ChainEstimate est = ident::estimateChain(model, base, ident::stackChainRecords(records), nominal, eo);
 
+  // The paper's methods over the same rows, in base parameters (LS above is the reference).
+  const ident::ChainRecord stacked = ident::stackChainRecords(records);
+  const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
+  ident::MethodOptions mo = a.method_options;
+  mo.ls.max_condition = a.max_condition;
+  if (!a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
+  std::vector<std::pair<ident::Method, ident::Estimate>> others;
+  for (ident::Method m : a.methods) {
+    if (m == ident::Method::kLs) continue;
+    others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
+  }
+
   // Validation: each record processed as the fit's first, its torque predicted by the LS estimate.
   nlohmann::json validation = nlohmann::json::array();
   std::optional<ident::ChainRecord> shown;
@@ -344,13 +356,28 @@ int identifyChain(const ChainIdentifyArgs& a) {
     }
   }
 
+  for (const auto& [m, e] : others) {
+    if (!ident::usable(e.summary.status)) problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
+    if (e.box && (m == ident::Method::kPso || m == ident::Method::kRlsPso)) {
+      for (int i = 0; i < base.rank; ++i) {
+        const double lo = e.box->lower[i], hi = e.box->upper[i], tol = 1e-9 * (hi - lo);
+        if (e.x[i] <= lo + tol || e.x[i] >= hi - tol) {
+          problems.push_back(std::string(ident::toString(m)) + ": " + base.names[static_cast<std::size_t>(i)] + " = " + fmt(e.x[i], 6) +
+                             " is on its box's bound [" + fmt(lo, 6) + ", " + fmt(hi, 6) + "]");
+        }
+      }
+    }
+  }
+  if (!others.empty()) std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
   if (est.consistent) header.push_back("consistent");
+  for (const auto& [m, e] : others) header.push_back(ident::toString(m));
   if (truth) header.insert(header.end(), {"truth", "ls err %", "err / std"});
   TextTable table(header);
   for (int i = 0; i < base.rank; ++i) {
     std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], fmt(est.beta[i], 6), fmt(est.std_error[i], 3)};
     if (est.consistent) row.push_back(fmt(est.consistent->beta[i], 6));
+    for (const auto& [m, e] : others) row.push_back(fmt(e.x[i], 6));
     if (truth) {
       const double err = est.beta[i] - (*truth)[i];
       row.push_back(fmt((*truth)[i], 6));
@@ -384,6 +411,13 @@ int identifyChain(const ChainIdentifyArgs& a) {
     }
     if (truth) j["base_parameters"]["truth"] = toVector(*truth);
     j["validation"] = validation;
+    j["methods"] = nlohmann::json::object();
+    for (const auto& [m, e] : others) {
+      nlohmann::json mj = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
+                           {"l1_cost", e.l1_cost}};
+      if (truth) mj["error_rel"] = toVector(((e.x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
+      j["methods"][ident::toString(m)] = mj;
+    }
     j["problems"] = problems;
     writeJsonFile(a.json_out, j);
   }

@@ -497,8 +497,13 @@ bool runChainModel(const IdentifyArgs& a) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
     }
   }
-  if (a.methods != std::vector<std::string>{"ls"}) {
-    throw CLI::ValidationError("--method", "a chain model (--model " + a.model + ") is fitted by ls (and its physically consistent estimate) so far");
+  std::vector<ident::Method> methods;
+  for (ident::Method m : resolveMethods(a.methods)) {
+    if (m == ident::Method::kIdimIv || m == ident::Method::kIvBand) {
+      throw CLI::ValidationError("--method", std::string(ident::toString(m)) + " is not available for a chain model yet (--model " + a.model +
+                                                 "): ls, rls, pso, rls-pso, lad are");
+    }
+    methods.push_back(m);
   }
   ChainIdentifyArgs c;
   c.model = a.model;
@@ -513,6 +518,9 @@ bool runChainModel(const IdentifyArgs& a) {
   c.consistency = a.consistency;
   c.significance_sigmas = a.consistency_options.significance_sigmas;
   c.max_condition = a.methods_options.ls.max_condition;
+  c.methods = methods;
+  c.method_options = a.methods_options;
+  c.wide_box_given = a.wide_box_option && a.wide_box_option->count() > 0;
   identifyChain(c);
   return true;
 }

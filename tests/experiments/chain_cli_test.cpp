@@ -50,6 +50,19 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
     EXPECT_NEAR(ls, truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
   }
   EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
+  // The paper's other methods over the same base-parameter rows: on exact data LAD is exact too,
+  // RLS (P0 = 1e6 I) within its prior's pull, 1e-6 of the largest parameter.
+  const std::string out3 = dir + "/leg3_methods.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "ls,rls,lad", "--json", out3}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json mth = readJson(out3)["methods"];
+  for (const char* m : {"rls", "lad"}) {
+    ASSERT_TRUE(mth.contains(m)) << m;
+    for (std::size_t i = 0; i < 17; ++i) {
+      EXPECT_NEAR(mth[m]["beta"][i].get<double>(), b["truth"][i].get<double>(), 1e-6 * 5.5) << m << " " << b["names"][i].get<std::string>();
+    }
+  }
   // The URDF of the same leg has no armature: --armature all adds it; the estimate predicts the
   // (exact) record to rounding, and the figure is drawn.
   const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf", png = dir + "/leg3_fit.png", out2 = dir + "/leg3_urdf.json";
@@ -76,6 +89,8 @@ TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--vibration", "1", "--out", dir + "/x.csv"}, 105).find("--vibration"), std::string::npos);
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--knee-data", dir + "/x.csv"}, 105).find("--knee-data"), std::string::npos);
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--method", "idim-iv", "--data", std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf"}, 105).find("idim-iv is not available"),
+            std::string::npos);
 }
 
 }  // namespace

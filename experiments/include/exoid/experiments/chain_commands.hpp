@@ -3,6 +3,7 @@
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
 #include "exoid/experiments/log_input.hpp"
 #include "exoid/ident/excitation.hpp"
+#include "exoid/ident/methods.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/sim/chain_simulate.hpp"
 
@@ -53,6 +54,10 @@ struct ChainIdentifyArgs {
   bool consistency = true;
   double significance_sigmas = 2.0;
   double max_condition = 1e5;
+  /// Besides LS (always): rls, pso, rls-pso, lad over the same base-parameter rows.
+  std::vector<ident::Method> methods;
+  ident::MethodOptions method_options;
+  bool wide_box_given = false;  ///< else the PSO box is 10 x the largest |LS estimate|
 };
 /// `exoid identify --model` for a chain: base parameters by least squares, their standard errors,
 /// the physically consistent estimate; returns the exit code (0, or 3 naming why the result must
