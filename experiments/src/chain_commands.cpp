@@ -93,6 +93,29 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   return j;
 }
 
+void truthOfChain(const std::string& model_path, const std::string& json_out) {
+  prepareOutput(json_out);
+  const sim::SerialChain chain = sim::serialChainFromFile(model_path);
+  const ident::ChainModel model = chainModel(chain);
+  const Eigen::VectorXd phi = standardParameters(chain);
+  const ident::BaseParameters base = ident::baseParameters(model);
+  std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
+  TextTable table({"parameter", "value"});
+  const std::vector<std::string> names = model.standardParameterNames();
+  for (std::size_t i = 0; i < names.size(); ++i) table.addRow({names[i], fmt(phi[static_cast<Eigen::Index>(i)], 8)});
+  table.print(std::cout);
+  std::cout << "Base parameters (" << base.rank << "):\n";
+  TextTable bt({"base parameter", "value"});
+  const Eigen::VectorXd beta = base.combination * phi;
+  for (int i = 0; i < base.rank; ++i) bt.addRow({base.names[static_cast<std::size_t>(i)], fmt(beta[i], 8)});
+  bt.print(std::cout);
+  if (!json_out.empty()) {
+    writeJsonFile(json_out, {{"tool", toolJson()},
+                             {"model", {{"name", chain.name}, {"path", model_path}, {"joints", model.jointNames()}}},
+                             {"truth", {{"standard_parameters", namedValues(names, phi)}, {"base_parameters", namedValues(base.names, beta)}}}});
+  }
+}
+
 void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path) {
   const std::string json_path = sidecarOf(csv_path);
   prepareOutput(csv_path);

@@ -6,6 +6,7 @@
 #include "exoid/experiments/options.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
 #include "exoid/experiments/table.hpp"
+#include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/sidecar.hpp"
 #include "exoid/sim/truth.hpp"
 
@@ -100,6 +101,15 @@ void runTruth(TruthArgs a) {
     throw CLI::ValidationError("truth", "give one of --model FILE.xml or --urdf FILE.urdf, not both");
   }
   if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
+  a.model = a.model.empty() ? a.model : sim::modelPathFor(a.model);
+  // Another robot than the APAL leg: its chain's truth (standard and base parameters).
+  if (!a.model.empty() && !endsWith(a.model, ".urdf") && !isApalLegModel(a.model)) return truthOfChain(a.model, a.json_out);
+  if (!a.urdf.empty() && !endsWith(a.urdf, ".xml")) {
+    // X is the 2-link leg's (hip, knee); any other chain gets its own parameters, never X of
+    // two of its joints.
+    const sim::SerialChain chain = sim::serialChainFromUrdf(a.urdf);
+    if (chain.links.size() != 2 || chain.links[0].joint != "hip" || chain.links[1].joint != "knee") return truthOfChain(a.urdf, a.json_out);
+  }
   // A file of the other kind: say which option reads it (the MJCF loader's error would not).
   if (endsWith(a.model, ".urdf")) throw CLI::ValidationError("--model", "'" + a.model + "' is a URDF: read it with --urdf " + a.model);
   if (endsWith(a.urdf, ".xml")) throw CLI::ValidationError("--urdf", "'" + a.urdf + "' looks like MJCF: read it with --model " + a.urdf);
@@ -156,7 +166,11 @@ void addSimulateCommand(CLI::App& app) {
 void addTruthCommand(CLI::App& app) {
   auto args = std::make_shared<TruthArgs>();
   CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF (default: the built-in leg).");
-  cmd->add_option("--model", args->model, "MJCF model (default: the data directory's models/apal_leg.xml)")->check(CLI::ExistingFile);
+  cmd->add_option("--model", args->model,
+                  "MJCF model: apal (default), leg3 or a file; for a robot other than the APAL leg, its standard and base\n"
+                  "parameters (as identify --model fits them)")
+      ->transform([](const std::string& s) { return sim::modelPathFor(s); })
+      ->check(CLI::ExistingFile);
   cmd->add_option("--urdf", args->urdf, "URDF of the rigid links (e.g. models/apal_leg.urdf)")->check(CLI::ExistingFile);
   cmd->add_option("--fc-hip", args->variant.fc_hip_Nm, "Override hip Coulomb friction, N m");
   cmd->add_option("--fv-hip", args->variant.fv_hip_Nms, "Override hip viscous friction, N m s/rad");

@@ -84,6 +84,20 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
   EXPECT_NE(err.find("a joint 'ankle'"), std::string::npos) << err;
 }
 
+// truth of a chain: its standard and base parameters, never the 2-link leg's X of two of its joints.
+TEST(ChainCli, TruthOfAChainIsItsOwnParameters) {
+  const std::string dir = ::testing::TempDir();
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"truth", "--model", "leg3", "--json", dir + "/leg3_truth.json"}), 0);
+  ASSERT_EQ(runExoid({"truth", "--urdf", std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf", "--json", dir + "/leg3_urdf_truth.json"}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json m = readJson(dir + "/leg3_truth.json"), u = readJson(dir + "/leg3_urdf_truth.json");
+  EXPECT_EQ(m["truth"]["base_parameters"].size(), 17u);
+  EXPECT_EQ(u["truth"]["base_parameters"].size(), 15u);  // no armature in a URDF
+  EXPECT_EQ(m["truth"]["standard_parameters"]["foot.mx"], u["truth"]["standard_parameters"]["foot.mx"]);
+  EXPECT_FALSE(m.contains("parameters"));
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--vibration", "1", "--out", dir + "/x.csv"}, 105).find("--vibration"), std::string::npos);

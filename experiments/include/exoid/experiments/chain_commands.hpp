@@ -25,6 +25,11 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
 /// The sidecar of a chain simulation.
 nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
 
+/// `exoid truth --model` for a chain: its standard parameters (per link, about the joint) and base
+/// parameters from the file; json_out (optional) gets {"truth": {"standard_parameters", "base_parameters"}},
+/// the form identify --truth reads.
+void truthOfChain(const std::string& model_path, const std::string& json_out);
+
 struct ChainExciteArgs {
   std::string model, out;
   ident::ExcitationOptions options;
