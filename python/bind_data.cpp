@@ -13,13 +13,14 @@ using namespace exoid::ident;
 namespace {
 
 CsvReadOptions readOptions(const std::map<std::string, std::string>& columns, const std::string& time_unit,
-                           const std::string& angle_unit, const std::pair<double, double>& torque_sign, bool strict_sampling,
-                           double max_gap_s) {
+                           const std::string& angle_unit, const std::vector<double>& torque_sign, bool strict_sampling,
+                           double max_gap_s, const std::vector<std::string>& joints) {
   CsvReadOptions o;
+  o.joints = joints;
   for (const auto& [ours, theirs] : columns) o.format.columns.emplace_back(ours, theirs);
   o.format.time_scale_s = parseTimeUnit(time_unit);
   o.format.angle_scale_rad = parseAngleUnit(angle_unit);
-  o.format.torque_sign = {torque_sign.first, torque_sign.second};
+  o.format.torque_sign = torque_sign;
   o.sampling = strict_sampling ? SamplingMode::kStrict : SamplingMode::kResample;
   o.max_gap_s = max_gap_s;
   return o;
@@ -37,27 +38,29 @@ void bindData(py::module_& m) {
 
   m.def("read_dataset",
         [](const std::string& path, const std::map<std::string, std::string>& columns, const std::string& time_unit,
-           const std::string& angle_unit, const std::pair<double, double>& torque_sign, bool strict_sampling,
-           double max_gap_s) {
-          return datasetDict(readDatasetCsv(path, readOptions(columns, time_unit, angle_unit, torque_sign, strict_sampling, max_gap_s)));
+           const std::string& angle_unit, const std::vector<double>& torque_sign, bool strict_sampling,
+           double max_gap_s, const std::vector<std::string>& joints) {
+          return datasetDict(readDatasetCsv(path, readOptions(columns, time_unit, angle_unit, torque_sign, strict_sampling, max_gap_s, joints)));
         },
         py::arg("path"), py::arg("columns") = std::map<std::string, std::string>{}, py::arg("time_unit") = "s",
-        py::arg("angle_unit") = "rad", py::arg("torque_sign") = std::make_pair(1.0, 1.0), py::arg("strict_sampling") = false,
-        py::arg("max_gap_s") = 0.0,
-        "Read a dataset CSV (as `exoid identify` does): a dict with t (N), q, tau (N x 2: hip, knee), optional qd, qdd, "
+        py::arg("angle_unit") = "rad", py::arg("torque_sign") = std::vector<double>{}, py::arg("strict_sampling") = false,
+        py::arg("max_gap_s") = 0.0, py::arg("joints") = std::vector<std::string>{"hip", "knee"},
+        "Read a dataset CSV (as `exoid identify` does): a dict with joints, t (N), q, tau (N x joints: the APAL leg's hip, "
+        "knee unless joints names a model's, e.g. load_chain('leg3')['joints']), optional qd, qdd, "
         "extra columns, comments (metadata lines) and the sampling report. columns maps exoid names to the log's "
-        "(e.g. {'t': 'time', 'q_hip': 'pos_meas1'}); time_unit s|ms|us|ns, angle_unit rad|deg, torque_sign (hip, "
-        "knee) multiplies the torques; jittered timestamps are resampled unless strict_sampling; max_gap_s=0 means a "
+        "(e.g. {'t': 'time', 'q_hip': 'pos_meas1'}); time_unit s|ms|us|ns, angle_unit rad|deg, torque_sign (one per "
+        "joint, default all +1) multiplies the torques; jittered timestamps are resampled unless strict_sampling; max_gap_s=0 means a "
         "tenth of the default filter's period. Errors name file:line:column.");
   m.def("parse_dataset",
         [](const std::string& text, const std::string& source, const std::map<std::string, std::string>& columns,
-           const std::string& time_unit, const std::string& angle_unit, const std::pair<double, double>& torque_sign,
-           bool strict_sampling, double max_gap_s) {
-          return datasetDict(parseDatasetText(text, source, readOptions(columns, time_unit, angle_unit, torque_sign, strict_sampling, max_gap_s)));
+           const std::string& time_unit, const std::string& angle_unit, const std::vector<double>& torque_sign,
+           bool strict_sampling, double max_gap_s, const std::vector<std::string>& joints) {
+          return datasetDict(
+              parseDatasetText(text, source, readOptions(columns, time_unit, angle_unit, torque_sign, strict_sampling, max_gap_s, joints)));
         },
         py::arg("text"), py::arg("source") = "<text>", py::arg("columns") = std::map<std::string, std::string>{},
-        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad", py::arg("torque_sign") = std::make_pair(1.0, 1.0),
-        py::arg("strict_sampling") = false, py::arg("max_gap_s") = 0.0,
+        py::arg("time_unit") = "s", py::arg("angle_unit") = "rad", py::arg("torque_sign") = std::vector<double>{},
+        py::arg("strict_sampling") = false, py::arg("max_gap_s") = 0.0, py::arg("joints") = std::vector<std::string>{"hip", "knee"},
         "read_dataset from a string (e.g. a gzip file's decompressed text); source names it in errors.");
 
   m.def("regressor",

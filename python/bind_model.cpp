@@ -3,7 +3,9 @@
 
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
+#include "convert.hpp"
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -109,6 +111,19 @@ void bindModel(py::module_& m) {
           "below max_link_mass_kg and within link_radius_m of its origin, friction and armature >= 0. Returns phi, "
           "beta (= combination @ phi), beta_ls, excess_cost ((beta - beta_ls)' Wb' Wb (beta - beta_ls)), ls_cost, "
           "status, link_min_eigenvalue, message.");
+  m.def("process_chain_record",
+        [](const ChainModel& model, const py::dict& dataset, const std::string& processing, std::optional<double> cutoff_hz, int filter_order,
+           int decimation) {
+          const ChainRecord r = processChainRecord(datasetFrom(dataset), model, signalOptions(processing, cutoff_hz, filter_order, decimation, "auto"));
+          return py::dict(py::arg("W") = r.W, py::arg("y") = r.y, py::arg("t") = r.t_s, py::arg("dof") = r.dof);
+        },
+        py::arg("model"), py::arg("dataset"), py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
+        py::arg("filter_order") = 2, py::arg("decimation") = 0,
+        (std::string("A chain's record (dict as read_dataset returns, with the model's joints) to the rows a method fits: W "
+                     "(rows x len(model.parameter_names), sample k's joint j at row k * dof + j), y, t (one per sample), dof. "
+                     "The base regressor is W[:, base_parameters()['independent']]; model.consistent_fit(W, y, phi) fits consistently. ") +
+         kSignalOptionsDoc)
+            .c_str());
   m.def("link_parameters",
         [](double mass_kg, const Eigen::Vector3d& com_m, const Eigen::Matrix3d& inertia_com_kgm2) {
           return Eigen::VectorXd(linkParameters(mass_kg, com_m, inertia_com_kgm2));

@@ -2,7 +2,12 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
+#include "exoid/experiments/chain_bridge.hpp"
+#include "exoid/experiments/chain_commands.hpp"
 #include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/sim/model.hpp"
+#include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/simulate.hpp"
 
 #include <CLI/CLI.hpp>
@@ -56,6 +61,13 @@ void bindSim(py::module_& m) {
             throw std::invalid_argument(std::string("simulate: ") + e.what() +
                                         " (keywords are `exoid simulate`'s options with '_' for '-')");
           }
+          if (!experiments::isApalLegModel(config.model_path)) {
+            // Another robot: the serial-chain simulator (as `exoid simulate --model` runs it).
+            const sim::ChainSimResult r = sim::simulateChain(experiments::chainSimConfig(config));
+            const nlohmann::json side = experiments::chainSimulationSidecar(r);
+            return py::dict(py::arg("dataset") = datasetDict(experiments::chainDataset(r)), py::arg("truth") = jsonToPython(side.at("truth")),
+                            py::arg("sidecar") = jsonToPython(side));
+          }
           const sim::SimResult r = sim::simulate(config);
           const ident::Dataset d = experiments::toDataset(r);
           py::dict truth(py::arg("x") = Eigen::VectorXd(experiments::toParamVector(r.truth.x)),
@@ -70,7 +82,26 @@ void bindSim(py::module_& m) {
         "seed, versions, statistics). Keywords are the command's options with '_' for '-': trajectory=3, "
         "duration=10, noise_q_deg, noise_tau, vibration, seed, lock_hip=True, feedforward=False, excitation='d.json', "
         "fourier_hip=[...], model='leg.xml', ... (see `exoid simulate --help`); defaults are the command's "
-        "(no noise, welded pedestal).");
+        "(no noise, welded pedestal). model='leg3' (or any model other than the APAL leg) runs the serial-chain "
+        "simulator: dataset has the model's joints, truth its standard_parameters and base_parameters.");
+  m.def("load_chain",
+        [](const std::string& model) {
+          const std::string path = sim::modelPathFor(model);
+          const sim::SerialChain chain = sim::serialChainFromFile(path);
+          const ident::ChainModel cm = experiments::chainModel(chain);
+          py::dict limits;
+          for (const sim::ChainLinkBody& l : chain.links) {
+            limits[py::str(l.joint)] = py::dict(py::arg("q_min_rad") = l.q_min_rad, py::arg("q_max_rad") = l.q_max_rad,
+                                                py::arg("qd_max_radps") = l.qd_max_radps, py::arg("tau_max_Nm") = l.tau_max_Nm);
+          }
+          return py::dict(py::arg("model") = cm, py::arg("phi") = experiments::standardParameters(chain), py::arg("joints") = cm.jointNames(),
+                          py::arg("limits") = limits, py::arg("name") = chain.name, py::arg("path") = path);
+        },
+        py::arg("model"),
+        "A robot model as a serial chain: 'apal', 'leg3' or an MJCF/URDF file. Returns model (a ChainModel: regressor, "
+        "base_parameters, consistent_fit), phi (the file's standard parameters, in model.parameter_names' order), joints, "
+        "limits per joint (range, speed, torque; inf where the file gives none), name, path. Refuses what is not a serial "
+        "chain of revolute joints, naming what it found.");
   m.attr("has_simulator") = true;
 }
 

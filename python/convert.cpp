@@ -13,6 +13,7 @@ using namespace exoid::ident;
 
 py::dict datasetDict(const Dataset& d) {
   py::dict out;
+  out["joints"] = d.joints;
   out["t"] = d.t_s;
   out["q"] = Eigen::MatrixXd(d.q_rad);
   out["tau"] = Eigen::MatrixXd(d.tau_Nm);
@@ -36,11 +37,19 @@ Dataset datasetFrom(const py::dict& d) {
     if (!d.contains(key)) throw std::invalid_argument(std::string("dataset: missing key '") + key + "' (need t, q, tau)");
   }
   Dataset out;
+  if (d.contains("joints")) out.joints = d["joints"].cast<std::vector<std::string>>();
   out.t_s = d["t"].cast<Eigen::VectorXd>();
-  out.q_rad = d["q"].cast<Eigen::MatrixX2d>();
-  out.tau_Nm = d["tau"].cast<Eigen::MatrixX2d>();
-  if (d.contains("qd")) out.qd_radps = d["qd"].cast<Eigen::MatrixX2d>();
-  if (d.contains("qdd")) out.qdd_radps2 = d["qdd"].cast<Eigen::MatrixX2d>();
+  out.q_rad = d["q"].cast<Eigen::MatrixXd>();
+  out.tau_Nm = d["tau"].cast<Eigen::MatrixXd>();
+  if (d.contains("qd")) out.qd_radps = d["qd"].cast<Eigen::MatrixXd>();
+  if (d.contains("qdd")) out.qdd_radps2 = d["qdd"].cast<Eigen::MatrixXd>();
+  const auto dof = static_cast<Eigen::Index>(out.joints.size());
+  for (const auto& [name, m] : {std::pair<const char*, const Eigen::MatrixXd*>{"q", &out.q_rad}, {"tau", &out.tau_Nm}}) {
+    if (m->cols() != dof) {
+      throw std::invalid_argument(std::string("dataset: '") + name + "' has " + std::to_string(m->cols()) + " columns for " + std::to_string(dof) +
+                                  " joints (its 'joints' key; the APAL leg's hip, knee when absent)");
+    }
+  }
   if (d.contains("comments")) out.comments = d["comments"].cast<std::vector<std::string>>();
   out.extra.resize(out.t_s.size(), 0);
   if (d.contains("extra")) {

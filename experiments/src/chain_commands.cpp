@@ -57,6 +57,25 @@ bool isApalLegModel(const std::string& path) {
   return m->nnames > 0 && std::string(m->names) == "apal_leg";
 }
 
+sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
+  sim::ChainSimConfig c;
+  c.model_path = s.model_path;
+  c.duration_s = s.duration_s;
+  c.dt_s = s.dt_s;
+  c.encoder_noise_rad = s.sensors.noise_q_deg * M_PI / 180.0;
+  c.encoder_resolution_rad = s.sensors.quantisation_deg * M_PI / 180.0;
+  c.torque_noise_Nm = s.sensors.noise_tau_Nm;
+  c.seed = s.seed;
+  return c;
+}
+
+ident::Dataset chainDataset(const sim::ChainSimResult& r) {
+  ident::CsvReadOptions o;
+  o.joints.clear();
+  for (const sim::ChainLinkBody& l : r.chain.links) o.joints.push_back(l.joint);
+  return ident::parseDatasetText(sim::tableCsv(r.table), r.chain.name + " simulation", o);
+}
+
 nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   const ident::ChainModel model = chainModel(r.chain);
   const Eigen::VectorXd phi = standardParameters(r.chain);

@@ -48,13 +48,7 @@ void runChainSimulate(const SimulateArgs& a) {
                                                 "' runs on the serial-chain simulator (see exoid simulate --help, group 'Chain models')");
     }
   }
-  sim::ChainSimConfig c;
-  c.model_path = a.config.model_path;
-  c.duration_s = a.config.duration_s;
-  c.dt_s = a.config.dt_s;
-  c.encoder_noise_rad = a.config.sensors.noise_q_deg * M_PI / 180.0;
-  c.encoder_resolution_rad = a.config.sensors.quantisation_deg * M_PI / 180.0;
-  c.torque_noise_Nm = a.config.sensors.noise_tau_Nm;
+  sim::ChainSimConfig c = chainSimConfig(a.config);
   c.coulomb_v0_radps = a.coulomb_v0_radps;
   c.bandwidth_hz = a.bandwidth_hz;
   c.record_derivatives = a.record_derivatives;

@@ -2,10 +2,12 @@
 // The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
 #include "exoid/experiments/log_input.hpp"
+#include "exoid/ident/dataset.hpp"
 #include "exoid/ident/excitation.hpp"
 #include "exoid/ident/methods.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/simulate.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +19,13 @@ namespace exoid::experiments {
 /// True when the MJCF at `path` is the APAL leg (its <mujoco model="apal_leg">, as the built-in
 /// models/apal_leg.xml and copies of it): its own simulator (four-bar, pedestal) runs it.
 bool isApalLegModel(const std::string& path);
+
+/// The chain simulator's settings from `exoid simulate`'s (model, duration, dt, encoder noise and
+/// resolution, torque noise, seed); the chain-only ones keep their defaults.
+sim::ChainSimConfig chainSimConfig(const sim::SimConfig& c);
+
+/// A chain simulation's table as a dataset of the chain's joints.
+ident::Dataset chainDataset(const sim::ChainSimResult& r);
 
 /// `exoid simulate` on a chain model: writes the CSV and its sidecar (same name, .json: the
 /// settings, seed, versions, and the truth: standard and base parameters).
