@@ -12,7 +12,10 @@
 #include "exoid/ident/dataset.hpp"
 #include "exoid/ident/preprocess.hpp"
 #include "exoid/ident/regressor.hpp"
+#include "exoid/experiments/chain_commands.hpp"
+#include "exoid/render/chain_clip.hpp"
 #include "exoid/render/clip.hpp"
+#include "exoid/sim/serial_chain.hpp"
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/render/video_writer.hpp"
 #include "exoid/sim/simulate.hpp"
@@ -139,6 +142,31 @@ render::Track trackFromSimulation(const RenderArgs& a) {
   return tr;
 }
 
+// A model other than the APAL leg: its chain posed along the record (--data, read with the
+// model's joints) or along a simulation of it (exoid simulate --model's), without the overlay.
+void runChain(const RenderArgs& a, bool still) {
+  if (!a.ident_json.empty()) throw CLI::ValidationError("--ident", "draws the APAL leg's identified torques; a chain model is drawn without overlay");
+  ident::Dataset d;
+  if (!a.data.empty()) {
+    const sim::SerialChain chain = sim::serialChainFromMjcfFile(a.sim.model_path);
+    ident::CsvReadOptions o;
+    o.joints.clear();
+    for (const sim::ChainLinkBody& l : chain.links) o.joints.push_back(l.joint);
+    d = ident::readDatasetCsv(a.data, o);
+  } else {
+    d = chainDataset(sim::simulateChain(chainSimConfig(a.sim)));
+  }
+  render::ChainClipOptions o;
+  o.render = a.clip.render;
+  if (a.antialias) o.render.multisamples = 4;
+  o.fps = a.clip.fps;
+  o.ffmpeg = a.clip.ffmpeg;
+  const auto t0 = std::chrono::steady_clock::now();
+  render::renderChain(a.sim.model_path, d.joints, d.t_s, d.q_rad, a.out, o, still ? std::optional<double>(a.frame_s) : std::nullopt);
+  std::cout << "wrote " << a.out << " (" << d.joints.size() << " joints of " << a.sim.model_path << ", "
+            << core::formatNumber(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3) << " s)\n";
+}
+
 void run(RenderArgs& a) {
   const bool still = a.frame_opt && a.frame_opt->count() > 0;
   if (still && !endsWithIgnoringCase(a.out, ".png")) {
@@ -148,6 +176,7 @@ void run(RenderArgs& a) {
     throw std::invalid_argument("a video is written as H.264 MP4: give --out FILE.mp4 (got '" + a.out +
                                 "'), or --frame T --out FILE.png for a still");
   }
+  if (!isApalLegModel(a.sim.model_path)) return runChain(a, still);
   if (still && a.data.empty() && !(a.frame_s >= 0.0 && a.frame_s < a.sim.duration_s)) {
     throw std::invalid_argument("--frame " + core::toText(a.frame_s) + " is outside the simulated record [0, " +
                                 core::toText(a.sim.duration_s) + ") s (see --duration)");

@@ -1,0 +1,31 @@
+#pragma once
+// Any serial chain's record drawn offscreen: the MJCF's driven hinges posed by name along the
+// recorded angles, the camera fitted to the volume the links sweep, a PNG of one instant or an
+// H.264 MP4 of the whole record. No overlay (the APAL leg's clip.hpp draws its torques).
+#include "exoid/render/offscreen_renderer.hpp"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace exoid::render {
+
+struct ChainClipOptions {
+  RenderOptions render;
+  double fps = 30.0;             ///< (0, 240]
+  std::string ffmpeg = "ffmpeg";
+  bool auto_frame = true;        ///< fit the camera to the swept volume (else render.camera as given)
+  void validate() const;         ///< throws std::invalid_argument naming the field
+};
+
+/// q_rad: rows x joints.size() at times t_s; joints named as in the MJCF. frame_s given: the row
+/// nearest it as a PNG at out; else every 1 / fps of the record as an MP4. Written atomically.
+/// Throws std::invalid_argument (a joint the model lacks, sizes, an instant outside the record),
+/// sim::MujocoError, or std::runtime_error (ffmpeg).
+void renderChain(const std::string& model_path, const std::vector<std::string>& joints, const Eigen::VectorXd& t_s,
+                 const Eigen::MatrixXd& q_rad, const std::string& out, const ChainClipOptions& options,
+                 std::optional<double> frame_s = std::nullopt);
+
+}  // namespace exoid::render
