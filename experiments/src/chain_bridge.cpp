@@ -23,6 +23,24 @@ ident::ChainModel chainModel(const sim::SerialChain& chain) {
   return model;
 }
 
+ident::ChainModel withArmature(ident::ChainModel model, const std::vector<std::string>& joints) {
+  for (const std::string& name : joints) {
+    bool found = false;
+    for (ident::ChainJoint& j : model.joints) {
+      if (name == "all" || j.name == name) {
+        j.armature = true;
+        found = true;
+      }
+    }
+    if (!found) {
+      std::string all;
+      for (const std::string& j : model.jointNames()) all += (all.empty() ? "" : ", ") + j;
+      throw std::invalid_argument("--armature: '" + name + "' is not a joint of " + model.name + " (its joints: " + all + "; or all)");
+    }
+  }
+  return model;
+}
+
 Eigen::VectorXd standardParameters(const sim::SerialChain& chain) { return standardParameters(chain, chainModel(chain)); }
 
 Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::ChainModel& model) {

@@ -15,6 +15,7 @@
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
+#include <Eigen/Cholesky>
 #include <mujoco/mujoco.h>
 
 #include <cmath>
@@ -166,8 +167,8 @@ void exciteChain(const ChainExciteArgs& a) {
   prepareOutput(a.out);
   const std::string path = sim::modelPathFor(a.model);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = chainModel(chain);
-  const Eigen::VectorXd nominal = standardParameters(chain);
+  const ident::ChainModel model = withArmature(chainModel(chain), a.armature);
+  const Eigen::VectorXd nominal = standardParameters(chain, model);
   const ident::BaseParameters base = ident::baseParameters(model);
   const int dof = model.dof();
   ident::ChainExcitationLimits lim;
@@ -259,21 +260,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   prepareOutput(a.json_out);
   const std::string path = sim::modelPathFor(a.model);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
-  ident::ChainModel model = chainModel(chain);
-  for (const std::string& name : a.armature) {
-    bool found = false;
-    for (ident::ChainJoint& j : model.joints) {
-      if (name == "all" || j.name == name) {
-        j.armature = true;
-        found = true;
-      }
-    }
-    if (!found) throw CLI::ValidationError("--armature", "'" + name + "' is not a joint of " + chain.name + " (its joints: " + [&] {
-      std::string all;
-      for (const std::string& j : model.jointNames()) all += (all.empty() ? "" : ", ") + j;
-      return all;
-    }() + "; or all)");
-  }
+  const ident::ChainModel model = withArmature(chainModel(chain), a.armature);
   const Eigen::VectorXd nominal = standardParameters(chain, model);
   const ident::BaseParameters base = ident::baseParameters(model);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
@@ -390,8 +377,8 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (est.consistent && usable_ls && est.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
     // The distance from LS to the consistent estimate in standard errors (the metric of the fit's
     // own covariance): beyond --significance, no physical body explains the data.
-    const double sigma2 = est.ls.residual_rms * est.ls.residual_rms * static_cast<double>(est.rows) / static_cast<double>(est.rows - base.rank);
-    mahalanobis = std::sqrt(std::max(0.0, est.consistent->excess_cost) / sigma2);
+    const Eigen::VectorXd d = est.consistent->beta - est.beta;
+    mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
     if (mahalanobis > a.significance_sigmas) {
       problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(mahalanobis, 3) +
                          " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");

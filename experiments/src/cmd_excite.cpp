@@ -34,6 +34,7 @@ struct ExciteArgs {
   std::string urdf = sim::dataPath("models/apal_leg.urdf");
   bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
   CLI::App* cmd = nullptr;
+  std::vector<std::string> armature;  ///< chain models: joints given an armature parameter the file lacks
 };
 
 // The design and the paper's trajectory sampled over one period of the design: angle, speed,
@@ -86,6 +87,7 @@ void runExcite(const ExciteArgs& args) {
     c.qd_max = args.qd_max;
     c.qdd_max = args.qdd_max;
     c.tau_max = args.tau_max;
+    c.armature = args.armature;
     return exciteChain(c);
   }
   ExciteArgs a = args;
@@ -249,6 +251,10 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();
+  cmd->add_option("--armature", a->armature,
+                  "Chain models: joints (comma-separated, or all) given an armature parameter where the file has none (a URDF\n"
+                  "never does): the design then separates it too, as identify --armature fits it")
+      ->delimiter(',');
   a->cmd = cmd;
   cmd->callback([a] { runExcite(*a); });
 }

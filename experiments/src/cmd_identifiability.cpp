@@ -26,6 +26,7 @@ namespace {
 
 struct Args {
   std::string data, json_out, reference, model;
+  std::vector<std::string> armature;  ///< --model: joints given an armature parameter the file lacks
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
   LogInputFlags log;
@@ -91,7 +92,7 @@ void run(const Args& a) {
                                   "only so far; give --model alone for what the model lets anyone identify");
     }
 #ifdef EXOID_WITH_MUJOCO
-    reportModel(a.model, a.json_out, std::cout);
+    reportModel(a.model, a.json_out, std::cout, a.armature);
     return;
 #else
     throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
@@ -201,6 +202,12 @@ void addIdentifiabilityCommand(CLI::App& app) {
                   "A robot model instead of a record: 'apal', 'leg3' (built in) or an MJCF / URDF file. Prints its\n"
                   "serial chain and base parameters: rank, each identifiable combination of the standard parameters\n"
                   "in words with its true value, what no torque shows, what is regrouped");
+#ifdef EXOID_WITH_MUJOCO
+  cmd->add_option("--armature", args->armature,
+                  "--model: joints (comma-separated, or all) given an armature parameter (a geared motor's reflected rotor\n"
+                  "inertia) where the file has none, as identify --armature")
+      ->delimiter(',');
+#endif
   cmd->add_option("--noise-tau", args->noise_tau_Nm, "Torque noise std for the Cramer-Rao bound, N m")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");

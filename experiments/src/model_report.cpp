@@ -26,12 +26,12 @@ std::string list(const std::vector<int>& indices, const std::vector<std::string>
 
 }  // namespace
 
-void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out) {
+void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out, const std::vector<std::string>& armature) {
   if (!json_out.empty()) core::checkOutputWritable(json_out);
   const std::string path = sim::modelPathFor(model_name);
   const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = chainModel(chain);
-  const Eigen::VectorXd phi = standardParameters(chain);
+  const ident::ChainModel model = withArmature(chainModel(chain), armature);
+  const Eigen::VectorXd phi = standardParameters(chain, model);
   const ident::BaseParameterOptions options;
   const ident::BaseParameters base = ident::baseParameters(model, options);
   const std::vector<std::string> names = model.standardParameterNames();

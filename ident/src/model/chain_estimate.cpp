@@ -1,6 +1,7 @@
 #include "exoid/ident/model/chain_estimate.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/ident/standard_errors.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -27,9 +28,18 @@ ChainEstimate estimateChain(const ChainModel& model, const BaseParameters& base,
   const bool full_rank = out.ls.rank == base.rank;
   if (full_rank && out.rows > base.rank) {
     const Eigen::MatrixXd A = Wb.transpose() * Wb;
-    const double rss = (record.y - Wb * out.beta).squaredNorm();
-    const double sigma2 = rss / static_cast<double>(out.rows - base.rank);
-    out.std_error = (sigma2 * A.ldlt().solve(Eigen::MatrixXd::Identity(base.rank, base.rank)).diagonal()).cwiseMax(0.0).cwiseSqrt();
+    std::vector<Channel> channels;
+    Eigen::Index start = 0;
+    const std::vector<Eigen::Index> records = record.record_rows.empty() ? std::vector<Eigen::Index>{out.rows} : record.record_rows;
+    for (const Eigen::Index rows : records) {
+      Channel c(static_cast<std::size_t>(rows));
+      for (Eigen::Index k = 0; k < rows; ++k) c[static_cast<std::size_t>(k)] = start + k;
+      channels.push_back(std::move(c));
+      start += rows;
+    }
+    const Eigen::VectorXd residual = record.y - Wb * out.beta;
+    out.covariance = residualCovariance(Wb, residual, channels, -1, static_cast<int>(std::max<Eigen::Index>(record.dof, 1)));
+    out.std_error = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
     if (options.consistent) {
       out.consistent = consistentFitNormal(model, base, A, Wb.transpose() * record.y, record.y.squaredNorm(), phi_start, options.consistent_fit);
     }

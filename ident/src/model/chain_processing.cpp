@@ -56,6 +56,7 @@ ChainRecord stackRows(const Eigen::MatrixXd& all, const Eigen::VectorXd& t_s, Ei
   out.W.resize(m * dof, p);
   out.y.resize(m * dof);
   out.t_s.resize(m);
+  out.record_rows = {m * dof};
   for (Eigen::Index k = 0; k < m; ++k) {
     const Eigen::Index i = first + k * r;
     out.t_s[k] = t_s[i];
@@ -140,6 +141,7 @@ ChainRecord stackChainRecords(const std::vector<ChainRecord>& records) {
   out.t_s.resize(rows / out.dof);
   Eigen::Index at = 0, at_t = 0;
   for (const ChainRecord& r : records) {
+    out.record_rows.insert(out.record_rows.end(), r.record_rows.begin(), r.record_rows.end());
     out.W.middleRows(at, r.W.rows()) = r.W;
     out.y.segment(at, r.y.size()) = r.y;
     out.t_s.segment(at_t, r.t_s.size()) = r.t_s;

@@ -6,10 +6,16 @@
 
 #include <Eigen/Core>
 
+#include <string>
+#include <vector>
+
 namespace exoid::experiments {
 
 /// The chain's structure; every joint with friction, armature where the model has any.
 ident::ChainModel chainModel(const sim::SerialChain& chain);
+/// The model with an armature parameter on these joints (names, or "all") although the file
+/// gives none (a URDF never does). Throws std::invalid_argument naming an unknown joint.
+ident::ChainModel withArmature(ident::ChainModel model, const std::vector<std::string>& joints);
 /// The true standard parameters in chainModel(chain)'s layout.
 Eigen::VectorXd standardParameters(const sim::SerialChain& chain);
 /// The same in the layout of `model` (the chain's, e.g. with armature added where the file has

@@ -45,6 +45,7 @@ struct ChainExciteArgs {
   /// Overrides of the model's limits, one value per joint (empty = the model's; a joint the
   /// model leaves unlimited gets 3 rad/s, 30 rad/s^2 and no torque limit).
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  std::vector<std::string> armature;  ///< joints (or "all") given an armature parameter the file lacks
 };
 /// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
 void exciteChain(const ChainExciteArgs& args);

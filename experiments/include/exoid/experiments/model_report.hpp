@@ -2,6 +2,7 @@
 // What a robot model lets anyone identify, before any record: `exoid identifiability --model`.
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 namespace exoid::experiments {
 
@@ -9,6 +10,7 @@ namespace exoid::experiments {
 /// its standard parameters' true values, the base parameters (rank, each combination in words and
 /// its true value), what no torque shows and what is regrouped; writes the same as JSON to
 /// json_out unless empty. Throws std::invalid_argument naming the file for a model exoid cannot take.
-void reportModel(const std::string& model, const std::string& json_out, std::ostream& out);
+void reportModel(const std::string& model, const std::string& json_out, std::ostream& out,
+                 const std::vector<std::string>& armature = {});
 
 }  // namespace exoid::experiments

@@ -21,6 +21,9 @@ struct ChainRecord {
   Eigen::VectorXd y;  ///< the torques, processed like the rows
   Eigen::VectorXd t_s;  ///< each sample's time (one per dof rows)
   Eigen::Index dof = 0;
+  /// Rows of each record stacked in, in order (one entry for a single record): the residuals'
+  /// correlation is estimated within a record, never across a seam.
+  std::vector<Eigen::Index> record_rows;
   Eigen::Index samples() const { return dof ? y.size() / dof : 0; }
 };
 
