@@ -1,9 +1,11 @@
 #include "exoid/ident/model/base_parameters.hpp"
 
 #include "exoid/ident/model/chain_regressor.hpp"
+#include "random_chain.hpp"
 
 #include <Eigen/QR>
 #include <Eigen/SVD>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,20 +14,8 @@
 namespace exoid::ident {
 namespace {
 
-ChainModel apalChain(double Lt) {
-  ChainModel m;
-  m.name = "apal";
-  ChainJoint hip;
-  hip.name = "hip";
-  hip.link = "thigh";
-  hip.axis = Eigen::Vector3d::UnitY();
-  ChainJoint knee = hip;
-  knee.name = "knee";
-  knee.link = "shank";
-  knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -Lt);
-  m.joints = {hip, knee};
-  return m;
-}
+using testing::apalChain;
+
 
 // The paper's X as rows over the APAL chain's 24 standard parameters (docs/paper.md, "Modelling
 // facts": Mx = -mz, My = -mx, J = Iyy about the joint, the shank's mass carried at Lt).

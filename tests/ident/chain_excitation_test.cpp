@@ -1,5 +1,7 @@
 #include "exoid/ident/model/chain_excitation.hpp"
 
+#include "random_chain.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,20 +10,6 @@
 namespace exoid::ident {
 namespace {
 
-ChainModel planarLeg() {
-  ChainModel m;
-  m.name = "planar";
-  ChainJoint hip;
-  hip.name = "hip";
-  hip.link = "thigh";
-  hip.axis = Eigen::Vector3d::UnitY();
-  ChainJoint knee = hip;
-  knee.name = "knee";
-  knee.link = "shank";
-  knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -0.45);
-  m.joints = {hip, knee};
-  return m;
-}
 
 Eigen::VectorXd nominal() {
   Eigen::VectorXd phi(24);
@@ -45,7 +33,7 @@ ChainExcitationLimits limits() {
 // A design starts and ends at rest, stays inside every limit (checked on 1000 samples), is the
 // same for the same seed, and scores as its own score function says.
 TEST(ChainExcitation, FeasibleAtRestAtTheEndsAndDeterministic) {
-  const ChainModel model = planarLeg();
+  const ChainModel model = testing::apalChain(0.45);
   const BaseParameters base = baseParameters(model);
   ExcitationOptions o;
   o.restarts = 2;

@@ -12,6 +12,7 @@
 namespace exoid::ident {
 namespace {
 
+using testing::apalChain;
 using testing::randomChain;
 using testing::randomInertia;
 using testing::randomPhysicalParameters;
@@ -86,21 +87,6 @@ TEST(ChainRegressor, PowerBalanceOnRandomSpatialChains) {
 
 // The APAL leg as a chain: hip and knee about +y (x anterior, z up), links hanging along -z at
 // q = 0, the knee Lt below the hip. Its standard parameters group into the paper's X.
-ChainModel apalChain(double Lt) {
-  ChainModel m;
-  m.name = "apal";
-  m.gravity_mps2 = Eigen::Vector3d(0.0, 0.0, -9.81);
-  ChainJoint hip;
-  hip.name = "hip";
-  hip.link = "thigh";
-  hip.axis = Eigen::Vector3d::UnitY();
-  ChainJoint knee = hip;
-  knee.name = "knee";
-  knee.link = "shank";
-  knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -Lt);
-  m.joints = {hip, knee};
-  return m;
-}
 
 // docs/paper.md, "Modelling facts": Mx = -mz, My = -mx, J = Iyy about the joint, the shank's
 // mass carried at Lt by the thigh. Layout per joint: 10 link parameters, fc, fv.

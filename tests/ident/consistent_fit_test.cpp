@@ -18,20 +18,6 @@ namespace {
 
 constexpr double kLt = 0.45;
 
-ChainModel apalChain() {
-  ChainModel m;
-  m.name = "apal";
-  ChainJoint hip;
-  hip.name = "hip";
-  hip.link = "thigh";
-  hip.axis = Eigen::Vector3d::UnitY();
-  ChainJoint knee = hip;
-  knee.name = "knee";
-  knee.link = "shank";
-  knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -kLt);
-  m.joints = {hip, knee};
-  return m;
-}
 
 // Set B (docs/paper.md) as standard parameters: the thigh 13 kg, COM (-0.2, 0, -0.31), Iyy 0.28
 // about the COM; the shank 4 kg, COM (0.08, 0, -0.32), Iyy 0.16.
@@ -86,7 +72,7 @@ TEST(LogCholesky, RoundTripAndJacobian) {
 }
 
 TEST(ConsistentFit, EqualsLeastSquaresWhenLeastSquaresIsConsistent) {
-  const ChainModel model = apalChain();
+  const ChainModel model = testing::apalChain(kLt);
   const BaseParameters base = baseParameters(model);
   const Eigen::VectorXd truth = setB();
   const Record rec = exactRecord(model, truth, 400, 1);
@@ -108,7 +94,7 @@ ParamVector toX(const Eigen::VectorXd& beta) {
 }
 
 TEST(ConsistentFit, AgreesWithThePlanarLegsConstrainedLeastSquares) {
-  const ChainModel model = apalChain();
+  const ChainModel model = testing::apalChain(kLt);
   const BaseParameters base = baseParameters(model);
   std::mt19937_64 gen(9);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -188,7 +174,7 @@ TEST(ConsistentFit, NeverReturnsAnInconsistentLink) {
 }
 
 TEST(ConsistentFit, RejectsBadInput) {
-  const ChainModel model = apalChain();
+  const ChainModel model = testing::apalChain(kLt);
   const BaseParameters base = baseParameters(model);
   const Record rec = exactRecord(model, setB(), 5, 1);
   EXPECT_THROW(consistentFit(model, base, rec.W.leftCols(20), rec.y, setB()), std::invalid_argument);

@@ -1,5 +1,6 @@
 #pragma once
-// Random serial chains and physically valid parameters for them, shared by the chain tests.
+// The chains the chain tests share: the APAL leg's planar hip-knee chain, random serial chains and
+// physically valid parameters for them.
 #include "exoid/ident/model/chain.hpp"
 
 #include <Eigen/Geometry>
@@ -9,6 +10,22 @@
 #include <string>
 
 namespace exoid::ident::testing {
+
+// The APAL leg as a chain: hip and knee about +y, the knee Lt below the hip along -z, gravity -z.
+inline ChainModel apalChain(double Lt) {
+  ChainModel m;
+  m.name = "apal";
+  ChainJoint hip;
+  hip.name = "hip";
+  hip.link = "thigh";
+  hip.axis = Eigen::Vector3d::UnitY();
+  ChainJoint knee = hip;
+  knee.name = "knee";
+  knee.link = "shank";
+  knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -Lt);
+  m.joints = {hip, knee};
+  return m;
+}
 
 inline Eigen::Matrix3d randomRotation(std::mt19937_64& gen) {
   std::normal_distribution<double> n(0.0, 1.0);
