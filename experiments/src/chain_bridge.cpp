@@ -1,5 +1,7 @@
 #include "exoid/experiments/chain_bridge.hpp"
 
+#include "exoid/sim/model.hpp"
+
 #include <stdexcept>
 
 namespace exoid::experiments {
@@ -54,6 +56,16 @@ Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::C
     if (layout[i].armature >= 0) phi[layout[i].armature] = l.armature_kgm2;
   }
   return phi;
+}
+
+LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature) {
+  LoadedChain c;
+  c.path = sim::modelPathFor(name_or_path);
+  c.chain = sim::serialChainFromFile(c.path);
+  c.model = withArmature(chainModel(c.chain), armature);
+  c.phi = standardParameters(c.chain, c.model);
+  c.base = ident::baseParameters(c.model);
+  return c;
 }
 
 }  // namespace exoid::experiments

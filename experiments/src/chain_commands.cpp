@@ -115,10 +115,8 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
 
 void truthOfChain(const std::string& model_path, const std::string& json_out) {
   prepareOutput(json_out);
-  const sim::SerialChain chain = sim::serialChainFromFile(model_path);
-  const ident::ChainModel model = chainModel(chain);
-  const Eigen::VectorXd phi = standardParameters(chain);
-  const ident::BaseParameters base = ident::baseParameters(model);
+  const LoadedChain loaded = loadChain(model_path);
+  const auto& [path, chain, model, phi, base] = loaded;
   std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
   TextTable table({"parameter", "value"});
   const std::vector<std::string> names = model.standardParameterNames();
@@ -165,11 +163,8 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
 
 void exciteChain(const ChainExciteArgs& a) {
   prepareOutput(a.out);
-  const std::string path = sim::modelPathFor(a.model);
-  const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = withArmature(chainModel(chain), a.armature);
-  const Eigen::VectorXd nominal = standardParameters(chain, model);
-  const ident::BaseParameters base = ident::baseParameters(model);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const auto& [path, chain, model, nominal, base] = loaded;
   const int dof = model.dof();
   ident::ChainExcitationLimits lim;
   lim.q_min_rad.resize(dof);
@@ -258,11 +253,8 @@ sim::ChainFourier readChainExcitation(const std::string& path) {
 int identifyChain(const ChainIdentifyArgs& a) {
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   prepareOutput(a.json_out);
-  const std::string path = sim::modelPathFor(a.model);
-  const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = withArmature(chainModel(chain), a.armature);
-  const Eigen::VectorXd nominal = standardParameters(chain, model);
-  const ident::BaseParameters base = ident::baseParameters(model);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const auto& [path, chain, model, nominal, base] = loaded;
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
   prepareOutput(a.plot);

@@ -28,12 +28,9 @@ std::string list(const std::vector<int>& indices, const std::vector<std::string>
 
 void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out, const std::vector<std::string>& armature) {
   if (!json_out.empty()) core::checkOutputWritable(json_out);
-  const std::string path = sim::modelPathFor(model_name);
-  const sim::SerialChain chain = sim::serialChainFromFile(path);
-  const ident::ChainModel model = withArmature(chainModel(chain), armature);
-  const Eigen::VectorXd phi = standardParameters(chain, model);
+  const LoadedChain loaded = loadChain(model_name, armature);
+  const auto& [path, chain, model, phi, base] = loaded;
   const ident::BaseParameterOptions options;
-  const ident::BaseParameters base = ident::baseParameters(model, options);
   const std::vector<std::string> names = model.standardParameterNames();
 
   out << "Model " << path << " ('" << chain.name << "'): a serial chain of " << model.dof() << " revolute joints, "

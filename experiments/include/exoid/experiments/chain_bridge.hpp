@@ -1,6 +1,7 @@
 #pragma once
 // sim's serial chain (structure and true bodies, read from an MJCF or a URDF) as ident's
 // ChainModel and its standard parameter vector: the one place the two meet.
+#include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
@@ -21,5 +22,17 @@ Eigen::VectorXd standardParameters(const sim::SerialChain& chain);
 /// The same in the layout of `model` (the chain's, e.g. with armature added where the file has
 /// none: its value 0).
 Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::ChainModel& model);
+
+/// A robot file read for the chain commands: its path ('apal', 'leg3' or a file resolved), the
+/// chain, ident's model (with armature added on `armature`'s joints), the file's standard
+/// parameters in that model's layout, and its base parameters.
+struct LoadedChain {
+  std::string path;
+  sim::SerialChain chain;
+  ident::ChainModel model;
+  Eigen::VectorXd phi;
+  ident::BaseParameters base;
+};
+LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {});
 
 }  // namespace exoid::experiments
