@@ -247,6 +247,46 @@ FourierTrajectory shrunk(FourierTrajectory t, double s) {
 
 }  // namespace
 
+RestartSearch searchFromRestarts(const ExcitationOptions& o, const std::function<Eigen::VectorXd(core::Rng&)>& start,
+                                 const std::function<double(const Eigen::VectorXd&)>& objective,
+                                 const std::function<bool(const Eigen::VectorXd&)>& feasible) {
+  core::Rng rng(o.seed);
+  double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;
+  Eigen::VectorXd p_feasible, p_any;
+  NelderMeadOptions nm;
+  nm.max_evaluations = o.max_evaluations;
+  nm.initial_step = 0.05;
+  nm.f_tolerance = 1e-8;
+  nm.x_tolerance = 1e-6;
+  RestartSearch out;
+  for (int r = 0; r < o.restarts; ++r) {
+    const NelderMeadResult res = minimizeNelderMead(objective, start(rng), nm);
+    out.evaluations += res.evaluations;
+    if (feasible(res.x)) {
+      ++out.feasible_restarts;
+      if (res.f < best_feasible) {
+        best_feasible = res.f;
+        p_feasible = res.x;
+      }
+    }
+    if (res.f < best_any) {
+      best_any = res.f;
+      p_any = res.x;
+    }
+  }
+  out.x = p_feasible.size() ? p_feasible : p_any;
+  return out;
+}
+
+double largestFeasibleScale(const std::function<bool(double)>& feasible_at) {
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < 40; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (feasible_at(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
 ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants& c, const ParamVector& x_nominal,
                                   const ExcitationLimits& limits) {
   o.validate();
@@ -262,49 +302,29 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants
     const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
     return f + 1e5 * s.worst_violation * s.worst_violation;
   };
-  core::Rng rng(o.seed);
-  double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;
-  Eigen::VectorXd p_feasible, p_any;
-  NelderMeadOptions nm;
-  nm.max_evaluations = o.max_evaluations;
-  nm.initial_step = 0.05;
-  nm.f_tolerance = 1e-8;
-  nm.x_tolerance = 1e-6;
-  for (int r = 0; r < o.restarts; ++r) {
-    // A random start inside the middle of the range with small, decaying harmonics.
-    Eigen::VectorXd p(dim);
-    int at = 0;
-    for (int j = o.hip_locked ? 1 : 0; j < 2; ++j) {
-      const double mid = 0.5 * (limits.q_min_rad[j] + limits.q_max_rad[j]);
-      const double half = 0.5 * (limits.q_max_rad[j] - limits.q_min_rad[j]);
-      p[at++] = mid + 0.25 * half * rng.uniform(-1.0, 1.0);
-      for (int k = 0; k < 2 * (o.harmonics - 1); ++k) p[at++] = 0.15 * half * rng.uniform(-1.0, 1.0) / (1 + k % (o.harmonics - 1));
-    }
-    const NelderMeadResult res = minimizeNelderMead(objective, p, nm);
-    d.evaluations += res.evaluations;
-    const ExcitationScore s = scoreExcitation(fromFree(o, res.x), c, x_nominal, limits, o.samples);
-    if (s.worst_violation == 0.0) {
-      ++d.feasible_restarts;
-      if (res.f < best_feasible) {
-        best_feasible = res.f;
-        p_feasible = res.x;
-      }
-    }
-    if (res.f < best_any) {
-      best_any = res.f;
-      p_any = res.x;
-    }
-  }
-  FourierTrajectory t = fromFree(o, p_feasible.size() ? p_feasible : p_any);
+  const RestartSearch found = searchFromRestarts(
+      o,
+      [&](core::Rng& rng) {
+        // A random start inside the middle of the range with small, decaying harmonics.
+        Eigen::VectorXd p(dim);
+        int at = 0;
+        for (int j = o.hip_locked ? 1 : 0; j < 2; ++j) {
+          const double mid = 0.5 * (limits.q_min_rad[j] + limits.q_max_rad[j]);
+          const double half = 0.5 * (limits.q_max_rad[j] - limits.q_min_rad[j]);
+          p[at++] = mid + 0.25 * half * rng.uniform(-1.0, 1.0);
+          for (int k = 0; k < 2 * (o.harmonics - 1); ++k) p[at++] = 0.15 * half * rng.uniform(-1.0, 1.0) / (1 + k % (o.harmonics - 1));
+        }
+        return p;
+      },
+      objective,
+      [&](const Eigen::VectorXd& p) { return scoreExcitation(fromFree(o, p), c, x_nominal, limits, o.samples).worst_violation == 0.0; });
+  d.evaluations = found.evaluations;
+  d.feasible_restarts = found.feasible_restarts;
+  FourierTrajectory t = fromFree(o, found.x);
   // Limits are checked on 1000 samples at the end: peaks between the optimiser's samples, or no
   // feasible end point at all, are repaired by shrinking the harmonics (bisection on the scale).
   if (scoreExcitation(t, c, x_nominal, limits, 1000).worst_violation > 0.0) {
-    double lo = 0.0, hi = 1.0;
-    for (int it = 0; it < 40; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      (scoreExcitation(shrunk(t, mid), c, x_nominal, limits, 1000).worst_violation > 0.0 ? hi : lo) = mid;
-    }
-    t = shrunk(t, lo);
+    t = shrunk(t, largestFeasibleScale([&](double s) { return !(scoreExcitation(shrunk(t, s), c, x_nominal, limits, 1000).worst_violation > 0.0); }));
   }
   d.trajectory = t;
   d.score = scoreExcitation(t, c, x_nominal, limits, 1000);

@@ -4,7 +4,6 @@
 #include "exoid/core/random.hpp"
 #include "exoid/ident/least_squares.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
-#include "exoid/ident/nelder_mead.hpp"
 
 #include <Eigen/Cholesky>
 
@@ -140,52 +139,35 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
     const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
     return f + 1e5 * s.worst_violation * s.worst_violation;
   };
-  core::Rng rng(o.seed);
   ChainExcitationDesign d;
-  double best_feasible = std::numeric_limits<double>::infinity(), best_any = best_feasible;
-  Eigen::VectorXd p_feasible, p_any;
-  NelderMeadOptions nm;
-  nm.max_evaluations = o.max_evaluations;
-  nm.initial_step = 0.05;
-  nm.f_tolerance = 1e-8;
-  nm.x_tolerance = 1e-6;
-  for (int r = 0; r < o.restarts; ++r) {
-    Eigen::VectorXd p(dim);
-    int at = 0;
-    for (int j = 0; j < dof; ++j) {
-      const bool ranged = std::isfinite(limits.q_min_rad[j]) && std::isfinite(limits.q_max_rad[j]);
-      const double mid = ranged ? 0.5 * (limits.q_min_rad[j] + limits.q_max_rad[j]) : 0.0;
-      const double half = ranged ? 0.5 * (limits.q_max_rad[j] - limits.q_min_rad[j]) : 1.0;
-      p[at++] = mid + 0.25 * half * rng.uniform(-1.0, 1.0);
-      for (int k = 0; k < 2 * (o.harmonics - 1); ++k) p[at++] = 0.15 * half * rng.uniform(-1.0, 1.0) / (1 + k % (o.harmonics - 1));
-    }
-    const NelderMeadResult res = minimizeNelderMead(objective, p, nm);
-    d.evaluations += res.evaluations;
-    if (score(fromFree(o, dof, res.x), o.samples).worst_violation == 0.0) {
-      ++d.feasible_restarts;
-      if (res.f < best_feasible) {
-        best_feasible = res.f;
-        p_feasible = res.x;
-      }
-    }
-    if (res.f < best_any) {
-      best_any = res.f;
-      p_any = res.x;
-    }
-  }
-  ChainTrajectory t = fromFree(o, dof, p_feasible.size() ? p_feasible : p_any);
+  const RestartSearch found = searchFromRestarts(
+      o,
+      [&](core::Rng& rng) {
+        // About the middle of each joint's range (0 without one), small decaying harmonics.
+        Eigen::VectorXd p(dim);
+        int at = 0;
+        for (int j = 0; j < dof; ++j) {
+          const bool ranged = std::isfinite(limits.q_min_rad[j]) && std::isfinite(limits.q_max_rad[j]);
+          const double mid = ranged ? 0.5 * (limits.q_min_rad[j] + limits.q_max_rad[j]) : 0.0;
+          const double half = ranged ? 0.5 * (limits.q_max_rad[j] - limits.q_min_rad[j]) : 1.0;
+          p[at++] = mid + 0.25 * half * rng.uniform(-1.0, 1.0);
+          for (int k = 0; k < 2 * (o.harmonics - 1); ++k) p[at++] = 0.15 * half * rng.uniform(-1.0, 1.0) / (1 + k % (o.harmonics - 1));
+        }
+        return p;
+      },
+      objective, [&](const Eigen::VectorXd& p) { return score(fromFree(o, dof, p), o.samples).worst_violation == 0.0; });
+  d.evaluations = found.evaluations;
+  d.feasible_restarts = found.feasible_restarts;
+  ChainTrajectory t = fromFree(o, dof, found.x);
   // Peaks between the optimiser's samples, or no feasible end point: shrink the harmonics.
+  const auto shrunk = [&t](double s) {
+    ChainTrajectory r = t;
+    r.a_rad *= s;
+    r.b_rad *= s;
+    return r;
+  };
   if (score(t, 1000).worst_violation > 0.0) {
-    double lo = 0.0, hi = 1.0;
-    for (int it = 0; it < 40; ++it) {
-      const double mid = 0.5 * (lo + hi);
-      ChainTrajectory s = t;
-      s.a_rad *= mid;
-      s.b_rad *= mid;
-      (score(s, 1000).worst_violation > 0.0 ? hi : lo) = mid;
-    }
-    t.a_rad *= lo;
-    t.b_rad *= lo;
+    t = shrunk(largestFeasibleScale([&](double s) { return !(score(shrunk(s), 1000).worst_violation > 0.0); }));
   }
   d.trajectory = t;
   d.score = score(t, 1000);

@@ -7,6 +7,7 @@
 // velocity and acceleration at t = 0 (and so at every period's end) are built in: the first
 // harmonic's coefficients follow from the others (b_1 = -sum_{k>=2} k b_k, a_1 = -sum_{k>=2} k^2 a_k),
 // so every trajectory the optimiser sees starts and ends at rest.
+#include "exoid/core/random.hpp"
 #include "exoid/ident/params.hpp"
 #include "exoid/ident/regressor.hpp"
 
@@ -14,6 +15,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace exoid::ident {
@@ -114,6 +116,21 @@ struct ExcitationDesign {
   int feasible_restarts = 0;  ///< restarts that ended inside the limits
   double wall_time_s = 0.0;
 };
+
+/// The search both excitation designs run (this leg's and any chain's, model/chain_excitation.hpp):
+/// Nelder-Mead on `objective` from options.restarts starts drawn by `start` from one generator
+/// seeded with options.seed; the best end point `feasible` accepts, else the best of all.
+struct RestartSearch {
+  Eigen::VectorXd x;
+  long evaluations = 0;
+  int feasible_restarts = 0;
+};
+RestartSearch searchFromRestarts(const ExcitationOptions& options, const std::function<Eigen::VectorXd(core::Rng&)>& start,
+                                 const std::function<double(const Eigen::VectorXd&)>& objective,
+                                 const std::function<bool(const Eigen::VectorXd&)>& feasible);
+/// The largest s in [0, 1] (40 bisection steps) with feasible_at(s), for shrinking a design's
+/// harmonics into the limits; feasible_at(0) is assumed.
+double largestFeasibleScale(const std::function<bool(double)>& feasible_at);
 
 /// Minimises the criterion + a penalty on the limits' violations by Nelder-Mead from `restarts`
 /// random starts (all from options.seed), keeps the best feasible end point, and if none is
