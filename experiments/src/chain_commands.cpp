@@ -277,10 +277,10 @@ int identifyChain(const ChainIdentifyArgs& a) {
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
-  const ident::ChainEstimate est = ident::estimateChain(model, base, ident::stackChainRecords(records), nominal, eo);
+  const ident::ChainRecord stacked = ident::stackChainRecords(records);
+  const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, nominal, eo);
 
   // The paper's methods over the same rows, in base parameters (LS above is the reference).
-  const ident::ChainRecord stacked = ident::stackChainRecords(records);
   const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
   ident::MethodOptions mo = a.method_options;
   mo.ls.max_condition = a.max_condition;
