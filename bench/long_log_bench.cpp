@@ -1,6 +1,7 @@
 // Long logs (issue 11): a 1,000,000-row dataset CSV (1000 s at 1 kHz, 5 columns written with
-// %.17g, ~96 MB), read, processed as `exoid identify` does by default (parallel filtering and
-// decimation) and identified by LS and by the exact L1 optimum (LAD), end to end.
+// %.17g, ~96 MB), read, processed as `exoid identify` does by default (the band chosen from the
+// record, parallel filtering and decimation) and identified by LS and by the exact L1 optimum
+// (LAD), end to end.
 //
 //   build/bench/long_log_bench --benchmark_filter=Ingest
 //   build/bench/long_log_bench --benchmark_filter=LsEndToEnd    (one per process: peak_rss_MB is
@@ -67,6 +68,8 @@ exoid::ident::SignalOptions identifyDefaults() {  // as exoid identify (experime
   o.processing = exoid::ident::Processing::kParallel;
   o.differentiation = exoid::ident::Differentiation::kCentral4;
   o.base_terms = exoid::ident::BaseTerms::kAuto;
+  o.cutoff_from_data = true;  // the bands read from the record's spectrum (issue 21's default)
+  o.derivative_cutoff_from_data = true;
   return o;
 }
 

@@ -442,6 +442,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
         b["limited_by"] = band->limited_by;
         b["reason"] = band->describe();
         b["pilot_cutoff_hz"] = band->pilot_cutoff_hz;
+        b["pilot_samples"] = band->pilot_samples;  // the pilot's central window (all samples when shorter)
         nlohmann::json scan = nlohmann::json::array();
         for (const ident::BandScan& r : band->scan) {
           scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm},

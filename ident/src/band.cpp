@@ -24,6 +24,7 @@ void BandRule::validate() const {
   need(inconsistency_ratio > 1.0, "inconsistency_ratio", "> 1", inconsistency_ratio);
   need(max_factor >= 1.0, "max_factor", ">= 1", max_factor);
   need(derivative_factor >= 2.0, "derivative_factor", ">= 2", derivative_factor);
+  need(pilot_max_samples >= 0, "pilot_max_samples", ">= 0", static_cast<double>(pilot_max_samples));
 }
 
 double BandScan::ratio() const {
@@ -58,6 +59,9 @@ std::string BandChoice::describe() const {
     s << "the torque follows the states up to the cap of " << core::formatNumber(max_factor, 3) << "x the motion's bandwidth";
   } else {
     s << "limited by the sampling rate";
+  }
+  if (pilot_samples < samples) {
+    s << " (the pilot read the record's central " << pilot_samples << " of " << samples << " samples)";
   }
   s << ": torque and columns filtered at " << core::formatNumber(cutoff_hz, 3) << " Hz, angles pre-filtered at "
     << core::formatNumber(derivative_cutoff_hz, 3) << " Hz before differentiating, every " << decimation << ". row kept";
@@ -101,15 +105,41 @@ SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, const BandRu
   return o;
 }
 
-}  // namespace
-
-double motionBandwidth(const Dataset& d, double fraction) {
-  if (!(fraction > 0.5 && fraction < 1.0)) throw std::invalid_argument("motion bandwidth: fraction must be in (0.5, 1), got " + core::toText(fraction));
+// Each joint's angle spectrum (Welch, default options).
+std::vector<PowerSpectrum> angleSpectra(const Dataset& d) {
   const double fs = 1.0 / d.sampleInterval_s();
-  PowerSpectrum pooled = welchPsd(d.q_rad.col(0), fs, WelchOptions{});
-  for (Eigen::Index j = 1; j < d.q_rad.cols(); ++j) pooled.density += welchPsd(d.q_rad.col(j), fs, WelchOptions{}).density;
+  std::vector<PowerSpectrum> out;
+  for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) out.push_back(welchPsd(d.q_rad.col(j), fs, WelchOptions{}));
+  return out;
+}
+
+double pooledBandwidth(const std::vector<PowerSpectrum>& spectra, double fraction) {
+  if (!(fraction > 0.5 && fraction < 1.0)) throw std::invalid_argument("motion bandwidth: fraction must be in (0.5, 1), got " + core::toText(fraction));
+  PowerSpectrum pooled = spectra.front();
+  for (std::size_t j = 1; j < spectra.size(); ++j) pooled.density += spectra[j].density;
   return bandwidthAt(pooled, fraction);
 }
+
+// Rows [from, from + n) of d, every column.
+Dataset rowWindow(const Dataset& d, Eigen::Index from, Eigen::Index n) {
+  Dataset w;
+  w.comments = d.comments;
+  w.joints = d.joints;
+  w.t_s = d.t_s.segment(from, n);
+  w.q_rad = d.q_rad.middleRows(from, n);
+  w.tau_Nm = d.tau_Nm.middleRows(from, n);
+  if (d.qd_radps) w.qd_radps = d.qd_radps->middleRows(from, n);
+  if (d.qdd_radps2) w.qdd_radps2 = d.qdd_radps2->middleRows(from, n);
+  w.extra_names = d.extra_names;
+  w.extra = d.extra.middleRows(from, n);
+  w.text_columns = d.text_columns;
+  w.sampling = d.sampling;
+  return w;
+}
+
+}  // namespace
+
+double motionBandwidth(const Dataset& d, double fraction) { return pooledBandwidth(angleSpectra(d), fraction); }
 
 BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const BandRule& rule, const PilotFit& pilot_fit) {
   rule.validate();
@@ -127,13 +157,14 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   out.motion_fraction = rule.motion_fraction;
   out.max_factor = rule.max_factor;
   out.joints = d.joints;
+  const std::vector<PowerSpectrum> angles = angleSpectra(d);
   out.joint_motion_bandwidth_hz.resize(d.q_rad.cols());
   for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) {
-    out.joint_motion_bandwidth_hz[j] = bandwidthAt(welchPsd(d.q_rad.col(j), fs, WelchOptions{}), rule.motion_fraction);
+    out.joint_motion_bandwidth_hz[j] = bandwidthAt(angles[static_cast<std::size_t>(j)], rule.motion_fraction);
   }
   // The motion's: both angles' power pooled, so a joint held still (its angle is encoder noise,
   // spread up to Nyquist) does not set it.
-  out.motion_bandwidth_hz = motionBandwidth(d, rule.motion_fraction);
+  out.motion_bandwidth_hz = pooledBandwidth(angles, rule.motion_fraction);
   // After decimation by at least 1 the cutoff must stay 2.5 samples per period below fs.
   const double ceiling = 0.2 * fs;
   // The filter's edge trims (3 / cutoff at each end) must leave at least half the record.
@@ -151,7 +182,15 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   // The pilot: least squares in a band just wider than the motion.
   const SignalOptions pilot = atCutoff(base, std::min(rule.pilot_factor * first, ceiling), rule, fs);
   out.pilot_cutoff_hz = pilot.cutoff_hz;
-  const PilotTorques torques = pilot_fit(pilot);
+  out.samples = d.size();
+  out.pilot_samples = d.size();
+  if (rule.pilot_max_samples > 0) {
+    const double at_least = std::ceil(24.0 * fs / first);
+    out.pilot_samples = std::min(d.size(), std::max(rule.pilot_max_samples, static_cast<Eigen::Index>(std::min(at_least, 1e15))));
+  }
+  const PilotTorques torques = out.pilot_samples == d.size()
+                                   ? pilot_fit(d, pilot)
+                                   : pilot_fit(rowWindow(d, (d.size() - out.pilot_samples) / 2, out.pilot_samples), pilot);
   const WelchOptions w;
   PowerSpectrum predicted = welchPsd(torques.predicted_Nm.col(0), fs, w);
   PowerSpectrum measured = welchPsd(torques.measured_Nm.col(0), fs, w);
@@ -183,21 +222,21 @@ BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptio
   d.requireJoints({"hip", "knee"}, "the 2-link leg's band choice");
   // The pilot: least squares of the leg's equations (the knee's alone when knee_only) at the
   // pilot band, its torque predicted from the measured states.
-  return chooseBandWith(d, base, rule, [&](const SignalOptions& pilot) {
-    const ProcessedRecord pilot_rows = processRecord(d, c, pilot);
+  return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
+    const ProcessedRecord pilot_rows = processRecord(record, c, pilot);
     const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
     LsOptions ls;
     ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
     const Eigen::VectorXd theta = solveLeastSquares(p.H, p.y, ls).x;
-    const JointSignals states = differentiatedStates(d, pilot);
+    // One pass over the states (no N x 10 regressors held): the predicted torque itself.
+    const Eigen::MatrixX2d predicted = predictTorque(differentiatedStates(record, pilot), theta, c);
     PilotTorques t;
     if (rule.knee_only) {
-      t.predicted_Nm = jointRegressor(states, Joint::kKnee, c) * theta;
-      t.measured_Nm = d.tau_Nm.col(1);
+      t.predicted_Nm = predicted.col(1);
+      t.measured_Nm = record.tau_Nm.col(1);
     } else {
-      t.predicted_Nm.resize(d.size(), 2);
-      t.predicted_Nm << jointRegressor(states, Joint::kHip, c) * theta, jointRegressor(states, Joint::kKnee, c) * theta;
-      t.measured_Nm = d.tau_Nm;
+      t.predicted_Nm = predicted;
+      t.measured_Nm = record.tau_Nm;
     }
     return t;
   });

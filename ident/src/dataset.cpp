@@ -333,6 +333,7 @@ class LogParser {
     for (std::size_t c = 0; c < ncol_; ++c) {
       target_.push_back(where.at(names_[c]));
       known_.push_back(isKnown(names_[c], options_.joints));
+      bound_.push_back(physicalBound(names_[c]));  // once per column, not per cell (the hot loop)
     }
     row_lines_.reserve(static_cast<std::size_t>(n));
   }
@@ -356,10 +357,10 @@ class LogParser {
         throw DatasetError(source_, line.number, col,
                            "column '" + names_[c] + "': expected a " + std::string(ok ? "finite " : "") + "number, got '" +
                                std::string(csv::trimBlanks(line.cells[c])) + "'");
-      } else if (std::abs(v) > physicalBound(names_[c])) {
+      } else if (std::abs(v) > bound_[c]) {
         throw DatasetError(source_, line.number, col,
                            "column '" + names_[c] + "': " + std::string(csv::trimBlanks(line.cells[c])) +
-                               " is not a physical value (|" + names_[c] + "| <= " + core::formatNumber(physicalBound(names_[c])) +
+                               " is not a physical value (|" + names_[c] + "| <= " + core::formatNumber(bound_[c]) +
                                " in the log's units)");
       }
       target_[c][row_] = v;
@@ -480,6 +481,7 @@ class LogParser {
   std::map<std::string, long> index_;  // exoid name -> 0-based column
   std::vector<double*> target_;        // per column: where its values go (nullptr: a text column)
   std::vector<bool> known_;
+  std::vector<double> bound_;           // per column: the largest physical magnitude
   std::vector<long> row_lines_;
   std::size_t ncol_ = 0;
   Eigen::Index row_ = 0;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace exoid::ident {
 
@@ -162,7 +163,9 @@ JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
 }
 
 ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
-  return {jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1), s};
+  Eigen::MatrixXd hip(s.size(), kNumParams), knee(s.size(), kNumParams);
+  jointRegressors(s, c, hip, knee);
+  return {std::move(hip), std::move(knee), s.tau_Nm, s.qdd_radps2.col(1), s};
 }
 
 namespace {
@@ -233,7 +236,9 @@ ProcessedRecord allocated(Eigen::Index n, bool base) {
 // (one pass over all): N x 23.
 Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const SignalOptions& o, double fs) {
   Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
-  all << jointRegressor(s, Joint::kHip, c), jointRegressor(s, Joint::kKnee, c), s.tau_Nm, s.qdd_radps2.col(1);
+  jointRegressors(s, c, all.leftCols(kNumParams), all.middleCols(kNumParams, kNumParams));
+  all.middleCols(2 * kNumParams, 2) = s.tau_Nm;
+  all.col(2 * kNumParams + 2) = s.qdd_radps2.col(1);
   if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   return all;
 }

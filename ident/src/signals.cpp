@@ -300,6 +300,24 @@ Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
   const Eigen::Index sections = f.sections();
   const Eigen::Index m = n + 2 * pad;  // odd extension on both ends
   Eigen::MatrixXd y(n, x.cols());
+  // Columns are filtered independently, so an all-zero column's output is zero and a repeated
+  // column's is its first copy's, bit for bit: only the distinct non-zero ones are filtered (a
+  // regressor's structural zeros and repeats are a third of the leg's columns).
+  std::vector<Eigen::Index> filtered;
+  std::vector<Eigen::Index> same_as(static_cast<std::size_t>(x.cols()), -1);  // -1: filtered itself
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    if ((x.col(c).array() == 0.0).all()) {
+      same_as[static_cast<std::size_t>(c)] = -2;  // zero
+      continue;
+    }
+    for (Eigen::Index e : filtered) {
+      if (x.col(c) == x.col(e)) {
+        same_as[static_cast<std::size_t>(c)] = e;
+        break;
+      }
+    }
+    if (same_as[static_cast<std::size_t>(c)] == -1) filtered.push_back(c);
+  }
   std::vector<double> buf(static_cast<std::size_t>(m * kLanes));
   std::vector<Lanes> state(static_cast<std::size_t>(2 * sections));
   const auto at = [](Eigen::Index row, int lane) { return static_cast<std::size_t>(row * kLanes + lane); };
@@ -309,23 +327,33 @@ Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
     for (std::size_t k = 0; k < state.size(); ++k) state[k] = zi[k] * step;
   };
 
-  for (Eigen::Index c0 = 0; c0 < x.cols(); c0 += kLanes) {
-    const int lanes = static_cast<int>(std::min<Eigen::Index>(kLanes, x.cols() - c0));
-    std::fill(buf.begin(), buf.end(), 0.0);
+  const auto count = static_cast<Eigen::Index>(filtered.size());
+  for (Eigen::Index g = 0; g < count; g += kLanes) {
+    const int lanes = static_cast<int>(std::min<Eigen::Index>(kLanes, count - g));
+    const auto column = [&](int l) { return filtered[static_cast<std::size_t>(g + l)]; };
+    if (lanes < kLanes) std::fill(buf.begin(), buf.end(), 0.0);
+    // Row by row, so buf is written (and below read) in one sequential sweep.
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (int l = 0; l < lanes; ++l) buf[at(pad + i, l)] = x(i, column(l));
+    }
     for (int l = 0; l < lanes; ++l) {
-      const auto col = x.col(c0 + l);
+      const auto col = x.col(column(l));
       const double first = col(0), last = col(n - 1);
       for (Eigen::Index i = 0; i < pad; ++i) buf[at(i, l)] = 2.0 * first - col(pad - i);
-      for (Eigen::Index i = 0; i < n; ++i) buf[at(pad + i, l)] = col(i);
       for (Eigen::Index j = 0; j < pad; ++j) buf[at(pad + n + j, l)] = 2.0 * last - col(n - 2 - j);
     }
     initState(0);
     runCascade(f, state.data(), buf.data(), m, false);
     initState(m - 1);
     runCascade(f, state.data(), buf.data(), m, true);
-    for (int l = 0; l < lanes; ++l) {
-      for (Eigen::Index i = 0; i < n; ++i) y(i, c0 + l) = buf[at(pad + i, l)];
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (int l = 0; l < lanes; ++l) y(i, column(l)) = buf[at(pad + i, l)];
     }
+  }
+  for (Eigen::Index c = 0; c < x.cols(); ++c) {
+    const Eigen::Index src = same_as[static_cast<std::size_t>(c)];
+    if (src == -2) y.col(c).setZero();
+    if (src >= 0) y.col(c) = y.col(src);
   }
   return y;
 }

@@ -65,6 +65,27 @@ TEST(Band, AngleMotionTheTorqueDoesNotFollowStopsTheBand) {
   EXPECT_LT((chosen - truth).cwiseQuotient(truth).cwiseAbs().maxCoeff(), (wider - truth).cwiseQuotient(truth).cwiseAbs().maxCoeff());
 }
 
+TEST(Band, ALongRecordsPilotReadsItsCentralWindowAndChoosesTheSameBand) {
+  // A 300 s record with the 5.5 Hz wobble: the pilot and the scan read its central 131 s (the
+  // rule's default window), and the band is the one the whole record's pilot gives; the motion's
+  // bandwidth is still the whole record's, and a record shorter than the window is read whole.
+  Dataset d = test::multisineRecord(300.0, true, false);
+  for (Eigen::Index i = 0; i < d.size(); ++i) d.q_rad.row(i).array() += 2e-4 * std::sin(2 * M_PI * 5.5 * d.t_s[i]);
+  const BandChoice windowed = chooseBand(d, LegConstants{}, identifyDefaults());
+  BandRule whole_rule;
+  whole_rule.pilot_max_samples = 0;
+  const BandChoice whole = chooseBand(d, LegConstants{}, identifyDefaults(), whole_rule);
+  EXPECT_EQ(windowed.samples, d.size());
+  EXPECT_EQ(windowed.pilot_samples, BandRule{}.pilot_max_samples);
+  EXPECT_EQ(whole.pilot_samples, d.size());
+  EXPECT_NE(windowed.describe().find("central 131072 of 300000 samples"), std::string::npos) << windowed.describe();
+  EXPECT_EQ(windowed.motion_bandwidth_hz, whole.motion_bandwidth_hz);
+  EXPECT_EQ(windowed.limited_by, whole.limited_by);
+  EXPECT_EQ(windowed.cutoff_hz, whole.cutoff_hz) << windowed.describe() << "\n" << whole.describe();
+  const Dataset short_record = test::multisineRecord(10.0, true, false);
+  EXPECT_EQ(chooseBand(short_record, LegConstants{}, identifyDefaults()).pilot_samples, short_record.size());
+}
+
 TEST(Band, AJointHeldStillDoesNotSetTheMotionsBandwidth) {
   // Knee alone (the hip held at -0.4 rad, plus encoder-level noise that spreads its spectrum to
   // Nyquist): the motion's bandwidth is the knee's, and the knee-only scan ignores the hip torque.

@@ -565,6 +565,30 @@ TEST(Filtfilt, ColumnsAreFilteredIndependently) {
   for (Eigen::Index c = 0; c < x.cols(); ++c) EXPECT_EQ(filtfilt(f, x.col(c)), y.col(c)) << "column " << c;
 }
 
+TEST(Filtfilt, ZeroAndRepeatedColumnsComeOutAsIfFilteredAlone) {
+  // filtfilt filters only the distinct non-zero columns (a regressor's structural zeros and
+  // repeats) and copies the rest: the output must be what filtering each column alone gives, bit
+  // for bit, in any order of zeros, repeats and columns that differ in one sample only.
+  const SosFilter f = butterworthLowpass(2, kFc_Hz, kFs_Hz);
+  Eigen::MatrixXd x(400, 9);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    x(i, 0) = 0.0;
+    x(i, 1) = std::sin(0.03 * static_cast<double>(i));
+    x(i, 2) = x(i, 1);
+    x(i, 3) = std::cos(0.05 * static_cast<double>(i));
+    x(i, 4) = 0.0;
+    x(i, 5) = x(i, 3);
+    x(i, 6) = x(i, 1);
+    x(i, 7) = x(i, 3);
+    x(i, 8) = x(i, 1);
+  }
+  x(399, 7) += 1e-12;  // not a repeat: differs in the last sample only
+  x(0, 8) = 0.0;       // nor this one: differs in the first
+  const Eigen::MatrixXd y = filtfilt(f, x);
+  for (Eigen::Index c = 0; c < x.cols(); ++c) EXPECT_EQ(filtfilt(f, x.col(c)), y.col(c)) << "column " << c;
+  EXPECT_TRUE((y.col(0).array() == 0.0).all());
+}
+
 TEST(Filtfilt, RejectsSignalsNotLongerThanPadlen) {
   // Even order 4: 2 sections, padlen 3 * 5 = 15. Odd order 3: one section has b2 = 0 and one
   // a2 = 0, so scipy's padlen is 3 * (5 - 1) = 12 (as scipy 1.10.1 reports).

@@ -110,17 +110,17 @@ ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const 
 BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const SignalOptions& base, const BandRule& rule) {
   d.requireJoints(model.jointNames(), "model '" + model.name + "'");
   const BaseParameters bp = baseParameters(model);
-  return chooseBandWith(d, base, rule, [&](const SignalOptions& pilot) {
-    const ChainRecord rows = processChainRecord(d, model, pilot);
+  return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
+    const ChainRecord rows = processChainRecord(record, model, pilot);
     LsOptions ls;
     ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
     const Eigen::VectorXd beta = solveLeastSquares(bp.baseRegressor(rows.W), rows.y, ls).x;
-    const ChainRecord at_states = chainRows(model, differentiatedStates(d, pilot));
+    const ChainRecord at_states = chainRows(model, differentiatedStates(record, pilot));
     const Eigen::VectorXd stacked = bp.baseRegressor(at_states.W) * beta;
     PilotTorques t;
     t.predicted_Nm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
         stacked.data(), at_states.samples(), model.dof());
-    t.measured_Nm = d.tau_Nm;
+    t.measured_Nm = record.tau_Nm;
     return t;
   });
 }

@@ -49,6 +49,12 @@ struct BandRule {
   /// Scan the knee equation only: a record whose hip is held by a lock, not its motor (the
   /// segmental strategy's knee record), measures no hip joint torque.
   bool knee_only = false;
+  /// The pilot fit and the consistency scan read the record's central pilot_max_samples at most
+  /// (default 2^17: 131 s at 1 kHz, 65 of the scan's 2 s Welch segments; never fewer than 24 /
+  /// f_m seconds, so the pilot's edge trims keep most of it): a 1000 s log's band then costs what a
+  /// two-minute one's does. The motion's bandwidth is always read from the whole record.
+  /// Range >= 0; 0 = the whole record.
+  Eigen::Index pilot_max_samples = Eigen::Index{1} << 17;
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 
@@ -66,6 +72,7 @@ struct BandChoice {
   /// The lowest cutoff the record's length allows: its edge trims (3 / cutoff each) keep half of it.
   double record_floor_hz = 0.0;
   double pilot_cutoff_hz = 0.0;
+  Eigen::Index samples = 0, pilot_samples = 0;  ///< the record's, and the pilot's (its central window)
   std::vector<BandScan> scan;  ///< every band scanned, in order (the last is the inconsistent one, if any)
   double cutoff_hz = 0.0;
   double derivative_cutoff_hz = 0.0;
@@ -88,13 +95,14 @@ double motionBandwidth(const Dataset& d, double fraction = 0.99);
 /// below 20 Hz or too short to choose a band.
 BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule = {});
 
-/// The torque a pilot fit predicts from the measured states along the whole record (N x k) and
-/// the torque measured that it is compared with (N x k): the model's part of chooseBand. The
-/// pilot options are parallel processing at the pilot's cutoff.
+/// The torque a pilot fit predicts from the measured states along the record it is given (N x k)
+/// and the torque measured that it is compared with (N x k): the model's part of chooseBand. The
+/// record is the pilot's window of the one whose band is chosen (BandRule::pilot_max_samples);
+/// the pilot options are parallel processing at the pilot's cutoff.
 struct PilotTorques {
   Eigen::MatrixXd predicted_Nm, measured_Nm;
 };
-using PilotFit = std::function<PilotTorques(const SignalOptions& pilot)>;
+using PilotFit = std::function<PilotTorques(const Dataset& record, const SignalOptions& pilot)>;
 /// chooseBand for any model: the same rule, the model's pilot given as a function.
 BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const BandRule& rule, const PilotFit& pilot_fit);
 

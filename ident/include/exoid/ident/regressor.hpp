@@ -63,6 +63,10 @@ struct JointSignals {
 
 /// N x 10 regressor of one joint's equation over a record.
 Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c);
+/// Both joints' N x 10 regressors in one pass over the record (each sample's sines once), written
+/// into hip and knee (N x 10 each, e.g. blocks of a wider matrix).
+void jointRegressors(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> hip,
+                     Eigen::Ref<Eigen::MatrixXd> knee);
 /// 2N x 10, both equations in time order: row 2i is sample i's hip row, 2i+1 its knee row
 /// (so RLS over the rows sees the record in time order). Matches stackedTorque().
 Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c);
