@@ -6,7 +6,7 @@
 //   build/bench/chain_regressor_bench --benchmark_counters_tabular=true
 #include "exoid/core/random.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include <benchmark/benchmark.h>
 

@@ -5,7 +5,7 @@
 // and torque noise (uniform, std 8.7e-5 rad = 0.005 deg and 0.5 N m), so the bench needs no MuJoCo.
 //
 //   build/bench/idim_iv_bench --benchmark_counters_tabular=true
-#include "exoid/ident/idim_iv.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/core/random.hpp"
 
 #include <benchmark/benchmark.h>

@@ -9,12 +9,12 @@
 //
 // Targets: ingest >= 200 MB/s; LS end to end <= 0.5 s with peak memory <= 2.5x the numeric
 // payload (1e6 x 5 doubles = 40 MB); LAD end to end <= 2 s.
-#include "exoid/ident/dataset.hpp"
-#include "exoid/ident/lad.hpp"
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/preprocess.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/estimators/lad.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 
 #include <benchmark/benchmark.h>
 #include <malloc.h>

@@ -5,8 +5,8 @@
 // file's own code, the baselines included, is compiled for this machine (bench/CMakeLists.txt).
 //
 //   build/bench/pso_bench --benchmark_counters_tabular=true
-#include "exoid/ident/linear_cost.hpp"
-#include "exoid/ident/pso.hpp"
+#include "exoid/ident/estimators/linear_cost.hpp"
+#include "exoid/ident/estimators/pso.hpp"
 #include "exoid/core/random.hpp"
 
 #include <benchmark/benchmark.h>

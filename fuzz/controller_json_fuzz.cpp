@@ -2,7 +2,7 @@
 // valid controller or refused naming the file and field.
 #include "fuzz_support.hpp"
 
-#include "exoid/experiments/controller_io.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
 
 #include <stdexcept>
 

@@ -3,9 +3,9 @@
 // (uniform increasing time, finite bounded values, consistent sizes) and rows a method can fit.
 #include "fuzz_support.hpp"
 
-#include "exoid/ident/dataset.hpp"
-#include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include <cmath>
 #include <stdexcept>

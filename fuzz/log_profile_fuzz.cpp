@@ -2,7 +2,7 @@
 // never a crash or a silently odd setting.
 #include "fuzz_support.hpp"
 
-#include "exoid/experiments/log_input.hpp"
+#include "exoid/experiments/protocol/log_input.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -2,7 +2,7 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
-#include "exoid/ident/signals.hpp"
+#include "exoid/ident/signals/signals.hpp"
 
 #include <optional>
 

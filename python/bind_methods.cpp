@@ -2,11 +2,11 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
-#include "exoid/experiments/controller_io.hpp"
-#include "exoid/ident/band.hpp"
-#include "exoid/ident/consistency.hpp"
-#include "exoid/ident/identifiability.hpp"
-#include "exoid/ident/idim_iv.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/leg/consistency.hpp"
+#include "exoid/ident/design/identifiability.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
 
 #include <limits>
 #include <optional>

@@ -2,9 +2,9 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
-#include "exoid/experiments/chain_bridge.hpp"
-#include "exoid/experiments/chain_commands.hpp"
-#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/protocol/sim_bridge.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"

@@ -1,7 +1,7 @@
 #include "convert.hpp"
 
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/options.hpp"
+#include "exoid/experiments/protocol/options.hpp"
 
 #include <functional>
 #include <map>

@@ -1,11 +1,11 @@
 #pragma once
 // Conversions between exoid's C++ types and the Python module's dicts and keyword options,
 // shared by the binding files (bind_*.cpp).
-#include "exoid/ident/dataset.hpp"
-#include "exoid/ident/methods.hpp"
-#include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/regressor.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>

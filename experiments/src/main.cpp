@@ -1,5 +1,5 @@
 // exoid: thin entry point; everything lives in the experiments library.
-#include "exoid/experiments/cli.hpp"
+#include "exoid/experiments/commands/cli.hpp"
 
 #include <cstdlib>  // defines __GLIBC__ on glibc systems
 

@@ -6,6 +6,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -140,6 +141,18 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   if (config.trajectory.dof() != dof) {
     throw std::invalid_argument("chain simulation: the trajectory has " + std::to_string(config.trajectory.dof()) + " joints, '" +
                                 config.model_path + "' drives " + std::to_string(dof));
+  }
+  for (const std::string& name : config.locked) {  // after r.chain: the truth keeps the real rotor inertia
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) {
+      std::string all;
+      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("chain simulation: cannot lock joint '" + name + "': '" + config.model_path + "' drives " + all);
+    }
+    const auto i = static_cast<Eigen::Index>(it - names.begin());
+    config.trajectory.sin_rad.row(i).setZero();
+    config.trajectory.cos_rad.row(i).setZero();
+    m->dof_armature[dofadr[static_cast<std::size_t>(i)]] += kLockInertia_kgm2;
   }
   {  // The reference inside every joint's range: a limit's constraint force is no motor torque.
     Eigen::VectorXd q, qd, qdd;

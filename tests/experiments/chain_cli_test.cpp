@@ -98,6 +98,56 @@ TEST(ChainCli, TruthOfAChainIsItsOwnParameters) {
   EXPECT_FALSE(m.contains("parameters"));
 }
 
+TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
+  // The paper's strategy on the 3-DOF leg: an ankle record with hip and knee locked, a knee record
+  // with the hip locked, then every joint. Exact records (sgn Coulomb, recorded derivatives): every
+  // base parameter within 1e-6; stage 1 fits the foot's and ankle's, and the lock joins foot.Iyy
+  // with ankle.Ia, which the knee stage separates.
+  const std::string dir = ::testing::TempDir() + "/segmental";
+  std::filesystem::create_directories(dir);
+  testing::internal::CaptureStdout();
+  const std::vector<std::string> exact = {"--duration", "10", "--coulomb-v0", "0", "--record-derivatives"};
+  const auto simulate = [&](const std::string& out, const std::string& lock, const std::string& seed) {
+    std::vector<std::string> args = {"simulate", "--model", "leg3", "--out", dir + "/" + out, "--seed", seed};
+    args.insert(args.end(), exact.begin(), exact.end());
+    if (!lock.empty()) args.insert(args.end(), {"--lock", lock});
+    return runExoid(args);
+  };
+  ASSERT_EQ(simulate("ankle.csv", "hip,knee", "1"), 0);
+  ASSERT_EQ(simulate("knee.csv", "hip", "2"), 0);
+  ASSERT_EQ(simulate("all.csv", "", "3"), 0);
+  const std::string out = dir + "/segmental.json";
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--stage", "ankle=" + dir + "/ankle.csv", "--stage", "knee=" + dir + "/knee.csv",
+                      "--data", dir + "/all.csv", "--truth", dir + "/all.json", "--method", "ls,lad", "--json", out}),
+            0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json a = readJson(dir + "/ankle.json");
+  EXPECT_EQ(a["config"]["locked"], nlohmann::json({"hip", "knee"}));
+  const nlohmann::json r = readJson(out);
+  ASSERT_EQ(r["stages"].size(), 3u);
+  EXPECT_EQ(r["stages"][0]["first_joint"], "ankle");
+  EXPECT_EQ(r["stages"][0]["locked"], "hip, knee");
+  EXPECT_EQ(r["stages"][0]["identifies"].size(), 5u);
+  bool joined = false;
+  for (const auto& n : r["stages"][0]["identifies"]) joined = joined || (n.get<std::string>().find("ankle.Ia") != std::string::npos && n.get<std::string>().find("foot.Iyy") != std::string::npos);
+  EXPECT_TRUE(joined) << r["stages"][0]["identifies"];
+  const nlohmann::json& b = r["base_parameters"];
+  ASSERT_EQ(b["names"].size(), 17u);
+  for (const char* m : {"ls", "lad"}) {
+    for (std::size_t i = 0; i < 17; ++i) {
+      const double truth = b["truth"][i].get<double>();
+      EXPECT_NEAR(b["methods"][m][i].get<double>(), truth, 1e-6 * std::max(1.0, std::abs(truth))) << m << " " << b["names"][i].get<std::string>();
+    }
+  }
+  // What cannot work is refused by name.
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--stage", "toe=" + dir + "/ankle.csv", "--data", dir + "/all.csv"}, 1).find("'toe' is not a joint"),
+            std::string::npos);
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--stage", "ankle=" + dir + "/ankle.csv"}, 1).find("needs --data"), std::string::npos);
+  EXPECT_NE(stderrOf({"identify", "--stage", "knee=" + dir + "/knee.csv", "--data", dir + "/all.csv"}, 105).find("--knee-data and --both-data"),
+            std::string::npos);
+  EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--lock", "toe", "--out", dir + "/x.csv"}, 1).find("cannot lock joint 'toe'"), std::string::npos);
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--vibration", "1", "--out", dir + "/x.csv"}, 105).find("--vibration"), std::string::npos);

@@ -1,6 +1,6 @@
 #pragma once
 // Runs `exoid <args...>` in-process through the same entry point as the binary.
-#include "exoid/experiments/cli.hpp"
+#include "exoid/experiments/commands/cli.hpp"
 
 #include <string>
 #include <vector>

@@ -1,8 +1,8 @@
 // `exoid excite` end to end: the design file, and the simulated record of it inside the limits
 // (checked on what the simulator recorded, not only on the design).
 #include "cli_test_support.hpp"
-#include "exoid/experiments/excitation_io.hpp"
-#include "exoid/ident/dataset.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/ident/io/dataset.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // `exoid identify` end to end on CSV logs written from an independent 2-link dynamics.
 #include "cli_test_support.hpp"
-#include "exoid/ident/closed_loop.hpp"
-#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/leg/closed_loop.hpp"
+#include "exoid/ident/io/dataset.hpp"
 
 #include "../ident/test_support.hpp"
 

@@ -1,6 +1,6 @@
 // Log profiles and flags: what a lab writes beside its logs, and what a wrong one is told.
 #include "cli_test_support.hpp"
-#include "exoid/experiments/log_input.hpp"
+#include "exoid/experiments/protocol/log_input.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // The protocol's parallel-processing arms (ls-parallel, idim-iv) against the simulator's truth:
 // exact on noise-free records of the rigid leg, and on noisy records scattered as the bound says.
-#include "exoid/experiments/controller_io.hpp"
-#include "exoid/experiments/excitation_io.hpp"
-#include "exoid/experiments/protocol.hpp"
-#include "exoid/ident/noise_covariance.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/experiments/protocol/protocol.hpp"
+#include "exoid/ident/estimators/noise_covariance.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,13 +1,13 @@
 // `exoid reproduce` on a shortened protocol: every table and figure file is produced, the numbers
 // are reproducible, and the truths are what the simulator says.
 #include "cli_test_support.hpp"
-#include "exoid/experiments/protocol.hpp"
-#include "exoid/experiments/reproduce.hpp"
-#include "exoid/experiments/table.hpp"
+#include "exoid/experiments/protocol/protocol.hpp"
+#include "exoid/experiments/protocol/reproduce.hpp"
+#include "exoid/experiments/report/table.hpp"
 
-#include "exoid/ident/dataset.hpp"
-#include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include <Eigen/QR>
 #include <gtest/gtest.h>

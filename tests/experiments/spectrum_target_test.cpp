@@ -1,7 +1,7 @@
 // The simulated rig's torques are motion, not controller chatter: with the reproduce settings,
 // at most 5 % of each joint torque's variance lies above 10 Hz (Welch), recorded and ideal alike.
-#include "exoid/experiments/reproduce.hpp"
-#include "exoid/experiments/sim_bridge.hpp"
+#include "exoid/experiments/protocol/reproduce.hpp"
+#include "exoid/experiments/protocol/sim_bridge.hpp"
 
 #include <gtest/gtest.h>
 

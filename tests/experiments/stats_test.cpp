@@ -1,5 +1,5 @@
 // Statistics helpers against published and hand-computed values.
-#include "exoid/experiments/stats.hpp"
+#include "exoid/experiments/report/stats.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
 // The sweep configuration: the checked-in default, and bad files failing with the key named.
-#include "exoid/experiments/sweep_config.hpp"
+#include "exoid/experiments/sweep/sweep_config.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // are range-checked, and a config that would fail every run is refused before any run.
 #include "sweep_test_support.hpp"
 
-#include "exoid/experiments/folder_lock.hpp"
+#include "exoid/experiments/sweep/folder_lock.hpp"
 
 #include <filesystem>
 #include <fstream>

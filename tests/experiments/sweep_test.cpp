@@ -1,5 +1,5 @@
 // `exoid sweep` / `exoid merge` in-process: determinism across threads, shards + merge, resume.
-#include "exoid/experiments/sweep_runner.hpp"
+#include "exoid/experiments/sweep/sweep_runner.hpp"
 #include "sweep_test_support.hpp"
 
 #include <cstdlib>

@@ -1,7 +1,7 @@
 #pragma once
 // Shared by the sweep tests: a tiny grid (2 s records, G = 200, 2 cells x 2 seeds), running
 // `exoid` in-process or as a child, and comparing sweep folders.
-#include "exoid/experiments/cli.hpp"
+#include "exoid/experiments/commands/cli.hpp"
 
 #include <gtest/gtest.h>
 

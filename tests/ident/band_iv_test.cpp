@@ -1,10 +1,10 @@
 // Instrumental variables from the motion's band against their truths: exact on exact data, and
 // unbiased over 50 seeds of encoder noise where least squares in the same band is attenuated.
-#include "exoid/ident/band_iv.hpp"
+#include "exoid/ident/estimators/band_iv.hpp"
 
-#include "exoid/ident/band.hpp"
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -59,7 +59,7 @@ TEST(BandIv, UnbiasedUnderEncoderNoiseWhereLeastSquaresIsNot) {
   }
   const auto meanAndSd = [](const Eigen::MatrixXd& z, int i, double& mean, double& sd) {
     mean = z.row(i).mean();
-    sd = std::sqrt((z.row(i).array() - mean).square().sum() / (z.cols() - 1.0));
+    sd = std::sqrt((z.row(i).array() - mean).square().sum() / (static_cast<double>(z.cols()) - 1.0));
   };
   int ls_biased = 0;
   for (int i = 0; i < kNumParams; ++i) {

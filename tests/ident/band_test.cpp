@@ -1,10 +1,10 @@
 // The band chosen from the record: as wide as the torque follows the states (exact data: the cap,
 // and exact parameters), narrower where the angles carry motion the measured torque does not
 // follow (errors-in-variables), and clear refusals where no band can be chosen.
-#include "exoid/ident/band.hpp"
+#include "exoid/ident/signals/band.hpp"
 
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

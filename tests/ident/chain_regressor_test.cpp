@@ -1,6 +1,6 @@
 #include "exoid/ident/model/chain_regressor.hpp"
 
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 #include "random_chain.hpp"
 
 #include <Eigen/Geometry>

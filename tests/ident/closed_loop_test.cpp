@@ -1,7 +1,7 @@
 // The closed-loop simulation IDIM-IV draws its instruments from: a PD loop on a single inertia
 // against its closed-form frequency response, the forward dynamics against the regressor's
 // inverse dynamics, and clear failures for models that cannot be simulated.
-#include "exoid/ident/closed_loop.hpp"
+#include "exoid/ident/leg/closed_loop.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -3,10 +3,10 @@
 // with that parameter fixed at the bound (a closed form); with the cone active the KKT conditions
 // hold (the certificate of optimality of a convex problem); a consistent LS estimate is returned
 // untouched; the result is never inconsistent.
-#include "exoid/ident/consistency.hpp"
+#include "exoid/ident/leg/consistency.hpp"
 
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/params.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/leg/params.hpp"
 
 #include <Eigen/LU>
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
 #include "exoid/ident/model/consistent_fit.hpp"
 
-#include "exoid/ident/consistency.hpp"
+#include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
 #include "exoid/ident/model/log_cholesky.hpp"
 
-#include "exoid/ident/params.hpp"
+#include "exoid/ident/leg/params.hpp"
 #include "random_chain.hpp"
 
 #include <Eigen/LU>

@@ -1,6 +1,6 @@
 // The dataset reader on logs as lab tools write them (every case issue 11 measured being rejected),
 // the log format (column map, units, torque signs) and the resampling of jittered timestamps.
-#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/io/dataset.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/io/dataset.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Excitation design: the Fourier trajectory's derivatives and rest-at-the-ends rule, the limits'
 // bookkeeping, the Cramer-Rao floor no trajectory can beat, and designs that beat the paper's
 // trajectories on the criterion they optimise.
-#include "exoid/ident/excitation.hpp"
+#include "exoid/ident/design/excitation.hpp"
 #include "exoid/core/random.hpp"
 #include "test_support.hpp"
 

@@ -1,7 +1,7 @@
 // The identifiability report in words: each case names the parameter, its confusion partner and
 // the motion that would help.
-#include "exoid/ident/identifiability_advice.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/design/identifiability_advice.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
-#include "exoid/ident/identifiability.hpp"
+#include "exoid/ident/design/identifiability.hpp"
 
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <Eigen/QR>

@@ -2,8 +2,8 @@
 // errors-in-variables problem where LS is provably biased and IV is not), the iteration's
 // stopping and failure, and the whole method on closed-loop records of the rigid leg: exact on
 // exact data, converged in a few iterations on noisy data.
-#include "exoid/ident/idim_iv.hpp"
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // optimum when the box holds it, brute-force enumeration of the vertices made of data rows and
 // box faces (in long double), the clamped median, reduced problems with the active bounds fixed,
 // random feasible probes, and every certificate re-derived here from the returned dual vector.
-#include "exoid/ident/lad_box.hpp"
+#include "exoid/ident/estimators/lad_box.hpp"
 
 #include "lad_test_support.hpp"
 

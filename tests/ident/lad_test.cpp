@@ -1,6 +1,6 @@
 // Least absolute deviations against independent truths: sample medians, brute-force vertex
 // enumeration, exact and outlier-corrupted data, and the duality certificate checked by probing.
-#include "exoid/ident/lad.hpp"
+#include "exoid/ident/estimators/lad.hpp"
 
 #include "lad_test_support.hpp"
 

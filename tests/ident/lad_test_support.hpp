@@ -2,7 +2,7 @@
 // Test-only helpers shared by lad_test.cpp and lad_box_test.cpp: the L1 cost and its rounding
 // level computed independently of the solvers, the random draws, the knee-like regressor, and
 // the check for rejected input.
-#include "exoid/ident/lad.hpp"
+#include "exoid/ident/estimators/lad.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // One contract for every estimator: on exact (noise-free) data each recovers the truth to the
 // accuracy its stopping rule implies.
-#include "exoid/ident/methods.hpp"
+#include "exoid/ident/estimators/methods.hpp"
 
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <Eigen/SVD>

@@ -1,4 +1,4 @@
-#include "exoid/ident/metrics.hpp"
+#include "exoid/ident/leg/metrics.hpp"
 
 #include <cmath>
 

@@ -1,5 +1,5 @@
 // Nelder-Mead against problems with known minima.
-#include "exoid/ident/nelder_mead.hpp"
+#include "exoid/ident/estimators/nelder_mead.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
 // The noise covariance of LS against Monte Carlo: fixed exact states, many seeds of white torque
 // noise pushed through the real processing (prepareSignals) and the real estimators; the sample
 // std of every parameter must agree with the reported std within a chi-square band.
-#include "exoid/ident/noise_covariance.hpp"
+#include "exoid/ident/estimators/noise_covariance.hpp"
 
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <Eigen/LU>

@@ -2,10 +2,10 @@
 // parameters whatever the filter, with recorded derivatives or with angles alone; noisy data
 // scatter as the noise covariance of the same processing says; the paper's processing does not
 // have the first property (the review measured up to 38 % on exact data).
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/noise_covariance.hpp"
-#include "exoid/ident/preprocess.hpp"
-#include "exoid/ident/segmental.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/noise_covariance.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

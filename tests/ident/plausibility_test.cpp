@@ -1,6 +1,6 @@
 // Physical plausibility: the conditions the parameter definitions imply, against physical legs
 // (always plausible) and against estimates that break one condition each.
-#include "exoid/ident/plausibility.hpp"
+#include "exoid/ident/leg/plausibility.hpp"
 
 #include <gtest/gtest.h>
 

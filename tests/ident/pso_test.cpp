@@ -1,6 +1,6 @@
-#include "exoid/ident/pso.hpp"
+#include "exoid/ident/estimators/pso.hpp"
 
-#include "exoid/ident/linear_cost.hpp"
+#include "exoid/ident/estimators/linear_cost.hpp"
 
 #include <gtest/gtest.h>
 

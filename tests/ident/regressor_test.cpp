@@ -1,4 +1,4 @@
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include "test_support.hpp"
 

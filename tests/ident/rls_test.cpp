@@ -1,6 +1,6 @@
-#include "exoid/ident/rls.hpp"
+#include "exoid/ident/estimators/rls.hpp"
 
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

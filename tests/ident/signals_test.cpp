@@ -1,7 +1,7 @@
 // Tests for signals.hpp. Ground truth: closed forms (Taylor series of finite differences, the
 // bilinear-transform Butterworth magnitude and 2nd-order coefficients, impulse responses of
 // second-order sections, |H(f)|^2 of a zero-phase filter) and one fixed scipy.signal output.
-#include "exoid/ident/signals.hpp"
+#include "exoid/ident/signals/signals.hpp"
 
 #include "test_support.hpp"
 

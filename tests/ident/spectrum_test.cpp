@@ -3,7 +3,7 @@
 // the first two moments of the Welch estimate of Gaussian white noise, and a direct O(N^2) DFT
 // written from scipy.signal.welch's recipe (scipy is not installed here, so there are no scipy
 // numbers to hard-code).
-#include "exoid/ident/spectrum.hpp"
+#include "exoid/ident/signals/spectrum.hpp"
 
 #include "exoid/core/random.hpp"
 

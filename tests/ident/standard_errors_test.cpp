@@ -1,9 +1,9 @@
 // Standard errors from residuals against Monte Carlo: with white residuals they are the textbook
 // sigma^2 (H^T H)^-1; with correlated residuals (what filtered, decimated rows have) they follow
 // the estimate's true scatter where the textbook formula underestimates it.
-#include "exoid/ident/standard_errors.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 
 #include <Eigen/LU>
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 #pragma once
 // Test-only ground truth: an independent 2-link dynamics (d'Alembert on COM accelerations, not
 // the Lagrange regressor) and the paper's trajectories with analytic derivatives.
-#include "exoid/ident/dataset.hpp"
-#include "exoid/ident/params.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/leg/params.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>

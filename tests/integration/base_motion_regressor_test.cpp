@@ -1,8 +1,8 @@
 // The base-motion regressor (ident::BaseMotion from the pedestal IMU) against the simulator: on a
 // vibrating pedestal, the joint torques MuJoCo applied are Y(q, qd, qdd, base) X_rigid, where the
 // still-base regressor leaves the pedestal's share unexplained.
-#include "exoid/ident/regressor.hpp"
-#include "exoid/ident/signals.hpp"
+#include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/signals.hpp"
 #include "exoid/sim/simulate.hpp"
 
 #include <Eigen/QR>

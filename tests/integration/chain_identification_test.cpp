@@ -3,7 +3,7 @@
 // parameters, against the truth read from the model (experiments' bridge). Two yardsticks: exact
 // data give the truth exactly; torque-sensor noise alone gives errors distributed as the
 // Cramer-Rao bound says (least squares is then the efficient, unbiased estimator).
-#include "exoid/experiments/chain_bridge.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
 #include "exoid/ident/model/chain_processing.hpp"

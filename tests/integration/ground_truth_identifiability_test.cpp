@@ -6,8 +6,8 @@
 // regressor has sgn(qd). They differ only where |qd| < ~10 v0, i.e. at the start and at
 // velocity reversals (about one sample each). The test uses the simulator's law in the
 // Coulomb columns so that it checks the rest exactly; the effect of the sgn column is reported.
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 #include "exoid/sim/simulate.hpp"
 
 #include <gtest/gtest.h>

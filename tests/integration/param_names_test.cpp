@@ -1,7 +1,7 @@
 // ident (what is identified) and sim (what is true) index X by position: both take their names
 // and units from core's one table, and agree with each other and with the sidecar's order.
 #include "exoid/core/params.hpp"
-#include "exoid/ident/params.hpp"
+#include "exoid/ident/leg/params.hpp"
 #include "exoid/sim/truth.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // The paper's regressor (ident) times X_true (sim, from the compiled model) equals MuJoCo's
 // inverse dynamics at random states on the rigid variant (cylinder mass 0, pedestal welded).
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 #include "exoid/sim/inverse_dynamics.hpp"
 #include "exoid/sim/truth.hpp"
 

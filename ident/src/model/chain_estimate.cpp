@@ -1,7 +1,7 @@
 #include "exoid/ident/model/chain_estimate.hpp"
 
 #include "exoid/core/format.hpp"
-#include "exoid/ident/standard_errors.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 
 #include <Eigen/Cholesky>
 

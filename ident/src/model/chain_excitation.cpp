@@ -2,7 +2,7 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
 
 #include <Eigen/Cholesky>

@@ -1,10 +1,10 @@
 #include "exoid/ident/model/chain_processing.hpp"
 
 #include "exoid/core/format.hpp"
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
-#include "exoid/ident/signals.hpp"
+#include "exoid/ident/signals/signals.hpp"
 
 #include <limits>
 #include <stdexcept>
@@ -84,14 +84,14 @@ ChainRecord chainRows(const ChainModel& model, const JointSignals& s) {
 }
 
 ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const SignalOptions& options,
-                               std::optional<BandChoice>* chosen) {
+                               std::optional<BandChoice>* chosen, const BandRule& rule) {
   model.validate();
   d.requireJoints(model.jointNames(), "model '" + model.name + "'");
   if (chosen) chosen->reset();
   if (options.processing == Processing::kPaper) return chainRows(model, prepareSignals(d, options));
   SignalOptions o = options;
   if (o.cutoff_from_data && o.filter) {
-    const BandChoice band = chooseChainBand(d, model, o);
+    const BandChoice band = chooseChainBand(d, model, o, rule);
     if (chosen) *chosen = band;
     o = withBand(o, band);
   } else {
@@ -109,18 +109,32 @@ ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const 
 
 BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const SignalOptions& base, const BandRule& rule) {
   d.requireJoints(model.jointNames(), "model '" + model.name + "'");
+  const Eigen::Index dof = model.dof(), first = rule.first_moving_joint;
+  if (first >= dof) {
+    throw std::invalid_argument("band rule: first_moving_joint " + core::toText(first) + " of a " + core::toText(dof) + "-joint model");
+  }
   const BaseParameters bp = baseParameters(model);
+  // The equations of joints first.. (all when first = 0): the locked joints' torque is the lock's.
+  const auto movingRows = [&](Eigen::Index samples) {
+    std::vector<Eigen::Index> rows;
+    for (Eigen::Index k = 0; k < samples; ++k) {
+      for (Eigen::Index j = first; j < dof; ++j) rows.push_back(k * dof + j);
+    }
+    return rows;
+  };
   return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
     const ChainRecord rows = processChainRecord(record, model, pilot);
+    const std::vector<Eigen::Index> fit_rows = movingRows(rows.samples());
     LsOptions ls;
     ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
-    const Eigen::VectorXd beta = solveLeastSquares(bp.baseRegressor(rows.W), rows.y, ls).x;
+    const Eigen::VectorXd beta = solveLeastSquares(bp.baseRegressor(rows.W(fit_rows, Eigen::all)), rows.y(fit_rows), ls).x;
     const ChainRecord at_states = chainRows(model, differentiatedStates(record, pilot));
     const Eigen::VectorXd stacked = bp.baseRegressor(at_states.W) * beta;
+    const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> predicted(
+        stacked.data(), at_states.samples(), dof);
     PilotTorques t;
-    t.predicted_Nm = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        stacked.data(), at_states.samples(), model.dof());
-    t.measured_Nm = record.tau_Nm;
+    t.predicted_Nm = predicted.rightCols(dof - first);
+    t.measured_Nm = record.tau_Nm.rightCols(dof - first);
     return t;
   });
 }

@@ -1,8 +1,8 @@
 // Uses exoid::ident from the installed package: the regressor and LS recover X from exact torques.
-#include "exoid/ident/least_squares.hpp"
-#include "exoid/ident/linear_cost.hpp"
-#include "exoid/ident/params.hpp"
-#include "exoid/ident/regressor.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/linear_cost.hpp"
+#include "exoid/ident/leg/params.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -39,6 +39,10 @@ struct ChainFourier {
 /// designs better ones.)
 ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed = 1);
 
+/// A locked joint's added rotor inertia: 1e9 kg m^2 against a leg's ~1 kg m^2, so the reaction of
+/// the links below accelerates it by ~1e-9 of their own and the coupling it feeds back is ~1e-9 N m.
+inline constexpr double kLockInertia_kgm2 = 1e9;
+
 struct ChainSimConfig {
   std::string model_path;        ///< MJCF (motors on hinge joints)
   ChainFourier trajectory;       ///< empty (no joints) = defaultChainTrajectory(dof, seed)
@@ -58,6 +62,11 @@ struct ChainSimConfig {
   double actuator_bandwidth_hz = 100.0;
   /// Also write qd_<joint>, qdd_<joint>: the exact derivatives, as a rig that logs them.
   bool record_derivatives = false;
+  /// Joints locked at the trajectory's offset (the segmental strategy's proximal joints, as the
+  /// APAL rig's hip lock): their excitation is removed and their rotor inertia raised by
+  /// kLockInertia_kgm2, so the lock, not the motor, carries their load; they move < 1e-5 rad. Their
+  /// recorded torque is the motor's holding command, which no identification should use.
+  std::vector<std::string> locked;
   std::uint64_t seed = 1;        ///< the sensors' noise (and the default trajectory)
   void validate() const;         ///< throws std::invalid_argument naming the field
 };

@@ -1,7 +1,7 @@
 #pragma once
 // Least squares of any chain's base parameters from its processed rows, with standard errors and
 // the physically consistent estimate beside it.
-#include "exoid/ident/least_squares.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
 #include "exoid/ident/model/chain_processing.hpp"

@@ -4,7 +4,7 @@
 // base regressor over one period, under the joints' limits (range, speed, acceleration, the
 // nominal model's torque). Same criteria, same optimiser (Nelder-Mead from seeded restarts,
 // a penalty on the limits, the harmonics shrunk until the end point is feasible).
-#include "exoid/ident/excitation.hpp"
+#include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
 

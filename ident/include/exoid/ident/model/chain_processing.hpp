@@ -2,10 +2,10 @@
 // Any serial chain's record, from the dataset to the rows an estimator fits: the 2-link leg's
 // processing (preprocess.hpp: the paper's, or parallel filtering and decimation, the band chosen
 // from the data) with the chain's regressor in place of the hand-written one.
-#include "exoid/ident/band.hpp"
-#include "exoid/ident/dataset.hpp"
+#include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/chain.hpp"
-#include "exoid/ident/preprocess.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
 
 #include <Eigen/Core>
 
@@ -37,10 +37,12 @@ ChainRecord chainRows(const ChainModel& model, const JointSignals& s);
 /// trimmed and decimated). The choices o leaves to the data are made first (chooseChainBand);
 /// chosen, when given, receives the band. Throws std::invalid_argument when the dataset's joints
 /// are not the model's, or as processRecord does.
+/// rule: the band rule (e.g. first_moving_joint for a record whose upper joints are locked).
 ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const SignalOptions& o,
-                               std::optional<BandChoice>* chosen = nullptr);
+                               std::optional<BandChoice>* chosen = nullptr, const BandRule& rule = {});
 
-/// chooseBand's rule with the chain's pilot (least squares in base parameters over every joint).
+/// chooseBand's rule with the chain's pilot (least squares in base parameters over every joint,
+/// or over joints rule.first_moving_joint.. when the joints above are locked).
 BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const SignalOptions& base, const BandRule& rule = {});
 
 /// Several records' rows as one (each processed on its own). Throws for none or mixed dof.

@@ -1,0 +1,92 @@
+#pragma once
+// The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
+// its MJCF or URDF): simulate it, identify its base parameters from logs.
+#include "exoid/experiments/protocol/log_input.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/design/excitation.hpp"
+#include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/simulate.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// True when the MJCF at `path` is the APAL leg (its <mujoco model="apal_leg">, as the built-in
+/// models/apal_leg.xml and copies of it): its own simulator (four-bar, pedestal) runs it.
+bool isApalLegModel(const std::string& path);
+
+/// The chain simulator's settings from `exoid simulate`'s (model, duration, dt, encoder noise and
+/// resolution, torque noise, seed); the chain-only ones keep their defaults.
+sim::ChainSimConfig chainSimConfig(const sim::SimConfig& c);
+
+/// A chain simulation's table as a dataset of the chain's joints.
+ident::Dataset chainDataset(const sim::ChainSimResult& r);
+
+/// `exoid simulate` on a chain model: writes the CSV and its sidecar (same name, .json: the
+/// settings, seed, versions, and the truth: standard and base parameters).
+void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path);
+
+/// The sidecar of a chain simulation.
+nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
+
+/// `exoid truth --model` for a chain: its standard parameters (per link, about the joint) and base
+/// parameters from the file; json_out (optional) gets {"truth": {"standard_parameters", "base_parameters"}},
+/// the form identify --truth reads.
+void truthOfChain(const std::string& model_path, const std::string& json_out);
+
+struct ChainExciteArgs {
+  std::string model, out;
+  ident::ExcitationOptions options;
+  /// Overrides of the model's limits, one value per joint (empty = the model's; a joint the
+  /// model leaves unlimited gets 3 rad/s, 30 rad/s^2 and no torque limit).
+  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  std::vector<std::string> armature;  ///< joints (or "all") given an armature parameter the file lacks
+};
+/// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
+void exciteChain(const ChainExciteArgs& args);
+/// A chain design file as the simulator's trajectory; throws std::invalid_argument naming the file.
+sim::ChainFourier readChainExcitation(const std::string& path);
+/// True when the JSON file at `path` is a chain design (it has "joints").
+bool isChainExcitationFile(const std::string& path);
+
+struct ChainIdentifyArgs {
+  std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)
+  std::vector<std::string> data;     ///< records, fitted together (with stages: the last stage, every joint moving)
+  /// The segmental strategy down the chain: (joint, record) pairs, the record's joints above
+  /// `joint` locked (exoid simulate --lock); empty = one fit of --data.
+  std::vector<std::pair<std::string, std::string>> stages;
+  std::vector<std::string> validate;  ///< records the estimate predicts (torque error per joint)
+  std::string plot;                  ///< PNG: measured and predicted torques of the first validation record (else the first fit record)
+  std::string truth;                 ///< a chain simulation's sidecar: errors against its base parameters
+  /// Joints that get an armature (rotor inertia) parameter although the file gives none (a URDF
+  /// never does), or {"all"}.
+  std::vector<std::string> armature;
+  std::string json_out;
+  LogInputFlags log;
+  ident::SignalOptions signals;
+  bool consistency = true;
+  double significance_sigmas = 2.0;
+  double max_condition = 1e5;
+  /// Besides LS (always): rls, pso, rls-pso, lad over the same base-parameter rows.
+  std::vector<ident::Method> methods;
+  ident::MethodOptions method_options;
+  bool wide_box_given = false;  ///< else the PSO box is 10 x the largest |LS estimate|
+};
+/// `exoid identify --model` for a chain: base parameters by least squares, their standard errors,
+/// the physically consistent estimate; returns the exit code (0, or 3 naming why the result must
+/// not be used).
+int identifyChain(const ChainIdentifyArgs& args);
+/// identifyChain with stages: ident::identifyChainSegmental, every method stage by stage.
+int identifyChainStages(const ChainIdentifyArgs& args);
+/// A chain simulation's sidecar's base parameters, in base's order. Throws std::invalid_argument
+/// naming the file and what is missing.
+Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParameters& base);
+
+}  // namespace exoid::experiments

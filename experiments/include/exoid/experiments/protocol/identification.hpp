@@ -1,0 +1,129 @@
+#pragma once
+// Identification runs as the CLI and the experiments use them: one method on one record (all
+// 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
+#include "exoid/ident/leg/consistency.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/leg/metrics.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/leg/regressor.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// One estimator call and which entries of X it estimated.
+struct Stage {
+  std::string name;          ///< "all", "knee", "hip"
+  std::vector<int> indices;  ///< into the 10-vector X; ident::kKneeArmature for Ia2
+  ident::Estimate estimate;
+};
+
+/// The physically consistent step of a least-squares fit of all parameters (identify's default):
+/// the unconstrained estimate, its standard errors from its own residuals (Newey-West) and the
+/// constrained estimate with each condition's distance in those standard errors.
+struct ConsistencyStep {
+  Eigen::VectorXd unconstrained;  ///< 10 (or 11 with Ia2)
+  Eigen::VectorXd std_err;        ///< of the unconstrained estimate
+  ident::ConsistentEstimate fit;
+  double significance_sigmas = 2.0;
+  /// Conditions violated beyond significance_sigmas ("... violated by 3.1 standard errors ...").
+  std::vector<std::string> significant() const { return fit.significantViolations(significance_sigmas); }
+  /// Conditions violated within significance_sigmas: consistent with the bound (the constrained
+  /// estimate sits on it).
+  std::vector<std::string> withinNoise() const;
+};
+
+struct MethodOutcome {
+  ident::Method method = ident::Method::kLs;
+  ident::ParamVector x = ident::ParamVector::Zero();
+  /// Ia2 (ident::kKneeArmature), when the knee armature was estimated.
+  std::optional<double> knee_armature;
+  std::vector<Stage> stages;
+  /// Violated physical conditions of x (ident::implausibilities; parameters a stage could not
+  /// identify are not checked). Non-empty: the estimate cannot be the leg's.
+  std::vector<std::string> implausible;
+  /// Set when the estimate was made physically consistent (applyConsistency): x (and Ia2) are then
+  /// the constrained estimate, and `implausible` lists only the significant violations.
+  std::optional<ConsistencyStep> consistency;
+  bool usable() const;        ///< every stage usable
+  std::string problems() const;  ///< the messages of unusable stages
+  double wallTime_s() const;
+};
+
+/// Entries of a search-box estimate (PSO, RLS-PSO) on their box's bound (within 1e-9 of the box
+/// width): there the box, not the data, chose the value, and the cost's optimum lies outside.
+struct BoundHit {
+  std::string stage;
+  int param = 0;  ///< index into X
+  double value = 0.0, lower = 0.0, upper = 0.0;
+};
+std::vector<BoundHit> boxBoundHits(const MethodOutcome& m);
+/// "Mxt = 50 is on its box's bound [-50, 50]".
+std::string describe(const BoundHit& h);
+
+/// All 10 parameters from both joint equations of one record (rows in time order); with
+/// knee_armature also Ia2.
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
+                          bool knee_armature = false);
+MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
+                          const ident::MethodOptions& o);
+/// The outcome of an estimate of all parameters made elsewhere (iv-band), stage "all".
+MethodOutcome identifyAll(ident::Estimate e, bool knee_armature = false);
+/// The paper's segmental strategy.
+MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
+                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o);
+MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
+                                const ident::JointSignals& both_record, const ident::LegConstants& c,
+                                const ident::MethodOptions& o);
+/// IDIM-IV with the segmental strategy (ident::identifySegmentalIv): stages "knee" and "hip".
+MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+                                  const ident::LegConstants& c, const ident::SignalOptions& signals,
+                                  const ident::IvOptions& options);
+/// IDIM-IV on both equations of one record, all 10 parameters (stage "all").
+MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+                            const ident::SignalOptions& signals, const ident::IvOptions& options,
+                            bool knee_armature = false);
+
+/// Makes m (an all-parameter LS fit of the rows of r) physically consistent: standard errors from
+/// the residuals, ident::solveConsistentLeastSquares, m.x the constrained estimate; a violation
+/// within options.significance_sigmas is consistent with the bound, a larger one stays in
+/// m.implausible (not usable). Throws std::invalid_argument unless m has one stage "all".
+void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+                      const ident::ConsistencyOptions& options = {});
+
+/// Per-joint validation torque errors of X on a record.
+struct Validation {
+  ident::TorqueErrorStats hip;
+  ident::TorqueErrorStats knee;
+};
+/// knee_armature: Ia2 (its term Ia2 qdd2 joins the knee prediction).
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature = 0.0);
+Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c);
+
+/// {"Mxt": ..., ...} and back (all 10 names required; unknown names rejected with the name).
+nlohmann::json paramsJson(const ident::ParamVector& x);
+nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices);
+ident::ParamVector paramsFromJson(const nlohmann::json& j, const std::string& where);
+
+nlohmann::json toJson(const ident::TorqueErrorStats& s);
+nlohmann::json toJson(const Validation& v);
+nlohmann::json toJson(const ident::ParamError& e);
+nlohmann::json toJson(const Stage& s, bool with_history);
+nlohmann::json toJson(const MethodOutcome& m, bool with_history);
+
+/// Named truth vectors from a JSON file: {"parameters": {...}} (named "truth"), or a simulation
+/// sidecar's {"truth": {"<name>": {"parameters": {...}}, ...}}. Errors name the file and key.
+std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path);
+
+/// {"name": "exoid", "version": ..., "revision": ...}
+nlohmann::json toolJson();
+/// Writes pretty JSON atomically.
+void writeJsonFile(const std::string& path, const nlohmann::json& j);
+
+}  // namespace exoid::experiments

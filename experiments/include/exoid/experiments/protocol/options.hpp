@@ -1,0 +1,45 @@
+#pragma once
+// Command-line flags shared by the identification commands (identify, identifiability,
+// reproduce, sweep), and their JSON echo for outputs.
+#include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <optional>
+
+namespace exoid::experiments {
+
+/// --diff, --no-filter, --cutoff-hz, --filter-order, --no-filter-torque, --differentiate.
+/// The signal processing `identify` and `identifiability` use by default: the parallel filtering
+/// (exact on exact data whatever the filter) with the pedestal's base-motion terms when the
+/// dataset has the IMU columns; the paper's is `--processing paper`.
+ident::SignalOptions defaultIdentifySignals();
+/// For --seed and --master-seed: a non-negative integer that fits 64 bits (CLI11 alone would
+/// wrap -1 to 2^64 - 1 silently).
+const CLI::Validator& seedValidator();
+/// A number > 0 (CLI11's PositiveNumber names the range as 309-digit numbers).
+const CLI::Validator& positiveNumber();
+void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
+/// --seed, PSO, RLS, range and cost flags.
+void addMethodOptions(CLI::App& app, ident::MethodOptions& o);
+
+/// Leg constants from flags, else from the dataset's "# thigh_length_m:" / "# gravity_mps2:"
+/// metadata, else the defaults (0.45 m, 9.81 m/s^2). `origin` says which, for the output.
+struct ConstantsFlags {
+  std::optional<double> thigh_length_m;
+  std::optional<double> gravity_mps2;
+};
+void addConstantsOptions(CLI::App& app, ConstantsFlags& f);
+/// Lt and g: the flag, else the log profile's [model], else the dataset's metadata. Lt has no
+/// default (it scales every thigh parameter): without it, throws std::invalid_argument saying
+/// how to give it. g defaults to 9.81 m/s^2, said in `origin`.
+ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Dataset& d, std::string* origin,
+                                     std::optional<double> profile_thigh_length_m = std::nullopt,
+                                     std::optional<double> profile_gravity_mps2 = std::nullopt);
+
+nlohmann::json toJson(const ident::SignalOptions& o);
+nlohmann::json toJson(const ident::MethodOptions& o);
+
+}  // namespace exoid::experiments

@@ -1,0 +1,457 @@
+// `exoid simulate` and `exoid identify` on a chain model (not the APAL leg).
+#include "exoid/experiments/commands/chain_commands.hpp"
+
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/plots.hpp"
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/chain_excitation.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/sim/model.hpp"
+#include "exoid/sim/serial_chain.hpp"
+
+#include <Eigen/Cholesky>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+
+namespace exoid::experiments {
+
+namespace {
+
+std::string sidecarOf(const std::string& csv) {
+  const auto dot = csv.rfind('.'), slash = csv.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
+}
+
+nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::VectorXd& v) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = v[static_cast<Eigen::Index>(i)];
+  return j;
+}
+
+std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+
+// An output file's folder made (as the other commands do), and the file checked writable in it.
+void prepareOutput(const std::string& path) {
+  if (path.empty()) return;
+  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
+  core::checkOutputWritable(path);
+}
+
+}  // namespace
+
+bool isApalLegModel(const std::string& path) {
+  if (endsWith(path, ".urdf")) return false;
+  const sim::ModelPtr m = sim::loadMjcfFile(path);
+  return m->nnames > 0 && std::string(m->names) == "apal_leg";
+}
+
+sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
+  sim::ChainSimConfig c;
+  c.model_path = s.model_path;
+  c.duration_s = s.duration_s;
+  c.dt_s = s.dt_s;
+  c.encoder_noise_rad = s.sensors.noise_q_deg * M_PI / 180.0;
+  c.encoder_resolution_rad = s.sensors.quantisation_deg * M_PI / 180.0;
+  c.torque_noise_Nm = s.sensors.noise_tau_Nm;
+  c.seed = s.seed;
+  return c;
+}
+
+ident::Dataset chainDataset(const sim::ChainSimResult& r) {
+  ident::CsvReadOptions o;
+  o.joints.clear();
+  for (const sim::ChainLinkBody& l : r.chain.links) o.joints.push_back(l.joint);
+  return ident::parseDatasetText(sim::tableCsv(r.table), r.chain.name + " simulation", o);
+}
+
+nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
+  const ident::ChainModel model = chainModel(r.chain);
+  const Eigen::VectorXd phi = standardParameters(r.chain);
+  const ident::BaseParameters base = ident::baseParameters(model);
+  const sim::ChainSimConfig& c = r.config;
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["mujoco_version"] = r.mujoco_version;
+  j["model"] = {{"name", r.chain.name}, {"path", c.model_path}, {"joints", model.jointNames()}};
+  j["config"] = {{"duration_s", c.duration_s},
+                 {"dt_s", c.dt_s},
+                 {"seed", c.seed},
+                 {"encoder_noise_rad", c.encoder_noise_rad},
+                 {"encoder_resolution_rad", c.encoder_resolution_rad},
+                 {"torque_noise_Nm", c.torque_noise_Nm},
+                 {"coulomb_v0_radps", c.coulomb_v0_radps},
+                 {"bandwidth_hz", c.bandwidth_hz},
+                 {"record_derivatives", c.record_derivatives},
+                 {"locked", c.locked},
+                 {"trajectory",
+                  {{"base_frequency_hz", c.trajectory.base_frequency_hz},
+                   {"offset_rad", toVector(c.trajectory.offset_rad)},
+                   {"sin_rad", nlohmann::json::array()},
+                   {"cos_rad", nlohmann::json::array()}}}};
+  for (Eigen::Index i = 0; i < c.trajectory.sin_rad.rows(); ++i) {
+    j["config"]["trajectory"]["sin_rad"].push_back(toVector(c.trajectory.sin_rad.row(i).transpose()));
+    j["config"]["trajectory"]["cos_rad"].push_back(toVector(c.trajectory.cos_rad.row(i).transpose()));
+  }
+  j["tracking_rms_rad"] = r.tracking_rms_rad;
+  j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},
+                {"base_parameters", namedValues(base.names, base.combination * phi)},
+                {"coulomb", (c.coulomb_v0_radps > 0.0 ? "fc tanh(qd / v0)" : "fc sgn(qd)")},
+                {"description", "Rigid links lumped per joint (every body welded below it), the model's damping as fv and armature as Ia; "
+                                "base parameters: QR with column pivoting over random states (exoid identifiability --model)"}};
+  return j;
+}
+
+void truthOfChain(const std::string& model_path, const std::string& json_out) {
+  prepareOutput(json_out);
+  const LoadedChain loaded = loadChain(model_path);
+  const auto& [path, chain, model, phi, base] = loaded;
+  std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
+  TextTable table({"parameter", "value"});
+  const std::vector<std::string> names = model.standardParameterNames();
+  for (std::size_t i = 0; i < names.size(); ++i) table.addRow({names[i], fmt(phi[static_cast<Eigen::Index>(i)], 8)});
+  table.print(std::cout);
+  std::cout << "Base parameters (" << base.rank << "):\n";
+  TextTable bt({"base parameter", "value"});
+  const Eigen::VectorXd beta = base.combination * phi;
+  for (int i = 0; i < base.rank; ++i) bt.addRow({base.names[static_cast<std::size_t>(i)], fmt(beta[i], 8)});
+  bt.print(std::cout);
+  if (!json_out.empty()) {
+    writeJsonFile(json_out, {{"tool", toolJson()},
+                             {"model", {{"name", chain.name}, {"path", model_path}, {"joints", model.jointNames()}}},
+                             {"truth", {{"standard_parameters", namedValues(names, phi)}, {"base_parameters", namedValues(base.names, beta)}}}});
+  }
+}
+
+void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path) {
+  const std::string json_path = sidecarOf(csv_path);
+  prepareOutput(csv_path);
+  prepareOutput(json_path);
+  const sim::ChainSimResult r = sim::simulateChain(config);
+  const nlohmann::json side = chainSimulationSidecar(r);
+  sim::writeTableCsv(r.table, csv_path);
+  writeJsonFile(json_path, side);
+  std::cout << "wrote " << csv_path << " (" << r.table.rows() << " samples of " << r.chain.name << ": ";
+  for (std::size_t i = 0; i < r.chain.links.size(); ++i) std::cout << (i ? ", " : "") << r.chain.links[i].joint;
+  std::cout << ") and " << json_path << "\ntracking error RMS " << fmt(r.tracking_rms_rad * 180.0 / M_PI, 3) << " deg (all joints)\n";
+}
+
+namespace {
+
+Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd& model, double scale, const char* flag) {
+  if (given.empty()) return model;
+  if (static_cast<Eigen::Index>(given.size()) != model.size()) {
+    throw CLI::ValidationError(flag, "expected one value per joint (" + core::toText(model.size()) + ")");
+  }
+  Eigen::VectorXd v(model.size());
+  for (Eigen::Index j = 0; j < v.size(); ++j) v[j] = given[static_cast<std::size_t>(j)] * scale;
+  return v;
+}
+
+}  // namespace
+
+void exciteChain(const ChainExciteArgs& a) {
+  prepareOutput(a.out);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const auto& [path, chain, model, nominal, base] = loaded;
+  const int dof = model.dof();
+  ident::ChainExcitationLimits lim;
+  lim.q_min_rad.resize(dof);
+  lim.q_max_rad.resize(dof);
+  lim.qd_max_radps.resize(dof);
+  lim.qdd_max_radps2 = Eigen::VectorXd::Constant(dof, 30.0);
+  lim.tau_max_Nm.resize(dof);
+  for (int j = 0; j < dof; ++j) {
+    const sim::ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
+    lim.q_min_rad[j] = l.q_min_rad;
+    lim.q_max_rad[j] = l.q_max_rad;
+    lim.qd_max_radps[j] = std::isfinite(l.qd_max_radps) ? l.qd_max_radps : 3.0;
+    lim.tau_max_Nm[j] = l.tau_max_Nm;
+  }
+  const double deg = M_PI / 180.0;
+  lim.q_min_rad = limitOr(a.q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
+  lim.q_max_rad = limitOr(a.q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
+  lim.qd_max_radps = limitOr(a.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
+  lim.qdd_max_radps2 = limitOr(a.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
+  lim.tau_max_Nm = limitOr(a.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
+  const ident::ChainExcitationDesign d = ident::designChainExcitation(a.options, model, base, nominal, lim);
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["model"] = {{"name", chain.name}, {"path", path}};
+  j["criterion"] = ident::toString(a.options.criterion);
+  j["seed"] = a.options.seed;
+  j["f0_hz"] = d.trajectory.f0_hz;
+  j["joints"] = nlohmann::json::array();
+  for (int k = 0; k < dof; ++k) {
+    j["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(k)].name},
+                           {"offset_rad", d.trajectory.offset_rad[k]},
+                           {"cos_rad", toVector(d.trajectory.a_rad.col(k))},
+                           {"sin_rad", toVector(d.trajectory.b_rad.col(k))},
+                           {"limits", {{"q_min_rad", lim.q_min_rad[k]}, {"q_max_rad", lim.q_max_rad[k]}, {"qd_max_radps", lim.qd_max_radps[k]},
+                                       {"qdd_max_radps2", lim.qdd_max_radps2[k]}, {"tau_max_Nm", lim.tau_max_Nm[k]}}}});
+  }
+  j["score"] = {{"condition_number", d.score.condition_number},
+                {"sum_log_std", d.score.sum_log_std},
+                {"worst_violation", d.score.worst_violation},
+                {"evaluations", d.evaluations},
+                {"feasible_restarts", d.feasible_restarts}};
+  writeJsonFile(a.out, j);
+  std::cout << "wrote " << a.out << ": " << chain.name << ", " << dof << " joints, " << a.options.harmonics << " harmonics of "
+            << fmt(d.trajectory.f0_hz, 3) << " Hz; condition number " << fmt(d.score.condition_number, 4) << " (column-scaled base regressor, "
+            << base.rank << " base parameters), sum of log CRB stds " << fmt(d.score.sum_log_std, 5) << "; "
+            << (d.score.worst_violation == 0.0 ? std::string("inside every limit") : "beyond " + d.score.worst_violation_name) << "; "
+            << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
+}
+
+bool isChainExcitationFile(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return !j.is_discarded() && j.is_object() && j.contains("joints");
+}
+
+sim::ChainFourier readChainExcitation(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("joints") || !j.contains("f0_hz")) {
+    throw std::invalid_argument("'" + path + "': expected a chain excitation design (exoid excite --model ...): f0_hz and joints");
+  }
+  sim::ChainFourier f;
+  try {
+    f.base_frequency_hz = j.at("f0_hz").get<double>();
+    const auto& joints = j.at("joints");
+    const auto dof = static_cast<Eigen::Index>(joints.size());
+    const auto n = static_cast<Eigen::Index>(joints.at(0).at("cos_rad").size());
+    f.offset_rad.resize(dof);
+    f.cos_rad.resize(dof, n);
+    f.sin_rad.resize(dof, n);
+    for (Eigen::Index k = 0; k < dof; ++k) {
+      const auto& jt = joints.at(static_cast<std::size_t>(k));
+      f.offset_rad[k] = jt.at("offset_rad").get<double>();
+      for (Eigen::Index h = 0; h < n; ++h) {
+        f.cos_rad(k, h) = jt.at("cos_rad").at(static_cast<std::size_t>(h)).get<double>();
+        f.sin_rad(k, h) = jt.at("sin_rad").at(static_cast<std::size_t>(h)).get<double>();
+      }
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("'" + path + "': " + e.what());
+  }
+  f.validate();
+  return f;
+}
+
+Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParameters& base) {
+  std::ifstream in(path);
+  const nlohmann::json t = nlohmann::json::parse(in, nullptr, false);
+  if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("base_parameters")) {
+    throw std::invalid_argument("--truth '" + path + "': expected a chain simulation's sidecar with truth.base_parameters");
+  }
+  Eigen::VectorXd v(base.rank);
+  for (int i = 0; i < base.rank; ++i) {
+    const std::string& name = base.names[static_cast<std::size_t>(i)];
+    if (!t["truth"]["base_parameters"].contains(name)) {
+      throw std::invalid_argument("--truth '" + path + "': no base parameter '" + name + "' (a sidecar of another model?)");
+    }
+    v[i] = t["truth"]["base_parameters"][name].get<double>();
+  }
+  return v;
+}
+
+int identifyChain(const ChainIdentifyArgs& a) {
+  if (!a.stages.empty()) return identifyChainStages(a);
+  if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
+  prepareOutput(a.json_out);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const auto& [path, chain, model, nominal, base] = loaded;
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
+  std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
+  prepareOutput(a.plot);
+  std::vector<ident::ChainRecord> records;
+  nlohmann::json records_json = nlohmann::json::array();
+  std::optional<ident::SignalOptions> fit_signals;  // the first record's, for the validation records
+  for (const std::string& file : a.data) {
+    const ident::Dataset d = readLog(file, log);
+    std::optional<ident::BandChoice> band;
+    records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    if (!fit_signals) fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", records.back().y.size()}};
+    if (band) {
+      std::cout << file << ": " << band->describe() << "\n";
+      rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
+                    {"limited_by", band->limited_by}, {"reason", band->describe()}};
+    }
+    records_json.push_back(rj);
+  }
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = a.max_condition;
+  eo.consistent = a.consistency;
+  const ident::ChainRecord stacked = ident::stackChainRecords(records);
+  const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, nominal, eo);
+
+  // The paper's methods over the same rows, in base parameters (LS above is the reference).
+  const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
+  ident::MethodOptions mo = a.method_options;
+  mo.ls.max_condition = a.max_condition;
+  if (!a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
+  std::vector<std::pair<ident::Method, ident::Estimate>> others;
+  for (ident::Method m : a.methods) {
+    if (m == ident::Method::kLs) continue;
+    others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
+  }
+
+  // Validation: each record processed as the fit's first, its torque predicted by the LS estimate.
+  nlohmann::json validation = nlohmann::json::array();
+  std::optional<ident::ChainRecord> shown;
+  for (const std::string& file : a.validate) {
+    ident::ChainRecord v = ident::processChainRecord(readLog(file, log), model, *fit_signals);
+    const Eigen::VectorXd predicted = base.baseRegressor(v.W) * est.beta;
+    nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
+    std::cout << "validation " << file << ": torque error RMS";
+    for (int j = 0; j < model.dof(); ++j) {
+      double err = 0.0, meas = 0.0;
+      for (Eigen::Index k = 0; k < v.samples(); ++k) {
+        const Eigen::Index row = k * model.dof() + j;
+        err += (v.y[row] - predicted[row]) * (v.y[row] - predicted[row]);
+        meas += v.y[row] * v.y[row];
+      }
+      err = std::sqrt(err / static_cast<double>(v.samples()));
+      meas = std::sqrt(meas / static_cast<double>(v.samples()));
+      std::cout << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
+                << " % of the measured)";
+      vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
+    }
+    std::cout << "\n";
+    validation.push_back(vj);
+    if (!shown) shown = std::move(v);
+  }
+  if (!a.plot.empty()) {
+    if (!shown) shown = records.front();
+    const Eigen::VectorXd predicted = base.baseRegressor(shown->W) * est.beta;
+    const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
+    core::writeFileAtomically(series, [&](std::ostream& out) {
+      out << "t_s";
+      for (const std::string& j : model.jointNames()) out << ",tau_" << j << ",tau_" << j << "_predicted";
+      out << "\n";
+      char buf[32];
+      for (Eigen::Index k = 0; k < shown->samples(); ++k) {
+        std::snprintf(buf, sizeof buf, "%.9g", shown->t_s[k]);
+        out << buf;
+        for (int j = 0; j < model.dof(); ++j) {
+          const Eigen::Index row = k * model.dof() + j;
+          std::snprintf(buf, sizeof buf, ",%.9g", shown->y[row]);
+          out << buf;
+          std::snprintf(buf, sizeof buf, ",%.9g", predicted[row]);
+          out << buf;
+        }
+        out << "\n";
+      }
+    });
+    runPlotScript("chain_validation_plot.py",
+                  {series, a.plot, chain.name + ": " + (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
+    std::cout << "wrote " << a.plot << " and " << series << "\n";
+  }
+
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+
+  const bool usable_ls = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+  std::vector<std::string> problems;
+  if (est.ls.rank < base.rank) problems.push_back("the records do not identify every base parameter (rank " + core::toText(est.ls.rank) + " of " + core::toText(base.rank) + ")");
+  if (est.ls.rank == base.rank && !usable_ls) problems.push_back(est.ls.summary.message);
+  double mahalanobis = 0.0;
+  if (est.consistent && usable_ls && est.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
+    // The distance from LS to the consistent estimate in standard errors (the metric of the fit's
+    // own covariance): beyond --significance, no physical body explains the data.
+    const Eigen::VectorXd d = est.consistent->beta - est.beta;
+    mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
+    if (mahalanobis > a.significance_sigmas) {
+      problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(mahalanobis, 3) +
+                         " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+    }
+  }
+
+  for (const auto& [m, e] : others) {
+    if (!ident::usable(e.summary.status)) problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
+    if (e.box && (m == ident::Method::kPso || m == ident::Method::kRlsPso)) {
+      for (int i = 0; i < base.rank; ++i) {
+        const double lo = e.box->lower[i], hi = e.box->upper[i], tol = 1e-9 * (hi - lo);
+        if (e.x[i] <= lo + tol || e.x[i] >= hi - tol) {
+          problems.push_back(std::string(ident::toString(m)) + ": " + base.names[static_cast<std::size_t>(i)] + " = " + fmt(e.x[i], 6) +
+                             " is on its box's bound [" + fmt(lo, 6) + ", " + fmt(hi, 6) + "]");
+        }
+      }
+    }
+  }
+  if (!others.empty()) std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
+  std::vector<std::string> header = {"base parameter", "ls", "std err"};
+  if (est.consistent) header.push_back("consistent");
+  for (const auto& [m, e] : others) header.push_back(ident::toString(m));
+  if (truth) header.insert(header.end(), {"truth", "ls err %", "err / std"});
+  TextTable table(header);
+  for (int i = 0; i < base.rank; ++i) {
+    std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], fmt(est.beta[i], 6), fmt(est.std_error[i], 3)};
+    if (est.consistent) row.push_back(fmt(est.consistent->beta[i], 6));
+    for (const auto& [m, e] : others) row.push_back(fmt(e.x[i], 6));
+    if (truth) {
+      const double err = est.beta[i] - (*truth)[i];
+      row.push_back(fmt((*truth)[i], 6));
+      row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * err / std::abs((*truth)[i]), 3) : "-");
+      row.push_back(est.std_error[i] > 0.0 ? fmt(err / est.std_error[i], 3) : "-");
+    }
+    table.addRow(row);
+  }
+  table.print(std::cout);
+  std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
+            << fmt(est.ls.residual_rms, 4) << " N m\n";
+  if (est.consistent) std::cout << "consistent estimate: " << est.consistent->message << " (" << fmt(mahalanobis, 3) << " standard errors from LS)\n";
+
+  if (!a.json_out.empty()) {
+    nlohmann::json j;
+    j["tool"] = toolJson();
+    j["model"] = {{"name", chain.name}, {"path", path}, {"joints", model.jointNames()}};
+    j["records"] = records_json;
+    j["base_parameters"] = {{"names", base.names},
+                            {"ls", toVector(est.beta)},
+                            {"std_error", toVector(est.std_error)},
+                            {"condition_number", est.ls.condition_number},
+                            {"residual_rms_Nm", est.ls.residual_rms},
+                            {"rows", est.rows}};
+    if (est.consistent) {
+      j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
+      j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
+                         {"status", ident::toString(est.consistent->status)},
+                         {"standard_errors_from_ls", mahalanobis},
+                         {"message", est.consistent->message}};
+    }
+    if (truth) j["base_parameters"]["truth"] = toVector(*truth);
+    j["validation"] = validation;
+    j["methods"] = nlohmann::json::object();
+    for (const auto& [m, e] : others) {
+      nlohmann::json mj = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
+                           {"l1_cost", e.l1_cost}};
+      if (truth) mj["error_rel"] = toVector(((e.x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
+      j["methods"][ident::toString(m)] = mj;
+    }
+    j["problems"] = problems;
+    writeJsonFile(a.json_out, j);
+  }
+  if (!problems.empty()) {
+    std::string all;
+    for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
+    throw UnusableResult(all);
+  }
+  return 0;
+}
+
+}  // namespace exoid::experiments

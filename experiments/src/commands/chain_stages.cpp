@@ -1,0 +1,190 @@
+// `exoid identify --model M --stage JOINT=FILE ... --data FILE`: the segmental strategy down a
+// chain (ident/model/chain_segmental.hpp), every method stage by stage.
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/model/chain_segmental.hpp"
+
+#include <algorithm>
+#include <iostream>
+#include <map>
+#include <optional>
+
+namespace exoid::experiments {
+namespace {
+
+struct StageInput {
+  Eigen::Index first_joint = 0;
+  std::vector<std::string> files;
+};
+
+// The stages, distal first: --stage records grouped by their first moving joint, then --data.
+std::vector<StageInput> stageInputs(const ChainIdentifyArgs& a, const ident::ChainModel& model) {
+  const std::vector<std::string> names = model.jointNames();
+  std::map<Eigen::Index, std::vector<std::string>, std::greater<>> by_joint;
+  for (const auto& [joint, file] : a.stages) {
+    const auto it = std::find(names.begin(), names.end(), joint);
+    if (it == names.end()) {
+      std::string all;
+      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("--stage " + joint + "=" + file + ": '" + joint + "' is not a joint of the model (" + all + ")");
+    }
+    const auto j = static_cast<Eigen::Index>(it - names.begin());
+    if (j == 0) {
+      throw std::invalid_argument("--stage " + joint + "=" + file + ": with every joint moving the record is the last stage's: give it with --data");
+    }
+    by_joint[j].push_back(file);
+  }
+  if (a.data.empty()) throw std::invalid_argument("--stage: the last stage, every joint moving, needs --data (repeatable)");
+  std::vector<StageInput> out;
+  for (const auto& [j, files] : by_joint) out.push_back({j, files});
+  out.push_back({0, a.data});
+  return out;
+}
+
+std::string lockedJoints(const ident::ChainModel& model, Eigen::Index first) {
+  std::string s;
+  for (Eigen::Index j = 0; j < first; ++j) s += (s.empty() ? "" : ", ") + model.joints[static_cast<std::size_t>(j)].name;
+  return s;
+}
+
+}  // namespace
+
+int identifyChainStages(const ChainIdentifyArgs& a) {
+  if (!a.validate.empty() || !a.plot.empty()) {
+    throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
+  }
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const auto& [path, chain, model, nominal, base] = loaded;
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
+  std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank
+            << " base parameters; segmental strategy, distal joints first\n";
+  const std::vector<StageInput> inputs = stageInputs(a, model);
+  std::vector<ident::ChainStage> stages;
+  nlohmann::json stages_json = nlohmann::json::array();
+  for (const StageInput& in : inputs) {
+    ident::BandRule rule;
+    rule.first_moving_joint = in.first_joint;
+    std::vector<ident::ChainRecord> records;
+    nlohmann::json files = nlohmann::json::array();
+    for (const std::string& file : in.files) {
+      std::optional<ident::BandChoice> band;
+      records.push_back(ident::processChainRecord(readLog(file, log), model, a.signals, &band, rule));
+      if (band) std::cout << file << ": " << band->describe() << "\n";
+      files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
+    }
+    stages.push_back({in.first_joint, ident::stackChainRecords(records)});
+    stages_json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
+                           {"locked", lockedJoints(model, in.first_joint)},
+                           {"records", files}});
+  }
+
+  ident::MethodOptions mo = a.method_options;
+  mo.ls.max_condition = a.max_condition;
+  std::vector<ident::Method> methods = {ident::Method::kLs};
+  for (ident::Method m : a.methods) {
+    if (m != ident::Method::kLs) methods.push_back(m);
+  }
+  std::vector<ident::ChainSegmentalResult> results;
+  for (ident::Method m : methods) {
+    results.push_back(ident::identifyChainSegmental(model, base, stages, m, mo));
+    // The PSO box from the data: 10 x the largest |LS estimate| (as identify --model without stages).
+    if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(results.front().beta.cwiseAbs().maxCoeff(), 1e-6);
+  }
+
+  std::vector<std::string> problems;
+  std::vector<int> stage_of(static_cast<std::size_t>(base.rank), 0);
+  Eigen::VectorXd known_share = Eigen::VectorXd::Zero(base.rank);
+  const ident::ChainSegmentalResult& ls = results.front();
+  for (std::size_t s = 0; s < ls.stages.size(); ++s) {
+    const ident::ChainStageResult& st = ls.stages[s];
+    const std::string joint = model.joints[static_cast<std::size_t>(st.first_joint)].name;
+    std::cout << "stage " << s + 1 << ": " << (st.first_joint == 0 ? "every joint moves" : "joints from " + joint + " down move, " +
+                                                                                               lockedJoints(model, st.first_joint) + " locked")
+              << "; " << st.rows << " equations; identifies " << st.directions.cols() << ":";
+    for (const std::string& n : st.names) std::cout << " " << n << ";";
+    std::cout << "\n";
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      const ident::Estimate& e = results[k].stages[s].estimate;
+      std::cout << "  " << ident::toString(methods[k]) << ": " << e.summary.message;
+      if (e.condition_number) std::cout << ", condition number " << fmt(*e.condition_number, 4);
+      std::cout << "\n";
+      if (!ident::usable(e.summary.status)) {
+        problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " + e.summary.message);
+      }
+      if (e.box && (methods[k] == ident::Method::kPso || methods[k] == ident::Method::kRlsPso)) {
+        for (Eigen::Index i = 0; i < e.x.size(); ++i) {
+          const double lo = e.box->lower[i], hi = e.box->upper[i], tol = 1e-9 * (hi - lo);
+          if (e.x[i] <= lo + tol || e.x[i] >= hi - tol) {
+            problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " +
+                               st.names[static_cast<std::size_t>(i)] + " on its box's bound");
+          }
+        }
+      }
+    }
+    nlohmann::json& sj = stages_json[s];
+    sj["equations"] = st.rows;
+    sj["identifies"] = st.names;
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      const ident::Estimate& e = results[k].stages[s].estimate;
+      sj["methods"][ident::toString(methods[k])] = {{"status", ident::toString(e.summary.status)},
+                                                    {"message", e.summary.message},
+                                                    {"values", std::vector<double>(e.x.data(), e.x.data() + e.x.size())}};
+      if (e.condition_number) sj["methods"][ident::toString(methods[k])]["condition_number"] = *e.condition_number;
+    }
+    // A base parameter is determined by the stage after which it lies in the span of the
+    // combinations identified so far (the directions are orthonormal, across stages too).
+    for (Eigen::Index i = 0; i < base.rank; ++i) {
+      known_share[i] += st.directions.row(i).squaredNorm();
+      if (known_share[i] > 1.0 - 1e-9 && stage_of[static_cast<std::size_t>(i)] == 0) stage_of[static_cast<std::size_t>(i)] = static_cast<int>(s + 1);
+    }
+  }
+
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+  std::vector<std::string> header = {"base parameter", "known after stage"};
+  for (ident::Method m : methods) header.push_back(ident::toString(m));
+  if (truth) header.insert(header.end(), {"truth", "ls err %"});
+  TextTable table(header);
+  for (int i = 0; i < base.rank; ++i) {
+    std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], core::toText(stage_of[static_cast<std::size_t>(i)])};
+    for (const ident::ChainSegmentalResult& r : results) row.push_back(fmt(r.beta[i], 6));
+    if (truth) {
+      row.push_back(fmt((*truth)[i], 6));
+      row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * (ls.beta[i] - (*truth)[i]) / std::abs((*truth)[i]), 3) : "-");
+    }
+    table.addRow(row);
+  }
+  table.print(std::cout);
+
+  if (!a.json_out.empty()) {
+    nlohmann::json j;
+    j["tool"] = toolJson();
+    j["model"] = {{"name", chain.name}, {"path", path}, {"joints", model.jointNames()}};
+    j["strategy"] = "segmental_down_the_chain";
+    j["stages"] = stages_json;
+    j["base_parameters"] = {{"names", base.names}};
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      j["base_parameters"]["methods"][ident::toString(methods[k])] =
+          std::vector<double>(results[k].beta.data(), results[k].beta.data() + results[k].beta.size());
+    }
+    if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
+    j["status"] = problems.empty() ? "usable" : "not usable";
+    j["problems"] = problems;
+    writeJsonFile(a.json_out, j);
+  }
+  if (!problems.empty()) {
+    std::string all;
+    for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
+    throw UnusableResult(all);  // exit 3, naming why
+  }
+  return 0;
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,262 @@
+// `exoid excite`: design an excitation trajectory for the leg (ident::designExcitation) under the
+// rig's limits, write it as JSON for `exoid simulate --excitation`, and compare it with the
+// paper's trajectory on the same footing (condition number, Cramer-Rao bound per parameter).
+#include "exoid/core/format.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/report/plots.hpp"
+#include "exoid/experiments/protocol/sim_bridge.hpp"
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/sim/data_dir.hpp"
+#include "exoid/sim/truth.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace exoid::experiments {
+
+namespace {
+
+struct ExciteArgs {
+  std::string out;
+  std::string model = sim::defaultModelPath();
+  ident::ExcitationOptions options;
+  double duration_s = 10.0, rate_hz = 1000.0, sigma_Nm = 0.5;  // the CRB comparison's footing
+  double hip_locked_at_deg = -10.0;
+  // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
+  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
+  std::string urdf = sim::dataPath("models/apal_leg.urdf");
+  bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
+  CLI::App* cmd = nullptr;
+  std::vector<std::string> armature;  ///< chain models: joints given an armature parameter the file lacks
+};
+
+// The design and the paper's trajectory sampled over one period of the design: angle, speed,
+// acceleration and nominal torque per joint (what the figure plots).
+void writeSeriesCsv(const std::string& path, const ident::FourierTrajectory& design, const ident::FourierTrajectory& paper,
+                    const ident::LegConstants& c, const ident::ParamVector& nominal) {
+  core::writeFileAtomically(path, [&](std::ostream& o) {
+    o << "t_s";
+    for (const char* who : {"design", "paper"}) {
+      for (const char* q : {"q", "qd", "qdd", "tau"}) o << ',' << who << '_' << q << "_hip," << who << '_' << q << "_knee";
+    }
+    o << '\n';
+    const int n = 1000;
+    for (int i = 0; i <= n; ++i) {
+      const double t = design.period_s() * i / n;
+      o << fmt(t, 8);
+      for (const ident::FourierTrajectory* tr : {&design, &paper}) {
+        Eigen::Vector2d q, qd, qdd;
+        tr->at(t, q, qd, qdd);
+        ident::RegressorRow hip, knee;
+        ident::regressorRows(c, q, qd, qdd, hip, knee);
+        const Eigen::Vector2d tau(hip.dot(nominal), knee.dot(nominal));
+        for (const Eigen::Vector2d& v : {q, qd, qdd, tau}) o << ',' << fmt(v[0], 10) << ',' << fmt(v[1], 10);
+      }
+      o << '\n';
+    }
+  });
+}
+
+// A "hip,knee" override of one limit pair; `scale` converts to SI.
+void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double scale, const char* flag) {
+  if (v.empty()) return;
+  if (v.size() != 2) throw CLI::ValidationError(flag, "expected hip,knee (two numbers)");
+  limit << v[0] * scale, v[1] * scale;
+}
+
+void runExcite(const ExciteArgs& args) {
+  if (!isApalLegModel(args.model)) {
+    for (const char* apal_only : {"--knee-only", "--hip-locked-at-deg", "--limits", "--urdf", "--duration", "--noise-tau"}) {
+      if (args.cmd->count(apal_only) > 0) {
+        throw CLI::ValidationError(apal_only, "is an option of the APAL leg's design; '" + args.model + "' is designed as a chain (its own limits)");
+      }
+    }
+    ChainExciteArgs c;
+    c.model = args.model;
+    c.out = args.out;
+    c.options = args.options;
+    c.q_min_deg = args.q_min_deg;
+    c.q_max_deg = args.q_max_deg;
+    c.qd_max = args.qd_max;
+    c.qdd_max = args.qdd_max;
+    c.tau_max = args.tau_max;
+    c.armature = args.armature;
+    return exciteChain(c);
+  }
+  ExciteArgs a = args;
+  a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
+  a.options.validate();
+  // The output checked before the design's seconds of work: its folder made, a file writable in it.
+  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
+  core::checkOutputWritable(a.out);
+  const sim::Truth truth = sim::truthFromModel(a.model);
+  const ident::ParamVector nominal = toParamVector(truth.x);
+  const ident::LegConstants c = constantsOf(truth);
+  ident::ExcitationLimits limits = paperEnvelope(c, nominal);
+  if (a.limits == "urdf") {
+    // The rig's own limits: joint range, speed and motor effort from the URDF; acceleration is
+    // bounded through the effort by the nominal model, not separately.
+    const sim::UrdfJointLimits u = sim::urdfJointLimits(a.urdf);
+    for (int j = 0; j < 2; ++j) {
+      const auto J = static_cast<std::size_t>(j);
+      limits.q_min_rad[j] = u.lower_rad[J];
+      limits.q_max_rad[j] = u.upper_rad[J];
+      limits.qd_max_radps[j] = u.velocity_radps[J];
+      limits.tau_max_Nm[j] = u.effort_Nm[J];
+      limits.qdd_max_radps2[j] = 1e6;
+    }
+  }
+  const bool overridden = !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
+  overrideLimit(limits.q_min_rad, a.q_min_deg, M_PI / 180.0, "--q-min-deg");
+  overrideLimit(limits.q_max_rad, a.q_max_deg, M_PI / 180.0, "--q-max-deg");
+  overrideLimit(limits.qd_max_radps, a.qd_max, 1.0, "--qd-max");
+  overrideLimit(limits.qdd_max_radps2, a.qdd_max, 1.0, "--qdd-max");
+  overrideLimit(limits.tau_max_Nm, a.tau_max, 1.0, "--tau-max");
+  limits.validate();
+  const ident::ExcitationDesign d = ident::designExcitation(a.options, c, nominal, limits);
+  // The paper's counterpart: trajectory 1 for a knee-only design, 3 for both joints.
+  const int paper_id = a.options.hip_locked ? 1 : 3;
+  const ident::FourierTrajectory paper = toFourierTrajectory(sim::paperTrajectory(paper_id));
+  const ident::ExcitationScore paper_score = ident::scoreExcitation(paper, c, nominal, limits, 1000);
+  const Eigen::VectorXd crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
+  const Eigen::VectorXd crb_paper = excitationCrb(paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);
+  const Eigen::VectorXd floor = ident::crbFloor(limits, c, a.options.hip_locked, a.options.hip_locked_at_rad,
+                                                a.duration_s * a.rate_hz, a.sigma_Nm);
+  std::vector<int> indices;
+  for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) indices.push_back(i);
+
+  const std::string source = a.limits == "urdf" ? "the URDF's joint limits (" + a.urdf + "), acceleration bounded by the effort"
+                                                : "envelope of the paper's trajectories 1-4 on the nominal model";
+  nlohmann::json lim = {{"source", overridden ? source + ", with overrides" : source},
+                        {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
+                        {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
+                        {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
+                        {"qdd_max_radps2", {limits.qdd_max_radps2[0], limits.qdd_max_radps2[1]}},
+                        {"tau_max_Nm", {limits.tau_max_Nm[0], limits.tau_max_Nm[1]}}};
+  const auto reached = [](const ident::ExcitationScore& s) {
+    return nlohmann::json{{"q_min_rad", {s.q_min_rad[0], s.q_min_rad[1]}},
+                          {"q_max_rad", {s.q_max_rad[0], s.q_max_rad[1]}},
+                          {"qd_max_radps", {s.qd_max_radps[0], s.qd_max_radps[1]}},
+                          {"qdd_max_radps2", {s.qdd_max_radps2[0], s.qdd_max_radps2[1]}},
+                          {"tau_max_Nm", {s.tau_max_Nm[0], s.tau_max_Nm[1]}}};
+  };
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["command"] = "excite";
+  j["seed"] = a.options.seed;
+  j["model"] = a.model;
+  j["options"] = {{"criterion", ident::toString(a.options.criterion)}, {"harmonics", a.options.harmonics}, {"f0_hz", a.options.f0_hz}, {"hip_locked", a.options.hip_locked},
+                  {"hip_locked_at_rad", a.options.hip_locked_at_rad}, {"restarts", a.options.restarts},
+                  {"max_evaluations", a.options.max_evaluations}, {"samples", a.options.samples}};
+  j["criterion"] =
+      std::string(a.options.criterion == ident::ExcitationCriterion::kCrb
+                      ? "sum of log Cramer-Rao standard deviations of the LS estimates (D-optimality plus a penalty on their "
+                        "correlations), minimised"
+                      : "log condition number of the column-scaled regressor, minimised") +
+      " over one period (both equations, 10 columns; knee-only: the knee equation's 5 shank columns)";
+  j["limits"] = lim;
+  j["trajectory"] = toJson(d.trajectory);
+  j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reached(d.score)},
+                {"evaluations", d.evaluations}, {"feasible_restarts", d.feasible_restarts}};  // no wall time: same seed, same bytes
+  j["comparison"] = {{"footing", {{"duration_s", a.duration_s}, {"rate_hz", a.rate_hz}, {"sigma_Nm", a.sigma_Nm},
+                                  {"note", "LS on raw torques, white noise on each joint"}}},
+                     {"paper_trajectory", paper_id},
+                     {"paper_condition_number", paper_score.condition_number},
+                     {"crb_std", paramsJson(crb, indices)},
+                     {"paper_crb_std", paramsJson(crb_paper, indices)},
+                     {"crb_floor_std", paramsJson(floor, indices)},
+                     {"crb_floor_note", "no trajectory inside the limits can do better (single-parameter Cauchy-Schwarz "
+                                        "bound from the joint ranges, |qd| and |qdd| limits)"}};
+  writeJsonFile(a.out, j);
+  std::string figure;
+  if (a.plot) {
+    const std::string stem = a.out.size() > 5 && a.out.substr(a.out.size() - 5) == ".json" ? a.out.substr(0, a.out.size() - 5) : a.out;
+    writeSeriesCsv(stem + "_series.csv", d.trajectory, paper, c, nominal);
+    figure = stem + ".png";
+    runPlotScript("excitation_plot.py", {stem + "_series.csv", a.out, figure});
+  }
+
+  std::cout << "excitation design (" << (a.options.hip_locked ? "knee only, hip locked" : "both joints") << ", N = "
+            << a.options.harmonics << ", f0 = " << fmt(a.options.f0_hz) << " Hz, seed " << a.options.seed << "): "
+            << d.evaluations << " evaluations, " << d.feasible_restarts << "/" << a.options.restarts
+            << " restarts feasible, " << fmt(d.wall_time_s, 3) << " s\n"
+            << "criterion " << ident::toString(a.options.criterion) << "; condition number " << fmt(d.score.condition_number, 4)
+            << " (paper's trajectory " << paper_id << ": " << fmt(paper_score.condition_number, 4) << ")\n";
+  TextTable t({"param", "CRB std, design", "CRB std, paper's " + core::toText(paper_id), "gain", "floor", "max gain"});
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    const auto K = static_cast<Eigen::Index>(k);
+    t.addRow({std::string(ident::paramName(indices[k])), fmt(crb[K], 3), fmt(crb_paper[K], 3), fmt(crb_paper[K] / crb[K], 3),
+              fmt(floor[K], 3), fmt(crb_paper[K] / floor[K], 3)});
+  }
+  t.print(std::cout);
+  std::cout << "(" << fmt(a.duration_s) << " s at " << fmt(a.rate_hz) << " Hz, " << fmt(a.sigma_Nm)
+            << " N m white torque noise; LS on raw torques. gain = paper's std / design's; floor = the least std any\n"
+               "trajectory inside these limits can reach, max gain = paper's std / floor)\n"
+            << (limits.qdd_max_radps2.maxCoeff() >= 1e5
+                    ? "(no acceleration limit here: the floors of the inertial and coupled gravity columns are not informative)\n"
+                    : "")
+            << "wrote "
+            << a.out << (figure.empty() ? "" : " and " + figure) << "\n";
+}
+
+}  // namespace
+
+void addExciteCommand(CLI::App& app) {
+  auto a = std::make_shared<ExciteArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "excite",
+      "Design a periodic excitation trajectory (finite Fourier series, at rest at the period's ends) that\n"
+      "minimises the parameters' Cramer-Rao bounds (--criterion crb, default) or the column-scaled condition\n"
+      "number (cond), within the envelope of the paper's trajectories (joint ranges, |qd|, |qdd|, nominal |tau|)\n"
+      "or the URDF's limits, and compare it with the paper's trajectory and with the floor no trajectory inside\n"
+      "the limits can beat. `exoid simulate --excitation FILE` runs it.");
+  cmd->add_option("--out", a->out, "Design JSON to write")->required();
+  cmd->add_option("--model", a->model,
+                  "The robot: apal (default), leg3 or an MJCF/URDF file: nominal parameters and, for a chain model, its\n"
+                  "joints' limits (range; speed 3 rad/s, acceleration 30 rad/s^2 where the file gives none; motor torque)")
+      ->transform([](const std::string& s) { return sim::modelPathFor(s); })
+      ->check(CLI::ExistingFile)
+      ->capture_default_str();
+  cmd->add_flag("--knee-only", a->options.hip_locked, "Design the knee-only record (hip locked), the segmental strategy's first stage");
+  cmd->add_option("--hip-locked-at-deg", a->hip_locked_at_deg, "Knee-only: where the hip is held, deg (the paper's -10)")
+      ->capture_default_str();
+  cmd->add_option_function<std::string>(
+         "--criterion", [a](const std::string& v) { a->options.criterion = ident::parseExcitationCriterion(v); },
+         "crb: sum of log Cramer-Rao stds (D-optimality + decorrelation; rewards amplitude); cond: log condition number of "
+         "the column-scaled regressor (scale free)")
+      ->check(CLI::IsMember({"crb", "cond"}))
+      ->default_str("crb");
+  cmd->add_option("--harmonics", a->options.harmonics, "Harmonics per joint, >= 2")->capture_default_str();
+  cmd->add_option("--f0", a->options.f0_hz, "Base frequency, Hz (the period is 1/f0)")->check(positiveNumber())->capture_default_str();
+  cmd->add_option("--restarts", a->options.restarts, "Random starts of the optimiser, >= 1")->capture_default_str();
+  cmd->add_option("--max-evaluations", a->options.max_evaluations, "Criterion evaluations per restart, >= 100")->capture_default_str();
+  cmd->add_option("--seed", a->options.seed, "Seed of the random starts")->check(seedValidator())->capture_default_str();
+  cmd->add_option("--limits", a->limits,
+                  "paper: the envelope of the paper's trajectories (asks no more of the rig than the paper did); urdf: the "
+                  "rig's joint range, speed and effort from --urdf")
+      ->check(CLI::IsMember({"paper", "urdf"}))->capture_default_str();
+  cmd->add_option("--urdf", a->urdf, "URDF with the hip and knee <limit>s (--limits urdf)")->check(CLI::ExistingFile)->capture_default_str();
+  cmd->add_option("--q-min-deg", a->q_min_deg, "Override the lower joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--q-max-deg", a->q_max_deg, "Override the upper joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--qd-max", a->qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');
+  cmd->add_option("--qdd-max", a->qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
+  cmd->add_option("--tau-max", a->tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
+  cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
+  cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
+  cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();
+  cmd->add_option("--armature", a->armature,
+                  "Chain models: joints (comma-separated, or all) given an armature parameter where the file has none (a URDF\n"
+                  "never does): the design then separates it too, as identify --armature fits it")
+      ->delimiter(',');
+  a->cmd = cmd;
+  cmd->callback([a] { runExcite(*a); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,716 @@
+// `exoid identify`: identify the 10 parameters from CSV logs with one or more methods.
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/experiments/commands/commands.hpp"
+#ifdef EXOID_WITH_MUJOCO
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/sim/model.hpp"
+#endif
+#include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/log_input.hpp"
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/estimators/band_iv.hpp"
+#include "exoid/ident/leg/consistency.hpp"
+#include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/design/identifiability.hpp"
+#include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace exoid::experiments {
+
+namespace {
+
+struct IdentifyArgs {
+  std::vector<std::string> data, knee_data, both_data;  ///< several records per role are stacked
+  std::string json_out;
+  LogInputFlags log;
+  std::vector<std::string> methods{"ls"};
+  std::vector<std::string> validate;
+  std::string truth;
+  ConstantsFlags constants;
+  ident::SignalOptions signals = defaultIdentifySignals();
+  ident::MethodOptions methods_options;
+  ident::IvOptions iv;
+  std::string controller;  ///< JSON of the rig's controller (IDIM-IV); default: the records' metadata
+  bool knee_armature = false;  ///< estimate Ia2 too
+  CLI::Option* wide_box_option = nullptr;  ///< given explicitly? else sized from the data
+  bool history = false;
+  bool consistency = true;  ///< LS over --data: the physically consistent estimate (--no-consistency)
+  bool timing = false;      ///< wall times in the table and the JSON (they differ run to run)
+  ident::ConsistencyOptions consistency_options;
+  std::string model;  ///< --model: a robot other than the APAL leg goes to the chain path
+  std::string plot;   ///< --plot (chain models): measured against predicted torques
+  std::vector<std::string> armature;  ///< --armature (chain models)
+  std::vector<std::string> stages;    ///< --stage JOINT=FILE (chain models' segmental strategy)
+  CLI::App* cmd = nullptr;
+};
+
+std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names) {
+  std::vector<ident::Method> out;
+  for (const std::string& n : names) {
+    if (n == "all") {
+      for (ident::Method m : ident::allMethods()) out.push_back(m);
+    } else {
+      out.push_back(ident::parseMethod(n));
+    }
+  }
+  return out;
+}
+
+// True when a stage of `m` could not identify parameter i (its value is a placeholder).
+bool unidentifiable(const MethodOutcome& m, int i) {
+  for (const Stage& st : m.stages) {
+    for (Eigen::Index c : st.estimate.unidentifiable) {
+      if (st.indices[static_cast<std::size_t>(c)] == i) return true;
+    }
+  }
+  return false;
+}
+
+void printResults(bool timing, const std::vector<MethodOutcome>& outcomes,
+                  const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
+                  const std::map<std::string, ident::ParamVector>& truths) {
+  std::vector<std::string> header{"param", "unit"};
+  for (const auto& [name, x] : truths) header.push_back(name);
+  for (const MethodOutcome& m : outcomes) header.push_back(ident::toString(m.method));
+  TextTable t(header);
+  for (int i = 0; i < ident::kNumParams; ++i) {
+    std::vector<std::string> row{std::string(ident::paramName(i)), ident::paramInfo()[static_cast<std::size_t>(i)].unit};
+    for (const auto& [name, x] : truths) row.push_back(fmt(x[i]));
+    for (const MethodOutcome& m : outcomes) {
+      if (unidentifiable(m, i)) {
+        row.push_back("n/a (not identifiable)");
+        continue;
+      }
+      std::string cell = fmt(m.x[i]);
+      if (!truths.empty()) {
+        const double tr = truths.begin()->second[i];
+        if (tr != 0.0) cell += " (" + fixed(100.0 * (m.x[i] - tr) / std::abs(tr), 1) + "%)";
+      }
+      row.push_back(cell);
+    }
+    t.addRow(row);
+  }
+  std::vector<std::string> status{"status", ""};
+  std::vector<std::string> time{"time", "s"};
+  for (std::size_t k = 0; k < truths.size(); ++k) {
+    status.push_back("");
+    time.push_back("");
+  }
+  for (const MethodOutcome& m : outcomes) {
+    std::string s;
+    for (const Stage& st : m.stages) s += (s.empty() ? "" : "/") + std::string(ident::toString(st.estimate.summary.status));
+    status.push_back(s);
+    time.push_back(fmt(m.wallTime_s(), 3));
+  }
+  if (!outcomes.empty() && outcomes.front().knee_armature) {
+    std::vector<std::string> row{"Ia2", ident::kneeArmatureInfo().unit};
+    for (std::size_t k = 0; k < truths.size(); ++k) row.push_back("");
+    for (const MethodOutcome& m : outcomes) row.push_back(m.knee_armature ? fmt(*m.knee_armature) : "-");
+    t.addRow(row);
+  }
+  t.addRow(status);
+  if (timing) t.addRow(time);  // wall times differ run to run: only when asked (--timing)
+  t.print(std::cout);
+  if (!truths.empty()) std::cout << "(percent: relative error against '" << truths.begin()->first << "')\n";
+  for (const MethodOutcome& m : outcomes) {
+    for (const Stage& st : m.stages) {
+      const auto& e = st.estimate;
+      std::cout << ident::toString(m.method) << " [" << st.name << "]: " << e.summary.message;
+      if (e.rank) std::cout << "; rank " << *e.rank;
+      if (e.condition_number) std::cout << "; condition " << fmt(*e.condition_number, 4);
+      if (e.optimality_gap_rel) std::cout << "; L1 cost " << fmt(e.l1_cost, 8) << ", optimality gap " << fmt(100.0 * *e.optimality_gap_rel, 3) << " %";
+      if (e.optimality_gap_box_rel) std::cout << " (over its box: " << fmt(100.0 * *e.optimality_gap_box_rel, 3) << " %)";
+      std::cout << '\n';
+    }
+  }
+  for (const auto& [file, vals] : validations) {
+    TextTable v({"validation: " + file, "hip |e| mean +- std (N m)", "hip rms", "knee |e| mean +- std (N m)", "knee rms"});
+    for (std::size_t k = 0; k < outcomes.size(); ++k) {
+      const Validation& val = vals[k];
+      v.addRow({ident::toString(outcomes[k].method), fixed(val.hip.mean_abs) + " +- " + fixed(val.hip.std_abs),
+                fixed(val.hip.rms), fixed(val.knee.mean_abs) + " +- " + fixed(val.knee.std_abs), fixed(val.knee.rms)});
+    }
+    std::cout << '\n';
+    v.print(std::cout);
+  }
+}
+
+// One role's records (--data, --knee-data or --both-data), read and processed each on its own.
+struct Role {
+  std::vector<std::string> files;
+  std::vector<ident::Dataset> data;
+  ident::ProcessedRecord rows;  ///< the records' rows stacked
+  /// Each record's processing as used: the options with every choice made from the data.
+  std::vector<ident::SignalOptions> signals;
+  std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
+};
+
+// How well a role's records excite the parameters: the condition number of the column-scaled
+// regressor (both equations, or the knee's shank columns for the segmental knee role), and each
+// column's R^2 on the others (1 - 1 / [(Hs^T Hs)^-1]_jj for unit columns): a model error along
+// a column is amplified 1 / sqrt(1 - R^2) times in its parameter.
+struct Excitation {
+  double condition = 0.0;
+  std::vector<std::pair<int, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
+};
+Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
+  const ident::SegmentalProblem p = knee_only ? ident::kneeStage(r) : ident::bothEquations(r);
+  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(p.H, p.y, 0.0);
+  Excitation e;
+  e.condition = report.condition_number;
+  if (!std::isfinite(e.condition)) return e;  // rank deficient: the stages say which columns
+  const int first = knee_only ? ident::kShankFirst : 0;
+  for (Eigen::Index j = 0; j < report.collinearity_r2.size(); ++j) {
+    const double r2 = report.collinearity_r2[j];
+    if (r2 > 0.95) e.collinear.emplace_back(first + static_cast<int>(j), r2);
+  }
+  std::sort(e.collinear.begin(), e.collinear.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+  return e;
+}
+
+// The command line's combinations: one kind of input, what each method needs of it.
+void checkArguments(const IdentifyArgs& a, const std::vector<ident::Method>& methods) {
+  const bool single = !a.data.empty();
+  const bool segmental = !a.knee_data.empty() || !a.both_data.empty();
+  if (single == segmental) {
+    throw CLI::ValidationError("identify", "give either --data FILE (repeatable), or --knee-data FILE and --both-data FILE (segmental strategy)");
+  }
+  if (segmental && (a.knee_data.empty() || a.both_data.empty())) {
+    throw CLI::ValidationError("identify", "the segmental strategy needs both --knee-data and --both-data");
+  }
+  if (segmental && a.knee_armature) {
+    throw CLI::ValidationError("--knee-armature", "needs --data: a record where the hip moves, fitted with both equations (with "
+                               "the hip fixed the armature's column is Js's, and Js enters the hip equation without it)");
+  }
+  a.methods_options.validate();
+  a.iv.validate();
+  const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
+  if (iv && a.signals.processing != ident::Processing::kParallel) {
+    throw CLI::ValidationError("--method idim-iv", "needs '--processing parallel' (the default): its instruments are processed like the measured rows");
+  }
+  if (iv && (a.data.size() > 1 || a.knee_data.size() > 1 || a.both_data.size() > 1)) {
+    throw CLI::ValidationError("--method idim-iv", "takes one record per role for now (its instruments simulate each record "
+                               "under its controller); stack records with the other methods");
+  }
+  const bool band_iv = std::find(methods.begin(), methods.end(), ident::Method::kIvBand) != methods.end();
+  if (band_iv && (segmental || a.signals.processing != ident::Processing::kParallel)) {
+    throw CLI::ValidationError("--method iv-band", "needs --data (both equations of each record) and the parallel processing "
+                               "(the default) for now");
+  }
+}
+
+// Records that say their own Lt must agree with the one used.
+void checkThighLengths(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const Role& primary,
+                       const Role& knee) {
+  for (const Role* role : {&primary, &knee}) {
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      if (const auto lt = role->data[k].metadata("thigh_length_m"); lt && !a.constants.thigh_length_m && !log.thigh_length_m) {
+        if (std::abs(std::stod(*lt) - c.thigh_length_m) > 1e-12) {
+          throw std::invalid_argument(role->files[k] + ": its thigh_length_m " + *lt + " differs from " + primary.files.front() +
+                                      "'s " + fmt(c.thigh_length_m) + "; give --thigh-length");
+        }
+      }
+    }
+  }
+}
+
+// Each role's records processed and stacked, with how well they excite the parameters.
+void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, bool segmental, Role& primary,
+                  Role& knee) {
+  for (Role* role : {&knee, &primary}) {
+    std::vector<ident::ProcessedRecord> rows;
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
+      try {
+        // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
+        std::optional<ident::BandChoice> band;
+        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], c, a.signals, role == &knee, &band);
+        if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
+        rows.push_back(ident::processRecord(role->data[k], c, o));
+        role->signals.push_back(o);
+        role->bands.push_back(band);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
+      }
+    }
+    if (rows.empty()) continue;
+    role->rows = ident::stackRecords(rows);
+    const bool knee_role = role == &knee;
+    const Excitation ex = excitationOf(role->rows, knee_role);
+    std::cout << "excitation of " << (knee_role ? "the knee records (shank columns)" : segmental ? "the both-joint records" : "the records")
+              << ": condition number " << (std::isfinite(ex.condition) ? fmt(ex.condition, 4) : std::string("inf"));
+    if (!ex.collinear.empty()) {
+      std::cout << "; nearly collinear (R^2 on the other columns > 0.95, model errors amplified):";
+      for (const auto& [p, r2] : ex.collinear) {
+        std::cout << ' ' << ident::paramName(p) << " R^2 " << fixed(r2, 4) << " (x" << fmt(1.0 / std::sqrt(1.0 - r2), 3) << ")";
+      }
+    }
+    if (ex.condition > 100.0 || !ex.collinear.empty()) {
+      std::cout << ". `exoid identifiability --data FILE` says what motion would separate them; `exoid excite` designs one";
+    }
+    std::cout << '\n';
+  }
+}
+
+// The PSO baseline's box from the data, unless --wide-box was given.
+void sizePsoBox(const IdentifyArgs& a, const std::vector<ident::Method>& methods, bool segmental, const Role& primary,
+                const Role& knee, ident::MethodOptions& mo) {
+  // 10 x the largest |LS estimate| (a fixed +-50 is absurd for a 0.3 kg arm and tiny for a heavy leg).
+  if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
+      a.wide_box_option->count() == 0) {
+    const ident::SegmentalProblem all = ident::bothEquations(primary.rows);
+    double biggest = ident::solveLeastSquares(all.H, all.y, mo.ls).x.cwiseAbs().maxCoeff();
+    if (segmental) {
+      const ident::SegmentalProblem k = ident::kneeStage(knee.rows);
+      biggest = std::max(biggest, ident::solveLeastSquares(k.H, k.y, mo.ls).x.cwiseAbs().maxCoeff());
+    }
+    if (!(biggest > 0) || !std::isfinite(biggest)) {
+      throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");
+    }
+    mo.wide_box_half_width = 10.0 * biggest;
+    std::cout << "PSO box: +-" << fmt(mo.wide_box_half_width, 3) << " in every parameter (10 x the largest |LS estimate|; "
+              << "--wide-box sets it)\n";
+  }
+
+}
+
+// Why one method's result must not be used (empty: usable), each reason named.
+std::vector<std::string> problemsOf(const MethodOutcome& m) {
+  std::vector<std::string> out;
+  const std::string method(ident::toString(m.method));
+  if (!m.usable()) out.push_back(method + ": " + m.problems());
+  for (const std::string& v : m.implausible) out.push_back(method + ": physically implausible: " + v);
+  // On a bound the box chose the value, not the data: the paper's RLS box as much as PSO's wide one.
+  for (const BoundHit& h : boxBoundHits(m)) {
+    out.push_back(method + " [" + h.stage + "]: " + describe(h) + ": the box does not hold the cost's optimum");
+  }
+  return out;
+}
+
+std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
+  std::string problems;
+  for (const MethodOutcome& m : outcomes) {
+    for (const std::string& p : problemsOf(m)) problems += (problems.empty() ? "" : "; ") + p;
+  }
+  return problems;
+}
+
+
+// How much the LS estimate depends on the band chosen from the data: every record refitted with
+// its cutoff one ladder step wider, the change in standard errors of the chosen fit (the
+// errors-in-variables bias a wider band would add, measured). Absent when no band was chosen.
+struct BandSensitivity {
+  double factor = 0.0;
+  Eigen::VectorXd shift_se;  ///< per parameter, (x_wider - x) / std_err
+  std::vector<std::string> over_one;  ///< parameters moved by more than one standard error
+};
+
+std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::LegConstants& c,
+                                               const std::vector<MethodOutcome>& outcomes) {
+  const MethodOutcome* ls = nullptr;
+  for (const MethodOutcome& m : outcomes) {
+    if (m.method == ident::Method::kLs && m.consistency) ls = &m;
+  }
+  if (!ls) return std::nullopt;
+  bool any = false;
+  for (const auto& b : primary.bands) any = any || b.has_value();
+  if (!any) return std::nullopt;
+  BandSensitivity out;
+  out.factor = 1.25;  // a quarter wider
+  std::vector<ident::ProcessedRecord> rows;
+  for (std::size_t k = 0; k < primary.data.size(); ++k) {
+    ident::SignalOptions o = primary.signals[k];
+    if (primary.bands[k]) {
+      const double fs = 1.0 / primary.data[k].sampleInterval_s();
+      o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
+      if (a.signals.derivative_cutoff_from_data) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs);
+    }
+    rows.push_back(ident::processRecord(primary.data[k], c, o));
+  }
+  const ident::SegmentalProblem p = ident::bothEquations(ident::stackRecords(rows), ls->knee_armature.has_value());
+  ident::LsOptions lo;
+  lo.max_condition = std::numeric_limits<double>::max();
+  const Eigen::VectorXd wider = ident::solveLeastSquares(p.H, p.y, lo).x;
+  const ConsistencyStep& cs = *ls->consistency;
+  out.shift_se.resize(wider.size());
+  for (Eigen::Index i = 0; i < wider.size(); ++i) {
+    const double se = cs.std_err[i], change = wider[i] - cs.unconstrained[i];
+    // A parameter without a finite, positive standard error has no scale to judge a change by.
+    out.shift_se[i] = se > 0.0 && std::isfinite(se) ? change / se : 0.0;
+  }
+  for (Eigen::Index i = 0; i < out.shift_se.size(); ++i) {
+    if (std::abs(out.shift_se[i]) > 1.0) out.over_one.emplace_back(ident::paramName(static_cast<int>(i)));
+  }
+  return out;
+}
+
+void printSensitivity(const BandSensitivity& s) {
+  std::cout << "band sensitivity (every record's cutoff x" << fmt(s.factor, 3)
+            << ", LS refitted; change in standard errors):";
+  for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) {
+    std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fixed(s.shift_se[i], 2);
+  }
+  std::cout << '\n';
+  if (!s.over_one.empty()) {
+    std::string names;
+    for (const std::string& n : s.over_one) names += (names.empty() ? "" : ", ") + n;
+    std::cout << "warning: a wider band moves " << names
+              << " by more than one standard error: their errors-in-variables bias may exceed their noise\n";
+  }
+}
+
+void printConsistency(const std::vector<MethodOutcome>& outcomes) {
+  for (const MethodOutcome& m : outcomes) {
+    if (!m.consistency) continue;
+    const ConsistencyStep& cs = *m.consistency;
+    std::cout << ident::toString(m.method) << ": standard errors (from the residuals, Newey-West):";
+    for (Eigen::Index i = 0; i < cs.std_err.size(); ++i) {
+      std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.std_err[i], 3);
+    }
+    std::cout << '\n';
+    if (!cs.fit.constrained) {
+      std::cout << ident::toString(m.method) << ": physically consistent (friction >= 0, Js >= 0, Jt >= Js, "
+                << "(Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2))\n";
+      continue;
+    }
+    for (const std::string& v : cs.withinNoise()) {
+      std::cout << ident::toString(m.method) << ": " << v << ": consistent with the bound within "
+                << fmt(cs.significance_sigmas, 3) << " standard errors\n";
+    }
+    std::cout << ident::toString(m.method) << ": the table gives the physically consistent estimate (constrained least "
+              << "squares); unconstrained:";
+    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
+      std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.unconstrained[i], 5);
+    }
+    std::cout << '\n';
+  }
+}
+
+// Every "wall_time_s" in j, at any depth: the one entry that differs between identical runs.
+void eraseWallTimes(nlohmann::json& j) {
+  if (j.is_object()) {
+    j.erase("wall_time_s");
+    for (auto& [key, value] : j.items()) eraseWallTimes(value);
+  } else if (j.is_array()) {
+    for (auto& value : j) eraseWallTimes(value);
+  }
+}
+
+void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
+                       const Role& primary, const Role& knee, const ident::MethodOptions& mo,
+                       const std::vector<MethodOutcome>& outcomes,
+                       const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
+                       const std::map<std::string, ident::ParamVector>& truths,
+                       const std::optional<BandSensitivity>& sensitivity) {
+  const bool single = !a.data.empty();
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["command"] = "identify";
+  j["strategy"] = single ? "all_parameters_one_record" : "segmental";
+  j["inputs"] = single ? nlohmann::json{{"data", a.data}}
+                       : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
+  if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
+  nlohmann::json sampling = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      const ident::SamplingReport& sr = role->data[k].sampling;
+      sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
+                                  {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
+                                  {"rows_used", role->data[k].size()}};
+    }
+  }
+  j["inputs"]["sampling"] = sampling;
+  nlohmann::json bands = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size() && k < role->signals.size(); ++k) {
+      const ident::SignalOptions& o = role->signals[k];
+      nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
+                          {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
+                          {"chosen_from_data", role->bands[k].has_value()}};
+      if (const auto& band = role->bands[k]) {
+        b["motion_bandwidth_hz"] = band->motion_bandwidth_hz;
+        b["joint_motion_bandwidth_hz"] = std::vector<double>(band->joint_motion_bandwidth_hz.data(), band->joint_motion_bandwidth_hz.data() + band->joint_motion_bandwidth_hz.size());
+        b["limited_by"] = band->limited_by;
+        b["reason"] = band->describe();
+        b["pilot_cutoff_hz"] = band->pilot_cutoff_hz;
+        b["pilot_samples"] = band->pilot_samples;  // the pilot's central window (all samples when shorter)
+        nlohmann::json scan = nlohmann::json::array();
+        for (const ident::BandScan& r : band->scan) {
+          scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm},
+                          {"measured_rms_Nm", r.measured_rms_Nm}});
+        }
+        b["consistency_scan"] = scan;
+      }
+      bands[role->files[k]] = b;
+    }
+  }
+  j["processing_per_record"] = bands;
+  // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
+  j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
+                         (a.signals.base_terms == ident::BaseTerms::kOn ||
+                          (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary.data.front())));
+  j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
+  j["signal_options"] = toJson(a.signals);
+  j["method_options"] = toJson(mo);
+  j["seed"] = a.methods_options.rls_pso.pso.seed;
+  j["methods"] = nlohmann::json::object();
+  for (std::size_t k = 0; k < outcomes.size(); ++k) {
+    nlohmann::json mj = toJson(outcomes[k], a.history);
+    mj["problems"] = problemsOf(outcomes[k]);
+    for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
+    for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
+    j["methods"][ident::toString(outcomes[k].method)] = mj;
+  }
+  // The first method's estimate at top level, for tools that expect one answer.
+  j["method"] = ident::toString(outcomes.front().method);
+  j["parameters"] = paramsJson(outcomes.front().x);
+  j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
+  if (sensitivity) {
+    nlohmann::json sh = nlohmann::json::object();
+    for (Eigen::Index i = 0; i < sensitivity->shift_se.size(); ++i) sh[std::string(ident::paramName(static_cast<int>(i)))] = sensitivity->shift_se[i];
+    j["band_sensitivity"] = {{"cutoff_factor", sensitivity->factor}, {"shift_standard_errors", sh},
+                             {"over_one_standard_error", sensitivity->over_one}};
+  }
+  if (!a.timing) eraseWallTimes(j);  // same input, same bytes
+  if (!truths.empty()) {
+    j["truth"] = nlohmann::json::object();
+    for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);
+  }
+  writeJsonFile(a.json_out, j);
+}
+
+#ifdef EXOID_WITH_MUJOCO
+// --model naming a robot other than the APAL leg: its base parameters by least squares (and the
+// consistent estimate). What that path does not do yet is refused by name, never ignored.
+bool runChainModel(const IdentifyArgs& a) {
+  if (a.model.empty() || isApalLegModel(sim::modelPathFor(a.model))) return false;
+  for (const char* apal_only : {"--knee-data", "--both-data", "--controller", "--knee-armature", "--thigh-length", "--gravity"}) {
+    if (a.cmd->count(apal_only) > 0) {
+      throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
+    }
+  }
+  std::vector<ident::Method> methods;
+  for (ident::Method m : resolveMethods(a.methods)) {
+    if (m == ident::Method::kIdimIv || m == ident::Method::kIvBand) {
+      throw CLI::ValidationError("--method", std::string(ident::toString(m)) + " is not available for a chain model yet (--model " + a.model +
+                                                 "): ls, rls, pso, rls-pso, lad are");
+    }
+    methods.push_back(m);
+  }
+  ChainIdentifyArgs c;
+  c.model = a.model;
+  c.data = a.data;
+  for (const std::string& s : a.stages) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) {
+      throw CLI::ValidationError("--stage", "expected JOINT=FILE (the record's first moving joint, the joints above it locked), got '" + s + "'");
+    }
+    c.stages.emplace_back(s.substr(0, eq), s.substr(eq + 1));
+    if (!std::filesystem::is_regular_file(c.stages.back().second)) {
+      throw CLI::ValidationError("--stage", "file '" + c.stages.back().second + "' does not exist");
+    }
+  }
+  c.validate = a.validate;
+  c.plot = a.plot;
+  c.armature = a.armature;
+  c.truth = a.truth;
+  c.json_out = a.json_out;
+  c.log = a.log;
+  c.signals = a.signals;
+  c.consistency = a.consistency;
+  c.significance_sigmas = a.consistency_options.significance_sigmas;
+  c.max_condition = a.methods_options.ls.max_condition;
+  c.methods = methods;
+  c.method_options = a.methods_options;
+  c.wide_box_given = a.wide_box_option && a.wide_box_option->count() > 0;
+  identifyChain(c);
+  return true;
+}
+#endif
+
+void run(const IdentifyArgs& a) {
+#ifdef EXOID_WITH_MUJOCO
+  if (runChainModel(a)) return;
+  if (!a.armature.empty()) throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
+  if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
+#endif
+  if (!a.stages.empty()) {
+    throw CLI::ValidationError("--stage", "is the segmental strategy of a chain model (--model leg3|FILE); the APAL leg's is --knee-data and --both-data");
+  }
+  const std::vector<ident::Method> methods = resolveMethods(a.methods);
+  checkArguments(a, methods);
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
+  const bool single = !a.data.empty(), segmental = !single;
+  const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
+  std::map<std::string, ident::ParamVector> truths;
+  if (!a.truth.empty()) truths = readTruthFile(a.truth);
+
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
+  Role primary, knee;
+  primary.files = single ? a.data : a.both_data;
+  knee.files = a.knee_data;
+  for (Role* role : {&primary, &knee}) {
+    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
+  }
+  std::string constants_origin;
+  const ident::LegConstants c =
+      resolveConstants(a.constants, primary.data.front(), &constants_origin, log.thigh_length_m, log.gravity_mps2);
+  checkThighLengths(a, log, c, primary, knee);
+  std::cout << "constants: Lt " << fmt(c.thigh_length_m) << " m, g " << fmt(c.gravity_mps2) << " m/s^2 (" << constants_origin << ")\n";
+  processRoles(a, log, c, segmental, primary, knee);
+  // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
+  ident::ClosedLoopRecord cl_primary, cl_knee;
+  if (iv) {
+    cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), primary.rows, a.controller, false);
+    if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), knee.rows, a.controller, true);
+    cl_primary.signals = primary.signals.front();
+    if (segmental) cl_knee.signals = knee.signals.front();
+  }
+  ident::MethodOptions mo = a.methods_options;
+  sizePsoBox(a, methods, segmental, primary, knee, mo);
+
+  std::vector<MethodOutcome> outcomes;
+  for (ident::Method m : methods) {
+    if (m == ident::Method::kIvBand) {
+      // Instruments from each record's angles low-passed at its motion's bandwidth, processed in its band.
+      std::vector<ident::BandIvRows> rows;
+      for (std::size_t k = 0; k < primary.data.size(); ++k) {
+        const double fm = primary.bands[k] ? primary.bands[k]->motion_bandwidth_hz : ident::motionBandwidth(primary.data[k]);
+        rows.push_back(ident::bandIvRows(primary.data[k], c, primary.signals[k], fm, a.knee_armature));
+      }
+      outcomes.push_back(identifyAll(ident::solveBandIv(rows, mo.ls), a.knee_armature));
+    } else if (m == ident::Method::kIdimIv) {
+      // Each record's instruments are processed as its measured rows were (its band).
+      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, primary.signals.front(), a.iv, a.knee_armature)
+                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, primary.signals.front(), a.iv));
+    } else {
+      outcomes.push_back(single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, knee.rows, primary.rows, mo));
+    }
+  }
+  if (single && a.consistency) {
+    for (MethodOutcome& m : outcomes) {
+      if (m.method == ident::Method::kLs) applyConsistency(m, primary.rows, c, a.consistency_options);
+    }
+  }
+  const std::optional<BandSensitivity> sensitivity =
+      single ? bandSensitivity(a, primary, c, outcomes) : std::nullopt;
+  std::vector<std::pair<std::string, std::vector<Validation>>> validations;
+  for (const std::string& file : a.validate) {
+    // In the band the fit used (its first record's), so the errors are the fit's yardstick.
+    ident::ProcessedRecord rv;
+    try {
+      rv = ident::processRecord(readLog(file, log), c, primary.signals.front());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
+    std::vector<Validation> v;
+    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
+    validations.emplace_back(file, std::move(v));
+  }
+
+  printResults(a.timing, outcomes, validations, truths);
+  printConsistency(outcomes);
+  if (sensitivity) printSensitivity(*sensitivity);
+  if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths, sensitivity);
+  if (const std::string problems = problemsOf(outcomes); !problems.empty()) throw UnusableResult(problems);
+}
+
+}  // namespace
+
+void addIdentifyCommand(CLI::App& app) {
+  auto args = std::make_shared<IdentifyArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "identify",
+      "Identify X = [Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2] from dataset CSV logs (.csv or\n"
+      ".csv.gz; a lab's own columns and units through --profile or --columns).\n"
+      "--data: all 10 parameters from both joint equations. --knee-data and --both-data: the paper's\n"
+      "segmental strategy. Each is repeatable: the records of a role are processed one by one and\n"
+      "fitted together. Exit code 3 when a result must not be used, naming why (outputs are still\n"
+      "written): a parameter the record cannot identify (rank), a regressor whose condition number\n"
+      "(columns scaled) exceeds --max-condition, a physically implausible estimate (Js <= 0, Jt <= Js,\n"
+      "negative friction), or a PSO / RLS-PSO estimate on its search box's bound.");
+  cmd->add_option("--data", args->data, "Dataset CSV: identify all 10 parameters from both equations (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--knee-data", args->knee_data, "Segmental step 1: knee-only record, hip fixed (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--method", args->methods,
+                  "ls, rls, pso, rls-pso, lad, idim-iv, iv-band, or all (= all but idim-iv and iv-band) (repeatable).\n"
+                  "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
+                  "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
+                  "'# controller_*' metadata exoid simulate writes)")
+      ->capture_default_str()->delimiter(',')->group("Input");
+  cmd->add_option("--controller", args->controller,
+                  "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
+                  "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
+                  "\"hip_locked\": false}; default: the records' metadata")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_flag("--knee-armature", args->knee_armature,
+               "Also estimate Ia2, the knee's armature (reflected rotor/actuator inertia on its own diagonal, kg m^2): "
+               "Ia2 qdd2 joins the knee equation only; needs --data (both equations of a record where the hip moves)")
+      ->group("Identification");
+  cmd->add_option("--iv-tolerance", args->iv.step_tolerance, "IDIM-IV: stop when every step < this many standard errors, (0, 1)")
+      ->capture_default_str()->group("Identification");
+  cmd->add_option("--iv-max-iterations", args->iv.max_iterations, "IDIM-IV: iteration limit, >= 1")
+      ->capture_default_str()->group("Identification");
+  cmd->add_option("--validate", args->validate, "Validation record(s): torque error per joint (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--truth", args->truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd->add_option("--json", args->json_out, "Write the results as JSON here (atomically)")->group("Output");
+  cmd->add_flag("!--no-consistency", args->consistency,
+                "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
+                "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"
+                "Mys^2)) whose violations count only beyond --significance standard errors")
+      ->group("Identification");
+  cmd->add_option("--significance", args->consistency_options.significance_sigmas,
+                  "Standard errors beyond which a violated physical condition is significant (exit code 3)")
+      ->check(positiveNumber())->capture_default_str()->group("Identification");
+  cmd->add_flag("--timing", args->timing,
+                "Wall times of each method in the table and the JSON (without it, the same input gives the same bytes)")
+      ->group("Output");
+  cmd->add_flag("--history", args->history, "Include PSO best-cost histories in the JSON")->group("Output");
+  addConstantsOptions(*cmd, args->constants);
+  addLogInputOptions(*cmd, args->log);
+  addSignalOptions(*cmd, args->signals);
+  addMethodOptions(*cmd, args->methods_options);
+  args->wide_box_option = cmd->get_option("--wide-box");
+  args->wide_box_option->description(
+      "Half-width of the PSO baseline's box in every parameter (default for identify: 10 x the largest |LS estimate| of "
+      "the records, printed; a PSO result on its box's bound is not usable)");
+#ifdef EXOID_WITH_MUJOCO
+  cmd->add_option("--model", args->model,
+                  "The robot: apal (the built-in APAL leg, the default), leg3 (the built-in hip-knee-ankle leg) or its MJCF or\n"
+                  "URDF file. The records then have q_<joint>, tau_<joint> for its joints; its base parameters are fitted")
+      ->group("Input");
+  cmd->add_option("--plot", args->plot,
+                  "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
+                  "record (else the first --data record), and its data as <plot>_series.csv")
+      ->group("Output");
+  cmd->add_option("--armature", args->armature,
+                  "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
+                  "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
+      ->delimiter(',')->group("Identification");
+  cmd->add_option("--stage", args->stages,
+                  "Chain models: the segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints\n"
+                  "above JOINT are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations\n"
+                  "determine that the more distal stages left open; --data, every joint moving, is the last stage")
+      ->group("Input");
+#endif
+  args->cmd = cmd;
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,184 @@
+// `exoid simulate` and `exoid truth`.
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/protocol/sim_bridge.hpp"
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/sim/serial_chain.hpp"
+#include "exoid/sim/sidecar.hpp"
+#include "exoid/sim/truth.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+namespace exoid::experiments {
+
+namespace {
+
+std::string sidecarPath(const std::string& csv) {
+  const auto dot = csv.rfind('.');
+  const auto slash = csv.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
+}
+
+struct SimulateArgs {
+  sim::SimConfig config;
+  std::string out;
+  bool record_derivatives = false;  ///< chain models: exact qd_, qdd_ columns
+  double coulomb_v0_radps = -1.0;   ///< chain models: Coulomb smoothing (< 0: the model's)
+  std::vector<std::string> lock;    ///< chain models: joints locked (segmental records)
+  double bandwidth_hz = 4.0;        ///< chain models: PD bandwidth
+  CLI::App* cmd = nullptr;
+};
+
+// A model other than the APAL leg: the serial-chain simulator. The APAL rig's own options (its
+// pedestal, four-bar, actuators, paper trajectories) do not apply and are refused by name.
+void runChainSimulate(const SimulateArgs& a) {
+  for (const char* apal_only :
+       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--ramp", "--encoder-backlash-deg",
+        "--tau-bias-hip", "--tau-bias-knee", "--vibration", "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random",
+        "--cylinder-mass-scale", "--fc-hip", "--fv-hip", "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward",
+        "--no-feedforward", "--hip-actuator-bandwidth", "--knee-actuator-bandwidth", "--torque-sensor-bandwidth", "--imu-acc-noise",
+        "--imu-gyro-noise", "--no-exact"}) {
+    if (a.cmd->count(apal_only) > 0) {
+      throw CLI::ValidationError(apal_only, std::string("is an option of the APAL leg's rig; '") + a.config.model_path +
+                                                "' runs on the serial-chain simulator (see exoid simulate --help, group 'Chain models')");
+    }
+  }
+  sim::ChainSimConfig c = chainSimConfig(a.config);
+  c.coulomb_v0_radps = a.coulomb_v0_radps;
+  c.bandwidth_hz = a.bandwidth_hz;
+  c.record_derivatives = a.record_derivatives;
+  c.locked = a.lock;
+  c.seed = a.config.seed;
+  if (a.cmd->count("--excitation") > 0) c.trajectory = readChainExcitation(a.cmd->get_option("--excitation")->as<std::string>());
+  simulateChainToFiles(c, a.out);
+}
+
+void runSimulate(const SimulateArgs& a) {
+  if (!isApalLegModel(a.config.model_path)) return runChainSimulate(a);
+  if (a.cmd->count("--excitation") > 0 && isChainExcitationFile(a.cmd->get_option("--excitation")->as<std::string>())) {
+    throw CLI::ValidationError("--excitation", "is a chain model's design (exoid excite --model ...): run it with that --model");
+  }
+  core::checkOutputWritable(a.out);  // before the simulation, not after it
+  core::checkOutputWritable(sidecarPath(a.out));
+  const sim::SimResult r = sim::simulate(a.config);
+  const ident::Dataset d = toDataset(r);
+  const nlohmann::json side = simulationSidecar(r, d);
+  sim::writeCsv(r, a.out);
+  const std::string json_path = sidecarPath(a.out);
+  writeJsonFile(json_path, side);
+  const auto& s = r.stats;
+  std::cout << "wrote " << a.out << " (" << r.table.rows() << " samples) and " << json_path << "\n"
+            << "tracking error RMS hip " << fmt(s.tracking_hip.rms_deg, 3) << " deg, knee "
+            << fmt(s.tracking_knee.rms_deg, 3) << " deg; loop error max " << fmt(s.loop_error_max_m, 3)
+            << " m; pedestal |x| max " << fmt(s.base_x_max_abs_m, 3) << " m; " << fmt(s.wall_time_s, 3) << " s\n";
+  const nlohmann::json& hf = side.at("torque_variance_above_10Hz");
+  std::cout << "torque variance above 10 Hz (Welch): recorded hip " << fixed(100.0 * hf.at("tau_hip").get<double>(), 2)
+            << " %, knee " << fixed(100.0 * hf.at("tau_knee").get<double>(), 2) << " %";
+  if (hf.contains("tau_hip_ideal")) {
+    std::cout << "; ideal at the exact states hip " << fixed(100.0 * hf.at("tau_hip_ideal").get<double>(), 2)
+              << " %, knee " << fixed(100.0 * hf.at("tau_knee_ideal").get<double>(), 2) << " %";
+  }
+  std::cout << "\n";
+}
+
+struct TruthArgs {
+  std::string model, urdf, json_out;
+  sim::ModelVariant variant;
+};
+
+void runTruth(TruthArgs a) {
+  if (!a.model.empty() && !a.urdf.empty()) {
+    throw CLI::ValidationError("truth", "give one of --model FILE.xml or --urdf FILE.urdf, not both");
+  }
+  if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
+  a.model = a.model.empty() ? a.model : sim::modelPathFor(a.model);
+  // Another robot than the APAL leg: its chain's truth (standard and base parameters).
+  if (!a.model.empty() && !endsWith(a.model, ".urdf") && !isApalLegModel(a.model)) return truthOfChain(a.model, a.json_out);
+  if (!a.urdf.empty() && !endsWith(a.urdf, ".xml")) {
+    // X is the 2-link leg's (hip, knee); any other chain gets its own parameters, never X of
+    // two of its joints.
+    const sim::SerialChain chain = sim::serialChainFromUrdf(a.urdf);
+    if (chain.links.size() != 2 || chain.links[0].joint != "hip" || chain.links[1].joint != "knee") return truthOfChain(a.urdf, a.json_out);
+  }
+  // A file of the other kind: say which option reads it (the MJCF loader's error would not).
+  if (endsWith(a.model, ".urdf")) throw CLI::ValidationError("--model", "'" + a.model + "' is a URDF: read it with --urdf " + a.model);
+  if (endsWith(a.urdf, ".xml")) throw CLI::ValidationError("--urdf", "'" + a.urdf + "' looks like MJCF: read it with --model " + a.urdf);
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  sim::Truth t;
+  if (!a.urdf.empty()) {
+    t = sim::truthFromUrdf(a.urdf);
+  } else {
+    t = sim::rigidTruth(sim::loadLeg(a.model, a.variant, true));
+  }
+  TextTable table({"param", "unit", "value"});
+  for (int i = 0; i < sim::kNumParams; ++i) {
+    table.addRow({sim::paramNames()[static_cast<std::size_t>(i)], sim::paramUnits()[static_cast<std::size_t>(i)],
+                  fmt(t.x[static_cast<std::size_t>(i)], 8)});
+  }
+  std::cout << "X of the rigid links of " << (a.urdf.empty() ? a.model : a.urdf) << " (Lt = " << t.thigh_length_m
+            << " m, g = " << t.gravity_mps2 << " m/s^2):\n";
+  table.print(std::cout);
+  if (!a.json_out.empty()) {
+    writeJsonFile(a.json_out, {{"tool", toolJson()},
+                               {"source", t.source},
+                               {"parameters", paramsJson(toParamVector(t.x))},
+                               {"thigh_length_m", t.thigh_length_m},
+                               {"gravity_mps2", t.gravity_mps2}});
+  }
+}
+
+}  // namespace
+
+void addSimulateCommand(CLI::App& app) {
+  auto args = std::make_shared<SimulateArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "Simulate the APAL leg in MuJoCo at 1 kHz (PID tracking, sensor noise, pedestal vibration) and\n"
+      "write the dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed,\n"
+      "versions and the truths (rigid links, lumped four-bar band, best fit of the record).");
+  addSimOptions(*cmd, args->config);
+  cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->check(seedValidator())->capture_default_str();
+  cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");
+  cmd->add_option("--out", args->out, "Dataset CSV to write")->required();
+  cmd->add_flag("--record-derivatives", args->record_derivatives,
+                "Chain models: also write qd_<joint>, qdd_<joint>, the exact derivatives (a rig that logs them)")
+      ->group("Chain models");
+  cmd->add_option("--coulomb-v0", args->coulomb_v0_radps,
+                  "Chain models: Coulomb friction -fc tanh(qd / v0), rad/s; 0 = -fc sgn(qd), the regressor's own shape "
+                  "(default: the model's exoid_coulomb_v0)")
+      ->check(CLI::NonNegativeNumber)->group("Chain models");
+  cmd->add_option("--lock", args->lock,
+                  "Chain models: joints locked at the trajectory's offset, e.g. --lock hip,knee for the segmental "
+                  "strategy's ankle record (their recorded torque is the motor's holding command; identify --stage "
+                  "leaves it out)")
+      ->delimiter(',')->group("Chain models");
+  cmd->add_option("--bandwidth", args->bandwidth_hz, "Chain models: PD tracking bandwidth per joint, Hz")
+      ->check(positiveNumber())->capture_default_str()->group("Chain models");
+  args->cmd = cmd;
+  cmd->callback([args] { runSimulate(*args); });
+}
+
+void addTruthCommand(CLI::App& app) {
+  auto args = std::make_shared<TruthArgs>();
+  CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF (default: the built-in leg).");
+  cmd->add_option("--model", args->model,
+                  "MJCF model: apal (default), leg3 or a file; for a robot other than the APAL leg, its standard and base\n"
+                  "parameters (as identify --model fits them)")
+      ->transform([](const std::string& s) { return sim::modelPathFor(s); })
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--urdf", args->urdf, "URDF of the rigid links (e.g. models/apal_leg.urdf)")->check(CLI::ExistingFile);
+  cmd->add_option("--fc-hip", args->variant.fc_hip_Nm, "Override hip Coulomb friction, N m");
+  cmd->add_option("--fv-hip", args->variant.fv_hip_Nms, "Override hip viscous friction, N m s/rad");
+  cmd->add_option("--fc-knee", args->variant.fc_knee_Nm, "Override knee Coulomb friction, N m");
+  cmd->add_option("--fv-knee", args->variant.fv_knee_Nms, "Override knee viscous friction, N m s/rad");
+  cmd->add_option("--json", args->json_out, "Also write {\"parameters\": {...}} here");
+  cmd->callback([args] { runTruth(*args); });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,124 @@
+// `exoid sweep` and `exoid merge`: the grid of conditions x seeds x methods, and its shards.
+#include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/sweep/sweep_config.hpp"
+#include "exoid/experiments/sweep/sweep_runner.hpp"
+#include "exoid/sim/data_dir.hpp"
+
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace exoid::experiments {
+
+namespace {
+
+struct SweepArgs {
+  std::string config = sim::dataPath("configs/default_sweep.toml");
+  SweepRunOptions run;
+  std::optional<int> seeds;
+  std::optional<std::uint64_t> master_seed;
+  std::vector<std::string> methods;
+  std::vector<double> noise_tau, noise_q, quantisation, vibration, cylinder;
+  std::vector<std::string> trajectories;
+  std::optional<double> duration_s;
+  std::optional<long> pso_iterations;
+  std::string shard;
+};
+
+void runSweepCommand(const SweepArgs& a) {
+  SweepConfig c = loadSweepConfig(a.config);
+  auto list = [&c](const std::vector<double>& v, std::vector<double>& target, const char* key, const char* flag) {
+    if (v.empty()) return;
+    target = v;
+    c.origin[key] = flag;
+  };
+  list(a.noise_tau, c.torque_noise_Nm, "grid.torque_noise_Nm", "--noise-tau");
+  list(a.noise_q, c.angle_noise_deg, "grid.angle_noise_deg", "--noise-q-deg");
+  list(a.quantisation, c.quantisation_deg, "grid.quantisation_deg", "--quantisation-deg");
+  list(a.vibration, c.vibration_level, "grid.vibration_level", "--vibration");
+  list(a.cylinder, c.cylinder_mass_scale, "grid.cylinder_mass_scale", "--cylinder-mass-scale");
+  if (!a.trajectories.empty()) {
+    c.trajectories = a.trajectories;
+    c.origin["grid.trajectories"] = "--trajectories";
+  }
+  if (a.seeds) {
+    c.seeds = *a.seeds;
+    c.origin["sweep.seeds"] = "--seeds";
+  }
+  if (a.master_seed) {
+    c.master_seed = *a.master_seed;
+    c.origin["sweep.master_seed"] = "--master-seed";
+  }
+  if (!a.methods.empty()) {
+    c.methods.clear();
+    for (const std::string& m : a.methods) {
+      try {
+        c.methods.push_back(parseVariant(m));
+      } catch (const std::invalid_argument& e) {
+        throw SweepConfigError(std::string("'sweep.methods' (--methods): ") + e.what());
+      }
+    }
+    c.origin["sweep.methods"] = "--methods";
+  }
+  if (a.duration_s) c.base.sim.duration_s = *a.duration_s;
+  if (a.pso_iterations) c.base.methods.rls_pso.pso.max_iterations = *a.pso_iterations;
+  c.validate();
+  SweepRunOptions o = a.run;
+  if (!a.shard.empty()) {
+    o.shard = parseShard(a.shard);
+  } else if (const auto env = shardFromEnvironment()) {
+    o.shard = *env;
+  }
+  runSweep(c, o, std::cout);
+}
+
+struct MergeArgs {
+  std::string out;
+  std::vector<std::string> shards;
+  bool plots = true;
+};
+
+}  // namespace
+
+void addSweepCommand(CLI::App& app) {
+  auto a = std::make_shared<SweepArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "sweep",
+      "Run the protocol (as `exoid reproduce`) over a grid of conditions (torque noise, angle noise and\n"
+      "quantisation, vibration, cylinder mass) x seeds x methods, and summarise with 95 % CIs, paired\n"
+      "Wilcoxon tests against LS and the Cramer-Rao bound. Resumable (same command again), shardable\n"
+      "(--shard K/N or a Slurm array), deterministic for any thread count. See experiments/SWEEP.md.");
+  cmd->add_option("--config", a->config, "Sweep TOML")->capture_default_str();
+  cmd->add_option("--out", a->run.out, "Results folder (resumes when it holds the same sweep)")->capture_default_str();
+  cmd->add_option("--threads", a->run.threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
+  cmd->add_option("--shard", a->shard, "Run shard K/N: cells with cell % N == K (default: from SLURM_ARRAY_TASK_ID/COUNT)");
+  cmd->add_flag("!--no-plots", a->run.plots, "Skip the figures");
+  const char* o = "Overrides of the config file";
+  cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell, 1 to 1e6")->check(CLI::Range(1, 1000000))->group(o);
+  cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->check(seedValidator())->group(o);
+  cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults)")->delimiter(',')->group(o);
+  cmd->add_option("--noise-tau", a->noise_tau, "[grid] torque_noise_Nm levels, e.g. 0,0.5")->delimiter(',')->group(o);
+  cmd->add_option("--noise-q-deg", a->noise_q, "[grid] angle_noise_deg levels")->delimiter(',')->group(o);
+  cmd->add_option("--quantisation-deg", a->quantisation, "[grid] quantisation_deg levels")->delimiter(',')->group(o);
+  cmd->add_option("--vibration", a->vibration, "[grid] vibration_level levels")->delimiter(',')->group(o);
+  cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
+  cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs)")
+      ->delimiter(',')->group(o);
+  cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(positiveNumber())->group(o);
+  cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(positiveNumber())->group(o);
+  cmd->callback([a] { runSweepCommand(*a); });
+}
+
+void addMergeCommand(CLI::App& app) {
+  auto a = std::make_shared<MergeArgs>();
+  CLI::App* cmd = app.add_subcommand("merge",
+                                     "Combine the folders of `exoid sweep --shard K/N` runs into one, identical to a\n"
+                                     "single-process sweep (runs.csv, summary.*).");
+  cmd->add_option("--out", a->out, "Merged results folder")->required();
+  cmd->add_option("shards", a->shards, "Shard folders")->required()->check(CLI::ExistingDirectory);
+  cmd->add_flag("!--no-plots", a->plots, "Skip the figures");
+  cmd->callback([a] { mergeSweeps(a->shards, a->out, a->plots, std::cout); });
+}
+
+}  // namespace exoid::experiments

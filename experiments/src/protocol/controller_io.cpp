@@ -1,0 +1,149 @@
+#include "exoid/experiments/protocol/controller_io.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace exoid::experiments {
+
+namespace {
+
+double parseNumber(const std::string& text, const std::string& where) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) throw std::invalid_argument(where + ": expected a number, got '" + text + "'");
+  return v;
+}
+
+std::string required(const ident::Dataset& d, const std::string& key, const std::string& source) {
+  const auto v = d.metadata(key);
+  if (!v) {
+    throw std::invalid_argument(source + ": no '# " + key + ": ...' metadata line; IDIM-IV needs the controller the log "
+                                "was recorded under (give --controller FILE.json for a real rig)");
+  }
+  return *v;
+}
+
+Eigen::Vector2d pairOf(const std::string& text, const std::string& where) {
+  const auto comma = text.find(',');
+  if (comma == std::string::npos) throw std::invalid_argument(where + ": expected 'hip,knee', got '" + text + "'");
+  return {parseNumber(text.substr(0, comma), where), parseNumber(text.substr(comma + 1), where)};
+}
+
+bool boolOf(const std::string& text, const std::string& where) {
+  if (text == "true") return true;
+  if (text == "false") return false;
+  throw std::invalid_argument(where + ": expected true or false, got '" + text + "'");
+}
+
+}  // namespace
+
+ident::ControllerModel controllerFromMetadata(const ident::Dataset& d, const std::string& source) {
+  ident::ControllerModel c;
+  const auto key = [&](const std::string& k) { return required(d, k, source); };
+  const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
+  c.pid.kp_Nm_per_rad = pairOf(key("controller_kp_Nm_per_rad"), where("controller_kp_Nm_per_rad"));
+  c.pid.ki_Nm_per_rad_s = pairOf(key("controller_ki_Nm_per_rad_s"), where("controller_ki_Nm_per_rad_s"));
+  c.pid.kd_Nms_per_rad = pairOf(key("controller_kd_Nms_per_rad"), where("controller_kd_Nms_per_rad"));
+  c.pid.derivative_cutoff_hz = parseNumber(key("controller_derivative_cutoff_Hz"), where("controller_derivative_cutoff_Hz"));
+  c.pid.integral_limit_Nm = parseNumber(key("controller_integral_limit_Nm"), where("controller_integral_limit_Nm"));
+  c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
+  c.locked = {boolOf(key("hip_locked"), where("hip_locked")), false};
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+  return c;
+}
+
+ident::ControllerModel readControllerJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
+  static const char* const known[] = {"kp", "ki", "kd", "derivative_cutoff_hz", "integral_limit_Nm", "feedforward", "hip_locked"};
+  for (const auto& [k, v] : j.items()) {
+    bool ok = false;
+    for (const char* name : known) ok = ok || k == name;
+    if (!ok) throw std::invalid_argument(path + ": unknown field '" + k + "' (expected kp, ki, kd, derivative_cutoff_hz, integral_limit_Nm, feedforward, hip_locked)");
+  }
+  const auto pair = [&](const char* name, bool needed) -> Eigen::Vector2d {
+    if (!j.contains(name)) {
+      if (needed) throw std::invalid_argument(path + ": missing '" + name + "' ([hip, knee])");
+      return Eigen::Vector2d::Zero();
+    }
+    const auto& v = j[name];
+    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number()) {
+      throw std::invalid_argument(path + ": '" + name + "' must be [hip, knee] numbers");
+    }
+    return {v[0].get<double>(), v[1].get<double>()};
+  };
+  ident::ControllerModel c;
+  c.pid.kp_Nm_per_rad = pair("kp", true);
+  c.pid.ki_Nm_per_rad_s = pair("ki", false);
+  c.pid.kd_Nms_per_rad = pair("kd", true);
+  const auto number = [&](const char* name, double fallback) {
+    if (!j.contains(name)) return fallback;
+    if (!j[name].is_number()) throw std::invalid_argument(path + ": '" + name + "' must be a number");
+    return j[name].get<double>();
+  };
+  c.pid.derivative_cutoff_hz = number("derivative_cutoff_hz", 0.0);
+  c.pid.integral_limit_Nm = number("integral_limit_Nm", 1e300);
+  if (j.contains("feedforward")) {
+    if (!j["feedforward"].is_string()) throw std::invalid_argument(path + ": 'feedforward' must be \"model\" or \"none\"");
+    try {
+      c.feedforward = ident::parseFeedforward(j["feedforward"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": 'feedforward': " + e.what());
+    }
+  } else {
+    c.feedforward = ident::Feedforward::kNone;
+  }
+  if (j.contains("hip_locked")) {
+    if (!j["hip_locked"].is_boolean()) throw std::invalid_argument(path + ": 'hip_locked' must be true or false");
+    c.locked = {j["hip_locked"].get<bool>(), false};
+  }
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  return c;
+}
+
+ident::Reference referenceOf(const ident::Dataset& d, const std::string& source) {
+  Eigen::MatrixX2d q(d.size(), 2);
+  for (int j = 0; j < 2; ++j) {
+    const std::string name = j == 0 ? "q_hip_ref" : "q_knee_ref";
+    bool found = false;
+    for (const auto& n : d.extra_names) found = found || n == name;
+    if (!found) {
+      throw std::invalid_argument(source + ": no '" + name + "' column; IDIM-IV simulates the controller tracking "
+                                  "its reference and needs q_hip_ref and q_knee_ref (rad)");
+    }
+    q.col(j) = d.extraColumn(name);
+  }
+  return ident::referenceFromAngles(d.t_s, q);
+}
+
+ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
+                                         const ident::ProcessedRecord& rows, const std::string& controller_json,
+                                         bool knee_only_record) {
+  ident::ClosedLoopRecord r;
+  r.measured = rows;
+  r.controller = controller_json.empty() ? controllerFromMetadata(d, source) : readControllerJson(controller_json);
+  r.reference = referenceOf(d, source);
+  if (knee_only_record) r.controller.locked = {true, false};
+  return r;
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,346 @@
+#include "exoid/experiments/protocol/identification.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/ident/leg/plausibility.hpp"
+
+#include "exoid/experiments/version.hpp"
+#include "exoid/core/atomic_file.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <stdexcept>
+
+namespace exoid::experiments {
+
+using ident::kNumParams;
+
+bool MethodOutcome::usable() const {
+  for (const Stage& s : stages) {
+    if (!ident::usable(s.estimate.summary.status)) return false;
+  }
+  return !stages.empty();
+}
+
+std::string MethodOutcome::problems() const {
+  std::string out;
+  for (const Stage& s : stages) {
+    if (!ident::usable(s.estimate.summary.status)) {
+      out += (out.empty() ? "" : "; ") + s.name + " stage: " + ident::toString(s.estimate.summary.status) +
+             ": " + s.estimate.summary.message;
+    }
+  }
+  return out;
+}
+
+std::vector<BoundHit> boxBoundHits(const MethodOutcome& m) {
+  std::vector<BoundHit> hits;
+  if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) return hits;
+  for (const Stage& st : m.stages) {
+    if (!st.estimate.box) continue;
+    const ident::Box& b = *st.estimate.box;
+    for (std::size_t k = 0; k < st.indices.size(); ++k) {
+      const auto K = static_cast<Eigen::Index>(k);
+      const double v = st.estimate.x[K], tol = 1e-9 * (b.upper[K] - b.lower[K]);
+      if (v > b.lower[K] + tol && v < b.upper[K] - tol) continue;
+      hits.push_back({st.name, st.indices[k], v, b.lower[K], b.upper[K]});
+    }
+  }
+  return hits;
+}
+
+std::string describe(const BoundHit& h) {
+  return std::string(ident::paramName(h.param)) + " = " + core::formatNumber(h.value, 6) + " is on its box's bound [" +
+         core::formatNumber(h.lower, 6) + ", " + core::formatNumber(h.upper, 6) + "]";
+}
+
+double MethodOutcome::wallTime_s() const {
+  double t = 0.0;
+  for (const Stage& s : stages) t += s.estimate.summary.wall_time_s;
+  return t;
+}
+
+namespace {
+std::vector<int> range(int first, int count) {
+  std::vector<int> v(static_cast<std::size_t>(count));
+  std::iota(v.begin(), v.end(), first);
+  return v;
+}
+
+// Rank-deficiency messages name columns of the stage's problem; name the parameters instead.
+void nameColumns(Stage& s) {
+  auto& e = s.estimate;
+  if (e.unidentifiable.empty()) return;
+  std::string names;
+  for (Eigen::Index c : e.unidentifiable) {
+    names += (names.empty() ? "" : ", ") +
+             std::string(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
+  }
+  e.summary.message += " (not identifiable from this record: " + names + ")";
+}
+}  // namespace
+
+namespace {
+// Checks x against the physical conditions, leaving out what the stages could not identify.
+void checkPlausibility(MethodOutcome& out) {
+  std::vector<int> not_estimated;
+  for (const Stage& st : out.stages) {
+    for (Eigen::Index c : st.estimate.unidentifiable) not_estimated.push_back(st.indices[static_cast<std::size_t>(c)]);
+  }
+  out.implausible = ident::implausibilities(out.x, not_estimated);
+  if (out.knee_armature && !(*out.knee_armature >= 0.0)) {
+    out.implausible.push_back("Ia2 = " + core::toText(*out.knee_armature) + " kg m^2 must be >= 0 (an inertia)");
+  }
+}
+}  // namespace
+
+namespace {
+// The outcome of one estimate of all parameters (10, or 11 with the knee armature last).
+MethodOutcome allOutcome(ident::Method m, ident::Estimate e, bool knee_armature) {
+  MethodOutcome out;
+  out.method = m;
+  Stage st{"all", range(0, kNumParams + (knee_armature ? 1 : 0)), std::move(e)};
+  nameColumns(st);
+  out.x = st.estimate.x.head(kNumParams);
+  if (knee_armature) out.knee_armature = st.estimate.x[ident::kKneeArmature];
+  out.stages.push_back(std::move(st));
+  checkPlausibility(out);
+  return out;
+}
+
+// The outcome of the segmental strategy's two stages.
+MethodOutcome segmentalOutcome(ident::Method m, const ident::SegmentalResult& r) {
+  MethodOutcome out;
+  out.method = m;
+  out.x = r.x;
+  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
+  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
+  for (Stage& st : out.stages) nameColumns(st);
+  checkPlausibility(out);
+  return out;
+}
+}  // namespace
+
+MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
+                          bool knee_armature) {
+  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
+  const ident::SegmentalProblem all = ident::bothEquations(r, knee_armature);
+  return allOutcome(m, ident::estimate(m, all.H, all.y, o), knee_armature);
+}
+
+MethodOutcome identifyAll(ident::Estimate e, bool knee_armature) {
+  const ident::Method m = e.method;
+  return allOutcome(m, std::move(e), knee_armature);
+}
+
+MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
+                          const ident::MethodOptions& o) {
+  return identifyAll(m, ident::regressorRecord(s, c), o);
+}
+
+std::vector<std::string> ConsistencyStep::withinNoise() const {
+  std::vector<std::string> out;
+  for (const ident::ConsistencyCheck& k : fit.checks) {
+    if (!k.violated() || k.significant(significance_sigmas)) continue;
+    out.push_back(k.name + " (value " + core::formatNumber(k.value, 4) + ", " +
+                  (std::isinf(k.standard_error) ? std::string("standard error unknown") : core::formatNumber(-k.t(), 3) + " standard errors outside") + ")");
+  }
+  return out;
+}
+
+void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+                      const ident::ConsistencyOptions& options) {
+  if (m.stages.size() != 1 || m.stages.front().name != "all") {
+    throw std::invalid_argument("applyConsistency: needs a fit of all parameters at once (one stage 'all')");
+  }
+  const bool armature = m.knee_armature.has_value();
+  const ident::SegmentalProblem p = ident::bothEquations(r, armature);
+  const Eigen::VectorXd x = m.stages.front().estimate.x;
+  // Rank, conditioning: reported as not usable already; the plain plausibility rule stays.
+  if (!ident::usable(m.stages.front().estimate.summary.status)) return;
+  ConsistencyStep step;
+  step.unconstrained = x;
+  step.significance_sigmas = options.significance_sigmas;
+  // One channel, both equations of a sample one step (their residuals are correlated).
+  const Eigen::MatrixXd cov = ident::residualCovariance(p.H, p.y - p.H * x, ident::interleavedChannels(p.H.rows(), 1), -1, 2);
+  step.std_err = cov.diagonal().cwiseSqrt();
+  step.fit = ident::solveConsistentLeastSquares(p.H, p.y, c.thigh_length_m, x, cov, options);
+  m.x = step.fit.x.head(kNumParams);
+  if (armature) m.knee_armature = step.fit.x[ident::kKneeArmature];
+  m.implausible = step.significant();
+  m.consistency = std::move(step);
+}
+
+MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
+                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o) {
+  return segmentalOutcome(m, ident::identifySegmental(m, knee_record, both_record, o));
+}
+
+MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
+                                const ident::JointSignals& both_record, const ident::LegConstants& c,
+                                const ident::MethodOptions& o) {
+  return identifySegmented(m, ident::regressorRecord(knee_record, c), ident::regressorRecord(both_record, c), o);
+}
+
+MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
+                                      const ident::LegConstants& c, const ident::SignalOptions& signals,
+                                      const ident::IvOptions& options) {
+  return segmentalOutcome(ident::Method::kIdimIv, ident::identifySegmentalIv(knee_record, both_record, c, signals, options));
+}
+
+MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
+                                const ident::SignalOptions& signals, const ident::IvOptions& options,
+                                bool knee_armature) {
+  return allOutcome(ident::Method::kIdimIv, ident::identifyAllIv(record, c, signals, options, knee_armature), knee_armature);
+}
+
+Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature) {
+  return {ident::torqueError(r.tau_Nm.col(0), r.hip * x),
+          ident::torqueError(r.tau_Nm.col(1), r.knee * x + knee_armature * r.knee_armature)};
+}
+
+Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c) {
+  return validate(ident::regressorRecord(s, c), x);
+}
+
+nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t k = 0; k < indices.size(); ++k) {
+    j[std::string(ident::paramName(indices[k]))] = values[static_cast<Eigen::Index>(k)];
+  }
+  return j;
+}
+
+nlohmann::json paramsJson(const ident::ParamVector& x) { return paramsJson(x, range(0, kNumParams)); }
+
+ident::ParamVector paramsFromJson(const nlohmann::json& j, const std::string& where) {
+  if (!j.is_object()) throw std::invalid_argument(where + ": expected an object of the 10 parameters by name");
+  ident::ParamVector x;
+  for (int i = 0; i < kNumParams; ++i) {
+    const std::string name(ident::paramName(i));
+    if (!j.contains(name)) throw std::invalid_argument(where + ": missing parameter '" + name + "'");
+    if (!j[name].is_number()) throw std::invalid_argument(where + "." + name + ": expected a number");
+    x[i] = j[name].get<double>();
+  }
+  for (const auto& [key, value] : j.items()) {
+    if (ident::paramIndex(key) < 0) {
+      throw std::invalid_argument(where + ": unknown parameter '" + key + "' (expected Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2)");
+    }
+  }
+  return x;
+}
+
+nlohmann::json toJson(const ident::TorqueErrorStats& s) {
+  return {{"mean_abs_Nm", s.mean_abs}, {"std_abs_Nm", s.std_abs}, {"rms_Nm", s.rms}, {"max_abs_Nm", s.max_abs}};
+}
+
+nlohmann::json toJson(const Validation& v) { return {{"hip", toJson(v.hip)}, {"knee", toJson(v.knee)}}; }
+
+nlohmann::json toJson(const ident::ParamError& e) {
+  const auto all = range(0, static_cast<int>(e.abs.size()));
+  return {{"abs", paramsJson(e.abs, all)}, {"rel", paramsJson(e.rel, all)}, {"norm_rel", e.norm_rel},
+          {"max_abs_rel", e.max_abs_rel}};
+}
+
+nlohmann::json toJson(const Stage& s, bool with_history) {
+  const ident::Estimate& e = s.estimate;
+  nlohmann::json j = {{"stage", s.name},
+                      {"parameters", paramsJson(e.x, s.indices)},
+                      {"status", ident::toString(e.summary.status)},
+                      {"message", e.summary.message},
+                      {"iterations", e.summary.iterations},
+                      {"l1_cost", e.l1_cost},
+                      {"wall_time_s", e.summary.wall_time_s}};
+  if (e.rank) j["rank"] = *e.rank;
+  if (e.condition_number) j["condition_number"] = *e.condition_number;
+  if (!e.unidentifiable.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    for (Eigen::Index c : e.unidentifiable) names.push_back(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
+    j["unidentifiable"] = names;
+  }
+  if (e.box) j["box"] = {{"lower", paramsJson(e.box->lower, s.indices)}, {"upper", paramsJson(e.box->upper, s.indices)}};
+  if (e.optimum_l1_cost) {
+    j["optimum_l1_cost"] = *e.optimum_l1_cost;
+    j["optimality_gap_rel"] = *e.optimality_gap_rel;
+  }
+  if (e.optimum_box_l1_cost) {
+    j["optimum_box_l1_cost"] = *e.optimum_box_l1_cost;
+    j["optimality_gap_box_rel"] = *e.optimality_gap_box_rel;
+  }
+  if (e.method == ident::Method::kIdimIv) {
+    // IDIM-IV's history is its steps, in standard errors of each parameter (largest over them).
+    j["iv_steps_in_standard_errors"] = e.cost_history;
+  } else if (!e.cost_history.empty()) {
+    j["initial_cost"] = e.summary.initial_cost;
+    if (with_history) j["best_cost_history"] = e.cost_history;
+  }
+  return j;
+}
+
+nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
+  nlohmann::json stages = nlohmann::json::array();
+  for (const Stage& s : m.stages) stages.push_back(toJson(s, with_history));
+  nlohmann::json j = {{"method", ident::toString(m.method)},
+                      {"parameters", paramsJson(m.x)},
+                      {"usable", m.usable()},
+                      {"physically_plausible", m.implausible.empty()},
+                      {"implausible", m.implausible},
+                      {"wall_time_s", m.wallTime_s()},
+                      {"stages", stages}};
+  if (m.knee_armature) j["knee_armature"] = {{"Ia2", *m.knee_armature}, {"unit", "kg m^2"}};
+  if (m.consistency) {
+    const ConsistencyStep& cs = *m.consistency;
+    nlohmann::json checks = nlohmann::json::array();
+    for (const ident::ConsistencyCheck& k : cs.fit.checks) {
+      checks.push_back({{"condition", k.name}, {"value", k.value},
+                        {"standard_error", std::isfinite(k.standard_error) ? nlohmann::json(k.standard_error) : nlohmann::json(nullptr)},
+                        {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
+    }
+    nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object();
+    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
+      const std::string name(ident::paramName(static_cast<int>(i)));
+      un[name] = cs.unconstrained[i];
+      se[name] = std::isfinite(cs.std_err[i]) ? nlohmann::json(cs.std_err[i]) : nlohmann::json(nullptr);
+    }
+    j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
+                        {"unconstrained_parameters", un}, {"standard_errors", se},
+                        {"standard_errors_from", "the fit's residuals, Newey-West (Bartlett weights, automatic lag), per joint"},
+                        {"checks", checks}};
+  }
+  return j;
+}
+
+std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open truth file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
+  std::map<std::string, ident::ParamVector> out;
+  if (j.contains("parameters")) {
+    out["truth"] = paramsFromJson(j["parameters"], path + ": parameters");
+  } else if (j.contains("truth") && j["truth"].is_object()) {
+    for (const auto& [name, t] : j["truth"].items()) {
+      if (t.is_object() && t.contains("parameters")) {
+        out[name] = paramsFromJson(t["parameters"], path + ": truth." + name + ".parameters");
+      }
+    }
+  }
+  if (out.empty()) {
+    throw std::invalid_argument(path + ": expected {\"parameters\": {...}} or {\"truth\": {\"<name>\": {\"parameters\": {...}}}}");
+  }
+  return out;
+}
+
+nlohmann::json toolJson() { return {{"name", "exoid"}, {"version", kVersion}, {"revision", kGitRevision}}; }
+
+void writeJsonFile(const std::string& path, const nlohmann::json& j) {
+  core::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,320 @@
+#include "exoid/experiments/sweep/sweep_config.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
+
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/protocol/reproduce.hpp"
+#include "exoid/core/random.hpp"
+#include "exoid/sim/sidecar.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <sstream>
+
+namespace exoid::experiments {
+
+namespace {
+
+std::string where(const SweepConfig& c, const std::string& key) {
+  const auto it = c.origin.find(key);
+  return it == c.origin.end() ? "'" + key + "'" : "'" + key + "' (" + it->second + ")";
+}
+
+void checkList(const SweepConfig& c, const std::string& key, const std::vector<double>& v, double lo, double hi) {
+  if (v.empty()) throw SweepConfigError(where(c, key) + ": the grid list is empty (give at least one level)");
+  for (double x : v) {
+    if (!std::isfinite(x)) throw SweepConfigError(where(c, key) + ": levels must be finite, got " + core::formatNumber(x, 17));
+    if (x < lo) throw SweepConfigError(where(c, key) + ": levels must be >= " + core::formatNumber(lo, 17) + ", got " + core::formatNumber(x, 17));
+    if (x > hi) throw SweepConfigError(where(c, key) + ": levels must be <= " + core::formatNumber(hi, 17) + ", got " + core::formatNumber(x, 17));
+  }
+  if (std::set<double>(v.begin(), v.end()).size() != v.size()) {
+    throw SweepConfigError(where(c, key) + ": levels must be distinct");
+  }
+}
+
+std::string at(const std::string& file, const toml::source_region& s) {
+  return file + ":" + core::toText(s.begin.line) + ":" + core::toText(s.begin.column);
+}
+
+// Typed readers: each records the origin and throws naming the key on a wrong type.
+struct Reader {
+  const std::string& file;
+  SweepConfig& c;
+
+  std::string loc(const toml::node& n) const { return at(file, n.source()); }
+
+  double number(const toml::node& n, const std::string& key) {
+    c.origin[key] = loc(n);
+    if (auto v = n.value<double>(); v && (n.is_floating_point() || n.is_integer())) return *v;
+    throw SweepConfigError("'" + key + "' (" + loc(n) + "): expected a number");
+  }
+  std::int64_t integer(const toml::node& n, const std::string& key) {
+    c.origin[key] = loc(n);
+    if (n.is_integer()) return *n.value<std::int64_t>();
+    throw SweepConfigError("'" + key + "' (" + loc(n) + "): expected an integer");
+  }
+  bool boolean(const toml::node& n, const std::string& key) {
+    c.origin[key] = loc(n);
+    if (n.is_boolean()) return *n.value<bool>();
+    throw SweepConfigError("'" + key + "' (" + loc(n) + "): expected true or false");
+  }
+  std::vector<double> numbers(const toml::node& n, const std::string& key) {
+    c.origin[key] = loc(n);
+    std::vector<double> out;
+    if (n.is_integer() || n.is_floating_point()) return {number(n, key)};
+    const toml::array* a = n.as_array();
+    if (!a) throw SweepConfigError("'" + key + "' (" + loc(n) + "): expected an array of numbers");
+    for (const toml::node& e : *a) {
+      if (!(e.is_integer() || e.is_floating_point())) {
+        throw SweepConfigError("'" + key + "' (" + at(file, e.source()) + "): expected an array of numbers");
+      }
+      out.push_back(*e.value<double>());
+    }
+    c.origin[key] = loc(n);
+    return out;
+  }
+  std::vector<std::string> strings(const toml::node& n, const std::string& key) {
+    c.origin[key] = loc(n);
+    const toml::array* a = n.as_array();
+    if (!a) throw SweepConfigError("'" + key + "' (" + loc(n) + "): expected an array of strings");
+    std::vector<std::string> out;
+    for (const toml::node& e : *a) {
+      if (!e.is_string()) throw SweepConfigError("'" + key + "' (" + at(file, e.source()) + "): expected an array of strings");
+      out.push_back(*e.value<std::string>());
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+SweepConfig::SweepConfig() {
+  base = defaultReproduceConfig();
+  base.sim.duration_s = 5.0;
+  // Every PSO and RLS-PSO result carries its optimality gaps (unconstrained and over its box).
+}
+
+void SweepConfig::validate() const {
+  checkList(*this, "grid.torque_noise_Nm", torque_noise_Nm, 0.0, 1e3);
+  checkList(*this, "grid.angle_noise_deg", angle_noise_deg, 0.0, 90.0);
+  checkList(*this, "grid.quantisation_deg", quantisation_deg, 0.0, 90.0);
+  checkList(*this, "grid.vibration_level", vibration_level, 0.0, 20.0);
+  checkList(*this, "grid.cylinder_mass_scale", cylinder_mass_scale, 0.0, 10.0);
+  if (trajectories.empty()) throw SweepConfigError(where(*this, "grid.trajectories") + ": the grid list is empty (\"paper\", \"optimised\")");
+  for (const std::string& t : trajectories) {
+    if (t != "paper" && t != "optimised") {
+      throw SweepConfigError(where(*this, "grid.trajectories") + ": expected \"paper\" or \"optimised\", got \"" + t + "\"");
+    }
+  }
+  if (std::set<std::string>(trajectories.begin(), trajectories.end()).size() != trajectories.size()) {
+    throw SweepConfigError(where(*this, "grid.trajectories") + ": levels must be distinct");
+  }
+  const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
+  if (optimised && !(optimised_knee && optimised_both)) {
+    throw SweepConfigError(where(*this, "grid.trajectories") +
+                           ": \"optimised\" needs both designs: set [simulation] excitation_knee and excitation_both "
+                           "(exoid excite files; exoid ships experiments/configs/excitation_knee.json and excitation_both.json)");
+  }
+
+  if (seeds < 1 || seeds > 1000000) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + core::toText(seeds));
+  }
+  // Bounded before anything is allocated per run (a job list of 2^31 runs exhausts memory).
+  constexpr double kMaxRuns = 1e7;
+  if (static_cast<double>(numCells()) * seeds > kMaxRuns) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + core::toText(numCells()) + " cells x " +
+                           core::toText(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
+  }
+  if (methods.empty()) throw SweepConfigError(where(*this, "sweep.methods") + ": name at least one method");
+  if (std::set<Variant>(methods.begin(), methods.end()).size() != methods.size()) {
+    throw SweepConfigError(where(*this, "sweep.methods") + ": methods must be distinct");
+  }
+  try {
+    for (const SweepCondition& cond : conditions()) protocolFor(cond, 1).validate();
+  } catch (const std::invalid_argument& e) {
+    throw SweepConfigError(std::string("invalid [simulation]/[identification] setting: ") + e.what());
+  }
+}
+
+std::vector<SweepCondition> SweepConfig::conditions() const {
+  std::vector<SweepCondition> out;
+  for (const std::string& traj : trajectories)
+    for (double cyl : cylinder_mass_scale)
+      for (double vib : vibration_level)
+        for (double qn : angle_noise_deg)
+          for (double qq : quantisation_deg)
+            for (double tn : torque_noise_Nm) out.push_back({tn, qn, qq, vib, cyl, traj});
+  return out;
+}
+
+std::uint64_t SweepConfig::jobSeed(int cell, int replicate) const {
+  // Trajectories vary slowest: cells of one level are a contiguous block, and the same position
+  // in every block is the same noise condition.
+  const int per_level = numCells() / static_cast<int>(std::max<std::size_t>(trajectories.size(), 1));
+  return core::deriveSeed(core::deriveSeed(master_seed, static_cast<std::uint64_t>(cell % per_level)),
+                            static_cast<std::uint64_t>(replicate));
+}
+
+ProtocolConfig SweepConfig::protocolFor(const SweepCondition& c, std::uint64_t seed) const {
+  ProtocolConfig p = base;
+  p.sim.sensors.noise_tau_Nm = c.torque_noise_Nm;
+  p.sim.sensors.noise_q_deg = c.angle_noise_deg;
+  p.sim.sensors.quantisation_deg = c.quantisation_deg;
+  p.sim.variant.vibration_level = c.vibration_level;
+  p.sim.variant.cylinder_mass_scale = c.cylinder_mass_scale;
+  p.seed = seed;
+  p.variants = methods;
+  if (c.trajectories == "optimised") {
+    p.knee_excitation = optimised_knee;
+    p.both_excitation = optimised_both;
+  }
+  return p;
+}
+
+nlohmann::json toJson(const SweepCondition& c) {
+  return {{"torque_noise_Nm", c.torque_noise_Nm},
+          {"angle_noise_deg", c.angle_noise_deg},
+          {"quantisation_deg", c.quantisation_deg},
+          {"vibration_level", c.vibration_level},
+          {"cylinder_mass_scale", c.cylinder_mass_scale},
+          {"trajectories", c.trajectories}};
+}
+
+nlohmann::json SweepConfig::toJson() const {
+  nlohmann::json j;
+  j["grid"] = {{"torque_noise_Nm", torque_noise_Nm},
+               {"angle_noise_deg", angle_noise_deg},
+               {"quantisation_deg", quantisation_deg},
+               {"vibration_level", vibration_level},
+               {"cylinder_mass_scale", cylinder_mass_scale},
+               {"trajectories", trajectories}};
+  std::vector<std::string> names;
+  for (Variant v : methods) names.emplace_back(toString(v));
+  j["sweep"] = {{"seeds", seeds}, {"master_seed", master_seed}, {"methods", names}, {"cells", numCells()},
+                {"design", "full factorial of the grid lists; torque noise varies fastest; a paper cell and its optimised "
+                           "twin share seeds"}};
+  nlohmann::json simj = sim::configJson(base.sim);
+  for (const char* k : {"seed", "trajectory"}) simj.erase(k);  // set per job / per record
+  // Designed identification records change every result: their coefficients are part of the config.
+  const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
+  if (optimised && optimised_knee) simj["excitation_knee"] = experiments::toJson(toFourierTrajectory(*optimised_knee));
+  if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(toFourierTrajectory(*optimised_both));
+  j["simulation"] = simj;
+  j["signal_options"] = experiments::toJson(base.signals);
+  j["method_options"] = experiments::toJson(base.methods);
+  return j;
+}
+
+SweepConfig loadSweepConfig(const std::string& path) {
+  toml::table t;
+  try {
+    t = toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw SweepConfigError(at(path, e.source()) + ": " + std::string(e.description()));
+  }
+  SweepConfig c;
+  Reader r{path, c};
+  static const std::map<std::string, std::set<std::string>> kKnown = {
+      {"sweep", {"seeds", "master_seed", "methods"}},
+      {"grid", {"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}},
+      {"simulation", {"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}},
+      {"identification", {"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}}};
+  for (const auto& [section, node] : t) {
+    const std::string s(section.str());
+    const auto known = kKnown.find(s);
+    if (known == kKnown.end()) {
+      throw SweepConfigError("unknown section '" + s + "' (" + at(path, node.source()) +
+                             "); expected [sweep], [grid], [simulation] or [identification]");
+    }
+    const toml::table* tab = node.as_table();
+    if (!tab) throw SweepConfigError("'" + s + "' (" + at(path, node.source()) + "): expected a table [" + s + "]");
+    for (const auto& [k, v] : *tab) {
+      const std::string key(k.str());
+      if (!known->second.count(key)) {
+        std::string list;
+        for (const std::string& n : known->second) list += (list.empty() ? "" : ", ") + n;
+        throw SweepConfigError("unknown key '" + s + "." + key + "' (" + at(path, v.source()) + "); [" + s + "] keys: " + list);
+      }
+      const std::string full = s + "." + key;
+      if (full == "sweep.seeds") {
+        const std::int64_t n = r.integer(v, full);
+        if (n < 1 || n > 1000000) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be in [1, 1e6], got " + core::toText(n));
+        c.seeds = static_cast<int>(n);
+      } else if (full == "sweep.master_seed") {
+        const std::int64_t n = r.integer(v, full);
+        if (n < 0) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 0");
+        c.master_seed = static_cast<std::uint64_t>(n);
+      } else if (full == "sweep.methods") {
+        c.methods.clear();
+        for (const std::string& m : r.strings(v, full)) {
+          try {
+            c.methods.push_back(parseVariant(m));
+          } catch (const std::invalid_argument& e) {
+            throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+          }
+        }
+      } else if (full == "grid.torque_noise_Nm") {
+        c.torque_noise_Nm = r.numbers(v, full);
+      } else if (full == "grid.angle_noise_deg") {
+        c.angle_noise_deg = r.numbers(v, full);
+      } else if (full == "grid.quantisation_deg") {
+        c.quantisation_deg = r.numbers(v, full);
+      } else if (full == "grid.vibration_level") {
+        c.vibration_level = r.numbers(v, full);
+      } else if (full == "grid.cylinder_mass_scale") {
+        c.cylinder_mass_scale = r.numbers(v, full);
+      } else if (full == "grid.trajectories") {
+        c.trajectories = r.strings(v, full);
+      } else if (full == "simulation.duration_s") {
+        c.base.sim.duration_s = r.number(v, full);
+        if (!(c.base.sim.duration_s > 0)) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be > 0");
+      } else if (full == "simulation.ramp_s") {
+        c.base.sim.ramp_s = r.number(v, full);
+      } else if (full == "simulation.dt_s") {
+        c.base.sim.dt_s = r.number(v, full);
+      } else if (full == "simulation.feedforward") {
+        c.base.sim.feedforward = r.boolean(v, full);
+      } else if (full == "simulation.excitation_knee" || full == "simulation.excitation_both") {
+        // A design file of `exoid excite`, relative to the config file's folder unless absolute.
+        const std::optional<std::string> file = v.value<std::string>();
+        if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
+        const std::filesystem::path fp(*file);
+        const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(path).parent_path() / fp).string();
+        try {
+          const sim::FourierSpec spec = toFourierSpec(readExcitationFile(resolved));
+          (full == "simulation.excitation_knee" ? c.optimised_knee : c.optimised_both) = spec;
+        } catch (const std::invalid_argument& e) {
+          throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+        }
+      } else if (full == "identification.pso_iterations") {
+        const std::int64_t n = r.integer(v, full);
+        if (n < 1) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 1");
+        c.base.methods.rls_pso.pso.max_iterations = static_cast<long>(n);
+      } else if (full == "identification.swarm") {
+        const std::int64_t n = r.integer(v, full);
+        if (n < 2) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 2");
+        c.base.methods.rls_pso.pso.swarm_size = static_cast<int>(n);
+      } else if (full == "identification.pso_tolerance") {
+        c.base.methods.rls_pso.pso.cost_tolerance = r.number(v, full);
+      } else if (full == "identification.optimality_gap") {
+        c.base.methods.report_optimality_gap = r.boolean(v, full);
+      } else if (full == "identification.wide_box") {
+        c.base.methods.wide_box_half_width = r.number(v, full);
+      } else if (full == "identification.cutoff_hz") {
+        c.base.signals.cutoff_hz = r.number(v, full);
+      } else if (full == "identification.filter") {
+        c.base.signals.filter = r.boolean(v, full);
+      }
+    }
+  }
+  c.validate();
+  return c;
+}
+
+}  // namespace exoid::experiments

@@ -1,0 +1,130 @@
+#include "exoid/ident/estimators/pso.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/core/random.hpp"
+#include "exoid/ident/estimators/stopwatch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace exoid::ident {
+
+const char* toString(BoundaryPolicy p) { return p == BoundaryPolicy::kClamp ? "clamp" : "reflect"; }
+
+void PsoOptions::validate() const {
+  auto fail = [](const char* name, const std::string& range, double v) {
+    throw std::invalid_argument(std::string("'") + name + "' must be " + range + ", got " +
+                                core::toText(v));
+  };
+  if (swarm_size < 2) fail("swarm_size", ">= 2", swarm_size);
+  if (max_iterations < 1) fail("max_iterations", ">= 1", static_cast<double>(max_iterations));
+  if (!(cost_tolerance >= 0.0)) fail("cost_tolerance", ">= 0", cost_tolerance);
+  if (!(w_max > 0.0 && w_max < 2.0)) fail("w_max", "in (0, 2)", w_max);
+  if (!(w_min > 0.0 && w_min <= w_max)) fail("w_min", "in (0, w_max]", w_min);
+  if (!(c1 >= 0.0 && std::isfinite(c1))) fail("c1", ">= 0", c1);
+  if (!(c2 >= 0.0 && std::isfinite(c2))) fail("c2", ">= 0", c2);
+  if (!(velocity_fraction > 0.0 && velocity_fraction <= 1.0)) fail("velocity_fraction", "in (0, 1]", velocity_fraction);
+}
+
+PsoResult minimizePso(const BatchCost& cost, const Box& box, const PsoOptions& o) {
+  o.validate();
+  box.validate();
+  Stopwatch clock;
+  const Eigen::Index p = box.dim();
+  const Eigen::Index S = o.swarm_size;
+  const Eigen::VectorXd vmax = o.velocity_fraction * (box.upper - box.lower);
+  core::Rng rng(o.seed);
+
+  Eigen::MatrixXd x(p, S), v(p, S);
+  for (Eigen::Index j = 0; j < S; ++j) {
+    for (Eigen::Index k = 0; k < p; ++k) {
+      x(k, j) = rng.uniform(box.lower[k], box.upper[k]);
+      v(k, j) = rng.uniform(-vmax[k], vmax[k]);
+    }
+  }
+  Eigen::VectorXd f(S);
+  cost(x, f);
+  Eigen::MatrixXd pbest = x;
+  Eigen::VectorXd pbest_f = f;
+  Eigen::Index g;
+  double gbest_f = pbest_f.minCoeff(&g);
+  Eigen::VectorXd gbest = pbest.col(g);
+
+  PsoResult r;
+  r.evaluations = S;
+  r.summary.initial_cost = gbest_f;
+  if (o.keep_history) {
+    r.best_cost_history.reserve(static_cast<std::size_t>(o.max_iterations) + 1);
+    r.best_cost_history.push_back(gbest_f);
+  }
+  bool failed = false;
+  auto nonFinite = [&](const char* when) {
+    failed = true;
+    r.summary.status = Status::kFailed;
+    r.summary.message = std::string("cost returned NaN or Inf ") + when;
+  };
+  if (!f.allFinite()) nonFinite("at initialisation");
+
+  long it = 0;
+  const double span = o.max_iterations > 1 ? static_cast<double>(o.max_iterations - 1) : 1.0;
+  while (!failed && gbest_f >= o.cost_tolerance && it < o.max_iterations) {
+    const double w = o.w_max - (o.w_max - o.w_min) * static_cast<double>(it) / span;
+    for (Eigen::Index j = 0; j < S; ++j) {
+      for (Eigen::Index k = 0; k < p; ++k) {
+        const double r1 = rng.uniform(), r2 = rng.uniform();
+        double vk = w * v(k, j) + o.c1 * r1 * (pbest(k, j) - x(k, j)) + o.c2 * r2 * (gbest[k] - x(k, j));
+        vk = std::clamp(vk, -vmax[k], vmax[k]);
+        double xk = x(k, j) + vk;
+        if (xk < box.lower[k] || xk > box.upper[k]) {
+          const double bound = xk < box.lower[k] ? box.lower[k] : box.upper[k];
+          if (o.boundary == BoundaryPolicy::kClamp) {
+            xk = bound;
+          } else {
+            xk = std::clamp(2.0 * bound - xk, box.lower[k], box.upper[k]);
+            vk = -vk;
+          }
+        }
+        x(k, j) = xk;
+        v(k, j) = vk;
+      }
+    }
+    cost(x, f);
+    r.evaluations += S;
+    ++it;
+    if (!f.allFinite()) {
+      nonFinite("during the search");
+      break;
+    }
+    for (Eigen::Index j = 0; j < S; ++j) {
+      if (f[j] < pbest_f[j]) {
+        pbest_f[j] = f[j];
+        pbest.col(j) = x.col(j);
+        if (f[j] < gbest_f) {
+          gbest_f = f[j];
+          gbest = x.col(j);
+        }
+      }
+    }
+    if (o.keep_history) r.best_cost_history.push_back(gbest_f);
+  }
+
+  r.x = gbest;
+  r.cost = gbest_f;
+  r.summary.iterations = it;
+  r.summary.final_cost = gbest_f;
+  if (!failed) {
+    if (gbest_f < o.cost_tolerance) {
+      r.summary.status = Status::kConverged;
+      r.summary.message = "best cost below cost_tolerance after " + core::toText(it) + " iterations";
+    } else {
+      r.summary.status = Status::kMaxIterations;
+      r.summary.message = "stopped at max_iterations = " + core::toText(o.max_iterations);
+    }
+  }
+  r.summary.wall_time_s = clock.seconds();
+  return r;
+}
+
+}  // namespace exoid::ident

@@ -1,0 +1,238 @@
+#include "exoid/ident/leg/closed_loop.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/ident/signals/signals.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace exoid::ident {
+
+const char* toString(Feedforward f) { return f == Feedforward::kModel ? "model" : "none"; }
+
+Feedforward parseFeedforward(const std::string& name) {
+  if (name == "model") return Feedforward::kModel;
+  if (name == "none") return Feedforward::kNone;
+  throw std::invalid_argument("unknown feedforward '" + name + "' (expected none or model)");
+}
+
+namespace {
+[[noreturn]] void bad(const std::string& field, double value, const char* expected) {
+  std::ostringstream ss;
+  ss.precision(17);
+  ss << "controller: '" << field << "' must be " << expected << ", got " << value;
+  throw std::invalid_argument(ss.str());
+}
+}  // namespace
+
+void ControllerModel::validate() const {
+  const char* joint[2] = {"[hip]", "[knee]"};
+  for (int j = 0; j < 2; ++j) {
+    if (!(std::isfinite(pid.kp_Nm_per_rad[j]) && pid.kp_Nm_per_rad[j] >= 0)) bad(std::string("kp") + joint[j], pid.kp_Nm_per_rad[j], "finite and >= 0");
+    if (!(std::isfinite(pid.ki_Nm_per_rad_s[j]) && pid.ki_Nm_per_rad_s[j] >= 0)) bad(std::string("ki") + joint[j], pid.ki_Nm_per_rad_s[j], "finite and >= 0");
+    if (!(std::isfinite(pid.kd_Nms_per_rad[j]) && pid.kd_Nms_per_rad[j] >= 0)) bad(std::string("kd") + joint[j], pid.kd_Nms_per_rad[j], "finite and >= 0");
+  }
+  if (!(std::isfinite(pid.derivative_cutoff_hz) && pid.derivative_cutoff_hz >= 0)) bad("derivative_cutoff_hz", pid.derivative_cutoff_hz, ">= 0 (0 = unfiltered)");
+  if (!(pid.integral_limit_Nm > 0)) bad("integral_limit_Nm", pid.integral_limit_Nm, "> 0");
+  for (int j = 0; j < 2; ++j) {
+    if (!locked[static_cast<std::size_t>(j)] && !(pid.kp_Nm_per_rad[j] > 0)) {
+      bad(std::string("kp") + joint[j], pid.kp_Nm_per_rad[j], "> 0 for a joint that is not locked (nothing else holds it on the reference)");
+    }
+  }
+  if (locked[0] && locked[1]) throw std::invalid_argument("controller: both joints locked: nothing moves");
+}
+
+void Reference::validate() const {
+  const Eigen::Index n = t_s.size();
+  if (q_rad.rows() != n || qd_radps.rows() != n || qdd_radps2.rows() != n) {
+    throw std::invalid_argument("reference: t, q, qd and qdd must have the same number of samples");
+  }
+  if (n < 5) throw std::invalid_argument("reference: need >= 5 samples, got " + core::toText(n));
+  if (!t_s.allFinite() || !q_rad.allFinite() || !qd_radps.allFinite() || !qdd_radps2.allFinite()) {
+    throw std::invalid_argument("reference contains a NaN or Inf value");
+  }
+  const double dt = (t_s[n - 1] - t_s[0]) / static_cast<double>(n - 1);
+  for (Eigen::Index i = 1; i < n; ++i) {
+    if (!(std::abs(t_s[i] - t_s[i - 1] - dt) <= 1e-3 * dt)) {
+      throw std::invalid_argument("reference: sampling is not uniform at sample " + core::toText(i));
+    }
+  }
+}
+
+Reference referenceFromAngles(const Eigen::VectorXd& t_s, const Eigen::MatrixX2d& q_ref_rad) {
+  if (t_s.size() != q_ref_rad.rows() || t_s.size() < 5) {
+    throw std::invalid_argument("reference: need >= 5 samples of t and both reference angles");
+  }
+  Reference r;
+  r.t_s = t_s;
+  r.q_rad = q_ref_rad;
+  const double dt = (t_s[t_s.size() - 1] - t_s[0]) / static_cast<double>(t_s.size() - 1);
+  r.qd_radps = differentiate(q_ref_rad, dt, Differentiation::kCentral4);
+  r.qdd_radps2 = differentiate(r.qd_radps, dt, Differentiation::kCentral4);
+  r.validate();
+  return r;
+}
+
+namespace {
+
+// The model's dynamics from its regressor: tau = M(q) qdd + h(q, qd).
+class RigidModel {
+ public:
+  RigidModel(const ParamVector& x, const LegConstants& c, double knee_armature) : x_(x), c_(c), ia2_(knee_armature) {}
+  Eigen::Vector2d torque(const Eigen::Vector2d& q, const Eigen::Vector2d& qd, const Eigen::Vector2d& qdd) const {
+    regressorRows(c_, q, qd, qdd, hip_, knee_);
+    return {hip_.dot(x_), knee_.dot(x_) + ia2_ * qdd[1]};
+  }
+  Eigen::Matrix2d mass(const Eigen::Vector2d& q) const {
+    const Eigen::Vector2d g = torque(q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
+    Eigen::Matrix2d m;
+    m.col(0) = torque(q, Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitX()) - g;
+    m.col(1) = torque(q, Eigen::Vector2d::Zero(), Eigen::Vector2d::UnitY()) - g;
+    return m;
+  }
+
+ private:
+  ParamVector x_;
+  LegConstants c_;
+  double ia2_;
+  mutable RegressorRow hip_, knee_;
+};
+
+std::string at(double t) {
+  std::ostringstream ss;
+  ss.precision(6);
+  ss << " at t = " << t << " s";
+  return ss.str();
+}
+
+}  // namespace
+
+ClosedLoopRun simulateClosedLoop(const ParamVector& x, const LegConstants& c, const ControllerModel& ctl,
+                                 const Reference& ref, double knee_armature_kgm2) {
+  c.validate();
+  ctl.validate();
+  ref.validate();
+  if (!x.allFinite()) throw std::invalid_argument("closed loop: the parameters contain a NaN or Inf value");
+  if (!std::isfinite(knee_armature_kgm2)) throw std::invalid_argument("closed loop: the knee armature is not finite");
+  const RigidModel model(x, c, knee_armature_kgm2);
+  const Eigen::Index n = ref.size();
+  const double dt = (ref.t_s[n - 1] - ref.t_s[0]) / static_cast<double>(n - 1);
+  const double alpha = ctl.pid.derivative_cutoff_hz > 0 ? dt / (dt + 1.0 / (2 * M_PI * ctl.pid.derivative_cutoff_hz)) : 1.0;
+  const bool free_joint[2] = {!ctl.locked[0], !ctl.locked[1]};
+
+  ClosedLoopRun run;
+  JointSignals& s = run.states;
+  s.t_s = ref.t_s;
+  s.q_rad.resize(n, 2);
+  s.qd_radps.resize(n, 2);
+  s.qdd_radps2.resize(n, 2);
+  s.tau_Nm.resize(n, 2);
+
+  Eigen::Vector2d q = ref.q_rad.row(0).transpose(), qd = ref.qd_radps.row(0).transpose();
+  // Substeps for the stiffest loop at the start: omega = max(sqrt(kp / Mjj), kd / Mjj).
+  const Eigen::Matrix2d m0 = model.mass(q);
+  double omega = 0.0;
+  for (int j = 0; j < 2; ++j) {
+    if (!free_joint[j]) continue;
+    if (!(m0(j, j) > 0)) {
+      run.message = std::string("the model's mass matrix is not positive definite (M") + (j == 0 ? "11" : "22") + " = " +
+                    core::toText(m0(j, j)) + at(ref.t_s[0]) + ")";
+      return run;
+    }
+    omega = std::max({omega, std::sqrt(ctl.pid.kp_Nm_per_rad[j] / m0(j, j)), ctl.pid.kd_Nms_per_rad[j] / m0(j, j)});
+  }
+  const int substeps = std::max(1, static_cast<int>(std::ceil(omega * dt / 0.05)));
+  const double h = dt / substeps;
+
+  auto feedforward = [&](Eigen::Index i) -> Eigen::Vector2d {
+    if (ctl.feedforward == Feedforward::kNone) return Eigen::Vector2d::Zero();
+    return model.torque(ref.q_rad.row(i).transpose(), ref.qd_radps.row(i).transpose(), ref.qdd_radps2.row(i).transpose());
+  };
+  // As if the controller had held the initial pose before the record: an integral term holds the
+  // gravity torque the feedforward leaves to it (all of it without feedforward, none with the
+  // model's own); without an integral term nothing is preloaded.
+  Eigen::Vector2d integral = Eigen::Vector2d::Zero();
+  if (ctl.feedforward == Feedforward::kNone) {
+    const Eigen::Vector2d gravity = model.torque(q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero());
+    for (int j = 0; j < 2; ++j) {
+      if (ctl.pid.ki_Nm_per_rad_s[j] > 0) integral[j] = std::clamp(gravity[j], -ctl.pid.integral_limit_Nm, ctl.pid.integral_limit_Nm);
+    }
+  }
+  Eigen::Vector2d e_prev = Eigen::Vector2d::Zero(), e_dot = Eigen::Vector2d::Zero();
+
+  for (Eigen::Index i = 0; i < n; ++i) {
+    // Controller update at the sample (zero-order hold until the next one).
+    Eigen::Vector2d u = feedforward(i);
+    for (int j = 0; j < 2; ++j) {
+      const double e = ref.q_rad(i, j) - q[j];
+      const double e_dot_raw = i == 0 ? 0.0 : (e - e_prev[j]) / dt;
+      e_dot[j] += alpha * (e_dot_raw - e_dot[j]);
+      e_prev[j] = e;
+      if (i > 0) integral[j] = std::clamp(integral[j] + ctl.pid.ki_Nm_per_rad_s[j] * e * dt, -ctl.pid.integral_limit_Nm, ctl.pid.integral_limit_Nm);
+      u[j] += ctl.pid.kp_Nm_per_rad[j] * e + integral[j] + ctl.pid.kd_Nms_per_rad[j] * e_dot[j];
+    }
+    Eigen::Vector2d qdd = Eigen::Vector2d::Zero();
+    for (int k = 0; k < substeps; ++k) {
+      // Locked joints follow the reference (interpolated within the sample).
+      for (int j = 0; j < 2; ++j) {
+        if (free_joint[j]) continue;
+        const Eigen::Index i1 = std::min<Eigen::Index>(i + 1, n - 1);
+        const double w = static_cast<double>(k) / substeps;
+        q[j] = (1 - w) * ref.q_rad(i, j) + w * ref.q_rad(i1, j);
+        qd[j] = (1 - w) * ref.qd_radps(i, j) + w * ref.qd_radps(i1, j);
+        qdd[j] = (1 - w) * ref.qdd_radps2(i, j) + w * ref.qdd_radps2(i1, j);
+      }
+      const Eigen::Matrix2d m = model.mass(q);
+      // M qdd = u - h  over the free joints, the locked joints' accelerations given.
+      Eigen::Vector2d qdd_free = qdd;
+      for (int j = 0; j < 2; ++j) {
+        if (free_joint[j]) qdd_free[j] = 0.0;
+      }
+      const Eigen::Vector2d rhs = u - model.torque(q, qd, qdd_free);
+      if (free_joint[0] && free_joint[1]) {
+        const Eigen::LLT<Eigen::Matrix2d> llt(m);
+        if (llt.info() != Eigen::Success || !(m.determinant() > 0)) {
+          run.message = "the model's mass matrix is not positive definite" + at(ref.t_s[i]);
+          return run;
+        }
+        qdd = llt.solve(rhs);
+      } else {
+        const int j = free_joint[0] ? 0 : 1;
+        if (!(m(j, j) > 0)) {
+          run.message = std::string("the model's mass matrix is not positive definite (M") + (j == 0 ? "11" : "22") + " <= 0" +
+                        at(ref.t_s[i]) + ")";
+          return run;
+        }
+        qdd[j] = rhs[j] / m(j, j);
+      }
+      if (k == 0) {
+        s.q_rad.row(i) = q.transpose();
+        s.qd_radps.row(i) = qd.transpose();
+        s.qdd_radps2.row(i) = qdd.transpose();
+        s.tau_Nm.row(i) = u.transpose();
+      }
+      for (int j = 0; j < 2; ++j) {
+        if (!free_joint[j]) continue;
+        qd[j] += h * qdd[j];
+        q[j] += h * qd[j];
+      }
+    }
+    const Eigen::Index i1 = std::min<Eigen::Index>(i + 1, n - 1);
+    for (int j = 0; j < 2; ++j) {
+      if (!(std::abs(q[j] - ref.q_rad(i1, j)) <= 1.0)) {
+        run.message = std::string("the model cannot follow the reference: the ") + (j == 0 ? "hip" : "knee") +
+                      " is more than 1 rad off" + at(ref.t_s[i1]);
+        return run;
+      }
+    }
+  }
+  run.ok = true;
+  return run;
+}
+
+}  // namespace exoid::ident

@@ -1,0 +1,353 @@
+#include "exoid/ident/signals/preprocess.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/ident/signals/band.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+namespace exoid::ident {
+
+const char* toString(Processing p) { return p == Processing::kParallel ? "parallel" : "paper"; }
+
+const char* toString(BaseTerms b) {
+  switch (b) {
+    case BaseTerms::kOff: return "off";
+    case BaseTerms::kAuto: return "auto";
+    case BaseTerms::kOn: return "on";
+  }
+  return "unknown";
+}
+
+namespace {
+const char* const kBaseColumns[3] = {"base_acc_x", "base_acc_z", "base_gyro_y"};
+}
+
+bool hasBaseColumns(const Dataset& d) {
+  for (const char* name : kBaseColumns) {
+    if (std::find(d.extra_names.begin(), d.extra_names.end(), name) == d.extra_names.end()) return false;
+  }
+  return true;
+}
+
+int SignalOptions::decimationFactor(double sample_rate_hz) const {
+  if (decimation > 0) return decimation;
+  if (!filter) return 1;  // no anti-aliasing filter: keep every row
+  // The relative 1e-9 keeps a rate computed as 999.9999999 Hz from 1 kHz timestamps at factor 20.
+  return std::max(1, static_cast<int>(std::floor(sample_rate_hz / (5.0 * cutoff_hz) * (1.0 + 1e-9))));
+}
+
+void SignalOptions::validate() const {
+  if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + core::toText(decimation));
+  if (block_samples < 1) throw std::invalid_argument("'block_samples' must be >= 1, got " + core::toText(block_samples));
+  if (!(derivative_cutoff_hz >= 0.0) || !std::isfinite(derivative_cutoff_hz)) {
+    throw std::invalid_argument("'derivative_cutoff_hz' must be >= 0 (0 = no pre-filter)");
+  }
+  if (filter_order < 1 || filter_order > 8) {
+    throw std::invalid_argument("'filter_order' must be in 1..8, got " + core::toText(filter_order));
+  }
+  if (!std::isfinite(edge_trim_s)) throw std::invalid_argument("'edge_trim_s' must be finite");
+  if (base_terms == BaseTerms::kOn && processing != Processing::kParallel) {
+    throw std::invalid_argument("'base_terms' = on needs the parallel processing (the paper's has no base-motion terms)");
+  }
+  if (!(cutoff_hz > 0.0)) {
+    throw std::invalid_argument("'cutoff_hz' must be > 0, got " + core::toText(cutoff_hz));
+  }
+}
+
+void SignalOptions::validateFor(double sample_rate_hz) const {
+  validate();
+  if (!(sample_rate_hz > 0.0) || !std::isfinite(sample_rate_hz)) {
+    throw std::invalid_argument("the record's sample rate must be positive and finite, got " + core::toText(sample_rate_hz) + " Hz");
+  }
+  if (sample_rate_hz > 1e6) {
+    std::ostringstream msg;
+    msg << "the record's time step is " << 1.0 / sample_rate_hz << " s (" << sample_rate_hz
+        << " Hz): exoid processes records sampled at up to 1 MHz; is its time column in another unit (--time-unit)?";
+    throw std::invalid_argument(msg.str());
+  }
+  const double nyquist = 0.5 * sample_rate_hz;
+  auto below = [&](const char* name, double hz) {
+    if (hz < nyquist) return;
+    std::ostringstream msg;
+    msg << "'" << name << "' = " << hz << " Hz must be below the record's Nyquist frequency, " << nyquist
+        << " Hz (it is sampled at " << sample_rate_hz << " Hz)";
+    if (sample_rate_hz < 20.0) msg << "; a log sampled that slowly usually has its time column in ms or us (--time-unit ms)";
+    throw std::invalid_argument(msg.str());
+  };
+  if (filter) below("cutoff_hz", cutoff_hz);
+}
+
+long SignalOptions::edgeTrimSamples(double sample_rate_hz) const {
+  if (edge_trim_s >= 0.0) return std::lround(edge_trim_s * sample_rate_hz);
+  return filter ? std::lround(3.0 / cutoff_hz * sample_rate_hz) : 2;
+}
+
+JointSignals recordedSignals(const Dataset& d) {
+  if (!d.qd_radps || !d.qdd_radps2) {
+    throw std::invalid_argument("dataset has no qd_hip/qd_knee/qdd_hip/qdd_knee columns");
+  }
+  JointSignals s;
+  s.t_s = d.t_s;
+  s.q_rad = d.q_rad;
+  s.qd_radps = *d.qd_radps;
+  s.qdd_radps2 = *d.qdd_radps2;
+  s.tau_Nm = d.tau_Nm;
+  return s;
+}
+
+namespace {
+
+// Enough rows left once the filter's edges are trimmed and the rows decimated (a clear message, not
+// a least-squares size error later).
+void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
+  if (n - 2 * trim < 20) {
+    throw std::invalid_argument("record too short: " + core::toText(n) + " samples, and the processing trims " +
+                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
+  }
+  if ((n - 2 * trim + r - 1) / r < 20) {
+    throw std::invalid_argument("record too short: " + core::toText((n - 2 * trim + r - 1) / r) +
+                                " rows after trimming and decimating by " + core::toText(r) + "; need >= 20 (lower 'decimation')");
+  }
+}
+
+}  // namespace
+
+JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
+  const double dt = d.sampleInterval_s();
+  const double fs = 1.0 / dt;
+  o.validateFor(fs);
+  checkLength(d.size(), o.edgeTrimSamples(fs), 1);
+  const bool recorded = o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2;
+  SosFilter lowpass;
+  if (o.filter) lowpass = butterworthLowpass(o.filter_order, o.cutoff_hz, fs);
+  auto smooth = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd { return o.filter ? filtfilt(lowpass, x) : x; };
+
+  JointSignals s;
+  s.t_s = d.t_s;
+  s.q_rad = smooth(d.q_rad);
+  if (recorded) {
+    s.qd_radps = smooth(*d.qd_radps);
+    s.qdd_radps2 = smooth(*d.qdd_radps2);
+  } else if (o.use_recorded_derivatives && d.qd_radps) {  // recorded velocities only: differentiate them
+    s.qd_radps = smooth(*d.qd_radps);
+    s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
+  } else {
+    s.qd_radps = smooth(differentiate(s.q_rad, dt, o.differentiation));
+    s.qdd_radps2 = smooth(differentiate(s.qd_radps, dt, o.differentiation));
+  }
+  s.tau_Nm = o.filter && o.filter_torque ? smooth(d.tau_Nm) : Eigen::MatrixXd(d.tau_Nm);
+  return trimEdges(s, o.edgeTrimSamples(fs));
+}
+
+JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
+  const Eigen::Index keep = in.size() - 2 * trim;
+  if (trim < 0 || keep < 20) {
+    throw std::invalid_argument("record too short: " + core::toText(in.size()) + " samples, and the processing trims " +
+                                core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
+                                "needs 20 more: at least " + core::toText(2 * trim + 20) + " samples");
+  }
+  JointSignals s;
+  s.t_s = in.t_s.segment(trim, keep);
+  s.q_rad = in.q_rad.middleRows(trim, keep);
+  s.qd_radps = in.qd_radps.middleRows(trim, keep);
+  s.qdd_radps2 = in.qdd_radps2.middleRows(trim, keep);
+  s.tau_Nm = in.tau_Nm.middleRows(trim, keep);
+  if (in.base.rows() > 0) s.base = in.base.middleRows(trim, keep);
+  return s;
+}
+
+ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
+  Eigen::MatrixXd hip(s.size(), kNumParams), knee(s.size(), kNumParams);
+  jointRegressors(s, c, hip, knee);
+  return {std::move(hip), std::move(knee), s.tau_Nm, s.qdd_radps2.col(1), s};
+}
+
+namespace {
+
+// States for the parallel processing: recorded derivatives, else five-point differences of the
+// (widely pre-filtered) angles; the angles themselves unfiltered.
+JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs, Eigen::Index from, Eigen::Index to) {
+  const Eigen::Index len = to - from;
+  JointSignals s;
+  s.t_s = d.t_s.segment(from, len);
+  s.q_rad = d.q_rad.middleRows(from, len);
+  s.tau_Nm = d.tau_Nm.middleRows(from, len);
+  const double dt = 1.0 / fs;
+  const bool prefilter = o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs;
+  const bool base = o.base_terms == BaseTerms::kOn || (o.base_terms == BaseTerms::kAuto && hasBaseColumns(d));
+  if (base) {
+    if (!hasBaseColumns(d)) {
+      throw std::invalid_argument("base-motion terms requested but the dataset lacks base_acc_x, base_acc_z or base_gyro_y");
+    }
+    s.base.resize(len, 4);
+    for (int k = 0; k < 3; ++k) s.base.col(k) = d.extraColumn(kBaseColumns[k]).segment(from, len);
+    // Pitch acceleration: the gyro differentiated like the angles' first derivative.
+    Eigen::MatrixXd w = s.base.col(2);
+    if (prefilter) w = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), w);
+    s.base.col(3) = differentiate(w, dt, Differentiation::kCentral4);
+  }
+  if (o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2) {
+    s.qd_radps = d.qd_radps->middleRows(from, len);
+    s.qdd_radps2 = d.qdd_radps2->middleRows(from, len);
+    return s;
+  }
+  if (o.use_recorded_derivatives && d.qd_radps) {  // recorded velocities only: differentiate them
+    s.qd_radps = d.qd_radps->middleRows(from, len);
+    Eigen::MatrixXd qd = s.qd_radps;
+    if (prefilter) qd = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), qd);
+    s.qdd_radps2 = differentiate(qd, dt, Differentiation::kCentral4);
+    return s;
+  }
+  Eigen::MatrixXd q = s.q_rad;
+  if (prefilter) q = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), q);
+  s.qd_radps = differentiate(q, dt, Differentiation::kCentral4);
+  s.qdd_radps2 = differentiate(s.qd_radps, dt, Differentiation::kCentral4);
+  return s;
+}
+
+}  // namespace
+
+namespace {
+
+// A record of n rows, every field sized (states too; base-motion columns when `base`).
+ProcessedRecord allocated(Eigen::Index n, bool base) {
+  ProcessedRecord out;
+  out.hip.resize(n, kNumParams);
+  out.knee.resize(n, kNumParams);
+  out.tau_Nm.resize(n, 2);
+  out.knee_armature.resize(n);
+  JointSignals& st = out.states;
+  st.t_s.resize(n);
+  st.q_rad.resize(n, 2);
+  st.qd_radps.resize(n, 2);
+  st.qdd_radps2.resize(n, 2);
+  st.tau_Nm.resize(n, 2);
+  if (base) st.base.resize(n, 4);
+  return out;
+}
+
+// Hip rows, knee rows, torques and the armature column side by side, through the parallel filter
+// (one pass over all): N x 23.
+Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const SignalOptions& o, double fs) {
+  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
+  jointRegressors(s, c, all.leftCols(kNumParams), all.middleCols(kNumParams, kNumParams));
+  all.middleCols(2 * kNumParams, 2) = s.tau_Nm;
+  all.col(2 * kNumParams + 2) = s.qdd_radps2.col(1);
+  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  return all;
+}
+
+// The rows of `all` (and the states) at local indices first, first + r, ... <= last.
+ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
+  const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
+  ProcessedRecord out = allocated(m, s.base.rows() > 0);
+  JointSignals& st = out.states;
+  for (Eigen::Index k = 0; k < m; ++k) {
+    const Eigen::Index i = first + k * r;
+    out.hip.row(k) = all.row(i).segment(0, kNumParams);
+    out.knee.row(k) = all.row(i).segment(kNumParams, kNumParams);
+    out.tau_Nm.row(k) = all.row(i).segment(2 * kNumParams, 2);
+    out.knee_armature[k] = all(i, 2 * kNumParams + 2);
+    st.t_s[k] = s.t_s[i];
+    st.q_rad.row(k) = s.q_rad.row(i);
+    st.qd_radps.row(k) = s.qd_radps.row(i);
+    st.qdd_radps2.row(k) = s.qdd_radps2.row(i);
+    if (s.base.rows() > 0) st.base.row(k) = s.base.row(i);
+  }
+  st.tau_Nm = out.tau_Nm;
+  return out;
+}
+
+}  // namespace
+
+Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) {
+  // Twenty periods of the slowest filter's cutoff: its impulse response (and the pre-filter's)
+  // has decayed below 1e-15 there (a 2nd-order Butterworth's pole radius at 10 Hz, 1 kHz is
+  // 0.957: 0.957^2000 ~ 1e-38), so a block's own edges do not reach the rows it keeps.
+  double slowest = o.filter ? o.cutoff_hz : sample_rate_hz;
+  if (o.derivative_cutoff_hz > 0.0) slowest = std::min(slowest, o.derivative_cutoff_hz);
+  return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
+}
+
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) {
+  return parallelStates(d, o, 1.0 / d.sampleInterval_s(), 0, d.size());
+}
+
+ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& options) {
+  if (options.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, options), c);
+  const SignalOptions o = resolveSignalOptions(d, c, options);
+  const double fs = 1.0 / d.sampleInterval_s();
+  o.validateFor(fs);
+  const Eigen::Index n = d.size();
+  const Eigen::Index margin = parallelBlockMargin(o, fs), block = std::max<Eigen::Index>(o.block_samples, 4 * margin);
+  if (n <= block + 2 * margin) return parallelProcess(parallelStates(d, o, fs, 0, n), c, o, fs);
+  // A long log, a block at a time with `margin` samples of context on each side: memory stays
+  // bounded by the block, and the kept rows are the full-length ones to rounding (the margin).
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  const int r = o.decimationFactor(fs);
+  checkLength(n, trim, r);
+  std::vector<ProcessedRecord> parts;
+  for (Eigen::Index a = 0; a < n; a += block) {
+    const Eigen::Index b = std::min(n, a + block), lo = std::max<Eigen::Index>(0, a - margin), hi = std::min(n, b + margin);
+    // Kept global rows: trim + k r within [a, b) and [trim, n - trim).
+    const Eigen::Index first_g = std::max(a, trim), last_g = std::min(b, n - trim) - 1;
+    if (last_g < first_g) continue;
+    const Eigen::Index first_k = first_g + (r - (first_g - trim) % r) % r;
+    if (first_k > last_g) continue;
+    const JointSignals s = parallelStates(d, o, fs, lo, hi);
+    parts.push_back(selectRows(filteredRows(s, c, o, fs), s, first_k - lo, last_g - lo, r));
+  }
+  return stackRecords(parts);
+}
+
+ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, const SignalOptions& o,
+                                double sample_rate_hz) {
+  o.validateFor(sample_rate_hz);
+  const double fs = sample_rate_hz;
+  const Eigen::Index trim = o.edgeTrimSamples(fs);
+  const int r = o.decimationFactor(fs);
+  checkLength(s.size(), trim, r);
+  return selectRows(filteredRows(s, c, o, fs), s, trim, s.size() - trim - 1, r);
+}
+
+ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {
+  if (records.empty()) throw std::invalid_argument("stackRecords: no records");
+  if (records.size() == 1) return records.front();
+  Eigen::Index n = 0;
+  const bool base = records.front().states.base.rows() > 0;
+  for (const ProcessedRecord& r : records) {
+    if ((r.states.base.rows() > 0) != base) {
+      throw std::invalid_argument("stackRecords: some records have base-motion columns and others not");
+    }
+    n += r.size();
+  }
+  ProcessedRecord out = allocated(n, base);
+  JointSignals& st = out.states;
+  Eigen::Index at = 0;
+  for (const ProcessedRecord& r : records) {
+    const Eigen::Index m = r.size();
+    out.hip.middleRows(at, m) = r.hip;
+    out.knee.middleRows(at, m) = r.knee;
+    out.tau_Nm.middleRows(at, m) = r.tau_Nm;
+    out.knee_armature.segment(at, m) = r.knee_armature.size() == m ? r.knee_armature : Eigen::VectorXd::Zero(m);
+    if (r.states.size() != m) throw std::invalid_argument("stackRecords: a record's states do not align with its rows");
+    {
+      st.t_s.segment(at, m) = r.states.t_s;
+      st.q_rad.middleRows(at, m) = r.states.q_rad;
+      st.qd_radps.middleRows(at, m) = r.states.qd_radps;
+      st.qdd_radps2.middleRows(at, m) = r.states.qdd_radps2;
+      st.tau_Nm.middleRows(at, m) = r.states.tau_Nm;
+      if (base) st.base.middleRows(at, m) = r.states.base;
+    }
+    at += m;
+  }
+  return out;
+}
+
+}  // namespace exoid::ident
