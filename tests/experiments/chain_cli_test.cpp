@@ -54,10 +54,10 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
   // RLS (P0 = 1e6 I) within its prior's pull, 1e-6 of the largest parameter.
   const std::string out3 = dir + "/leg3_methods.json";
   testing::internal::CaptureStdout();
-  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "ls,rls,lad", "--json", out3}), 0);
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "ls,rls,lad,iv-band", "--json", out3}), 0);
   testing::internal::GetCapturedStdout();
   const nlohmann::json mth = readJson(out3)["methods"];
-  for (const char* m : {"rls", "lad"}) {
+  for (const char* m : {"rls", "lad", "iv-band"}) {
     ASSERT_TRUE(mth.contains(m)) << m;
     for (std::size_t i = 0; i < 17; ++i) {
       EXPECT_NEAR(mth[m]["beta"][i].get<double>(), b["truth"][i].get<double>(), 1e-6 * 5.5) << m << " " << b["names"][i].get<std::string>();

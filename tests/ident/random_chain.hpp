@@ -1,7 +1,9 @@
 #pragma once
 // The chains the chain tests share: the APAL leg's planar hip-knee chain, random serial chains and
 // physically valid parameters for them.
+#include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/chain.hpp"
+#include "exoid/ident/model/chain_regressor.hpp"
 
 #include <Eigen/Geometry>
 
@@ -25,6 +27,47 @@ inline ChainModel apalChain(double Lt) {
   knee.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -Lt);
   m.joints = {hip, knee};
   return m;
+}
+
+// A sagittal hip-knee-ankle leg: the APAL chain with a foot 0.43 m below the knee.
+inline ChainModel legChain() {
+  ChainModel m = apalChain(0.45);
+  m.name = "leg";
+  ChainJoint ankle = m.joints[1];
+  ankle.name = "ankle";
+  ankle.link = "foot";
+  ankle.parent_p_joint_m = Eigen::Vector3d(0.0, 0.0, -0.43);
+  m.joints.push_back(ankle);
+  return m;
+}
+
+// An exact 1 kHz record of the chain: each joint a two-frequency motion (0.3-1.7 Hz and 2.3x that)
+// drawn from `seed`, torque = regressor x phi at the analytic states; columns t, q_<joint>, tau_<joint>.
+inline Dataset exactChainDataset(const ChainModel& m, const Eigen::VectorXd& phi, double duration_s, std::uint64_t seed) {
+  std::mt19937_64 gen(seed);
+  std::uniform_real_distribution<double> amp(0.3, 0.7), freq(0.3, 1.7), phase(0.0, 6.28);
+  const auto n = static_cast<Eigen::Index>(std::llround(duration_s * 1000.0));
+  const Eigen::Index dof = m.dof();
+  Dataset d;
+  d.joints = m.jointNames();
+  d.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  d.q_rad.resize(n, dof);
+  d.tau_Nm.resize(n, dof);
+  Eigen::MatrixXd qd(n, dof), qdd(n, dof);
+  for (Eigen::Index j = 0; j < dof; ++j) {
+    const double a1 = amp(gen), w1 = 2 * M_PI * freq(gen), p1 = phase(gen), a2 = 0.3 * amp(gen), w2 = 2.3 * w1, p2 = phase(gen);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double t = d.t_s[i];
+      d.q_rad(i, j) = a1 * std::sin(w1 * t + p1) + a2 * std::sin(w2 * t + p2);
+      qd(i, j) = a1 * w1 * std::cos(w1 * t + p1) + a2 * w2 * std::cos(w2 * t + p2);
+      qdd(i, j) = -a1 * w1 * w1 * std::sin(w1 * t + p1) - a2 * w2 * w2 * std::sin(w2 * t + p2);
+    }
+  }
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::VectorXd q = d.q_rad.row(i).transpose(), v = qd.row(i).transpose(), a = qdd.row(i).transpose();
+    d.tau_Nm.row(i) = (chainRegressor(m, q, v, a) * phi).transpose();
+  }
+  return d;
 }
 
 inline Eigen::Matrix3d randomRotation(std::mt19937_64& gen) {

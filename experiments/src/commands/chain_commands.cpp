@@ -9,6 +9,7 @@
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/chain_band_iv.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
 #include "exoid/ident/model/chain_excitation.hpp"
 #include "exoid/ident/model/chain_processing.hpp"
@@ -18,6 +19,7 @@
 #include <Eigen/Cholesky>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -280,10 +282,17 @@ int identifyChain(const ChainIdentifyArgs& a) {
   std::vector<ident::ChainRecord> records;
   nlohmann::json records_json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  // the first record's, for the validation records
+  const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
+  std::vector<ident::BandIvRows> iv_rows;  // iv-band's rows and instruments, record by record
   for (const std::string& file : a.data) {
     const ident::Dataset d = readLog(file, log);
     std::optional<ident::BandChoice> band;
     records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    if (band_iv) {
+      // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
+      const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
+      iv_rows.push_back(ident::chainBandIvRows(d, model, base, band ? ident::withBand(a.signals, *band) : a.signals, fm));
+    }
     if (!fit_signals) fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", records.back().y.size()}};
     if (band) {
@@ -307,6 +316,10 @@ int identifyChain(const ChainIdentifyArgs& a) {
   std::vector<std::pair<ident::Method, ident::Estimate>> others;
   for (ident::Method m : a.methods) {
     if (m == ident::Method::kLs) continue;
+    if (m == ident::Method::kIvBand) {
+      others.emplace_back(m, ident::solveBandIv(iv_rows, mo.ls));
+      continue;
+    }
     others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
   }
 
@@ -393,7 +406,9 @@ int identifyChain(const ChainIdentifyArgs& a) {
       }
     }
   }
-  if (!others.empty()) std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
+  if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
+    std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
+  }
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
   if (est.consistent) header.push_back("consistent");
   for (const auto& [m, e] : others) header.push_back(ident::toString(m));

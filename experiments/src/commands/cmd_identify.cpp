@@ -502,9 +502,12 @@ bool runChainModel(const IdentifyArgs& a) {
   }
   std::vector<ident::Method> methods;
   for (ident::Method m : resolveMethods(a.methods)) {
-    if (m == ident::Method::kIdimIv || m == ident::Method::kIvBand) {
+    if (m == ident::Method::kIdimIv) {
       throw CLI::ValidationError("--method", std::string(ident::toString(m)) + " is not available for a chain model yet (--model " + a.model +
-                                                 "): ls, rls, pso, rls-pso, lad are");
+                                                 "): it needs the rig's controller simulated with the chain; ls, rls, pso, rls-pso, lad, iv-band are");
+    }
+    if (m == ident::Method::kIvBand && (!a.stages.empty() || a.signals.processing != ident::Processing::kParallel)) {
+      throw CLI::ValidationError("--method iv-band", "needs one fit of --data (no --stage) and the parallel processing (its instruments are processed like the rows)");
     }
     methods.push_back(m);
   }
