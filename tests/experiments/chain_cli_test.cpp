@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -146,6 +147,42 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   EXPECT_NE(stderrOf({"identify", "--stage", "knee=" + dir + "/knee.csv", "--data", dir + "/all.csv"}, 105).find("--knee-data and --both-data"),
             std::string::npos);
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--lock", "toe", "--out", dir + "/x.csv"}, 1).find("cannot lock joint 'toe'"), std::string::npos);
+}
+
+TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBaseParameter) {
+  // reproduce --model leg3: design, records (fit, validation, one per segmental stage), one fit and
+  // the segmental strategy by LS and LAD, report.md with every base parameter. Noise-free records:
+  // LS within 2 % of the truth in median (what is left is the simulator's smooth Coulomb and the
+  // differentiated angles).
+  const std::string dir = ::testing::TempDir() + "/reproduce_leg3";
+  testing::internal::CaptureStdout();
+  const int code = runExoid({"reproduce", "--model", "leg3", "--out", dir, "--methods", "ls,lad", "--no-plots", "--noise-q-deg", "0",
+                             "--quantisation-deg", "0", "--noise-tau", "0", "--seed", "4"});
+  testing::internal::GetCapturedStdout();
+  ASSERT_EQ(code, 0);
+  for (const char* f : {"design.json", "fit.csv", "fit.json", "check.csv", "stage_ankle.csv", "stage_knee.csv", "identify.json",
+                        "segmental.json", "report.md"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  }
+  EXPECT_EQ(readJson(dir + "/stage_ankle.json")["config"]["locked"], nlohmann::json({"hip", "knee"}));
+  EXPECT_EQ(readJson(dir + "/fit.json")["config"]["seed"].get<std::uint64_t>() != readJson(dir + "/check.json")["config"]["seed"].get<std::uint64_t>(), true);
+  const nlohmann::json one = readJson(dir + "/identify.json");
+  const auto& b = one["base_parameters"];
+  std::vector<double> rel;
+  for (std::size_t i = 0; i < b["names"].size(); ++i) {
+    const double t = b["truth"][i].get<double>();
+    if (t != 0.0) rel.push_back(std::abs(b["ls"][i].get<double>() - t) / std::abs(t));
+  }
+  std::sort(rel.begin(), rel.end());
+  EXPECT_LT(rel[rel.size() / 2], 0.02);
+  EXPECT_EQ(readJson(dir + "/segmental.json")["stages"].size(), 3u);
+  std::ifstream in(dir + "/report.md");
+  const std::string report((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(report.find("| foot.Iyy |"), std::string::npos);
+  EXPECT_NE(report.find("segmental lad"), std::string::npos);
+  EXPECT_NE(report.find("seed 4"), std::string::npos);
+  EXPECT_EQ(report.find("/tmp"), std::string::npos) << "no absolute paths in the report";
+  EXPECT_NE(stderrOf({"reproduce", "--model", "leg3", "--vibration", "1", "--out", dir + "_x"}, 105).find("--vibration"), std::string::npos);
 }
 
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {

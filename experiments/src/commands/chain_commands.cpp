@@ -345,6 +345,17 @@ int identifyChain(const ChainIdentifyArgs& a) {
       vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
     }
     std::cout << "\n";
+    // Every other method's estimate on the same record: RMS torque error per joint, N m.
+    const Eigen::MatrixXd Wv = base.baseRegressor(v.W);
+    for (const auto& [m, e] : others) {
+      const Eigen::VectorXd r = v.y - Wv * e.x;
+      std::vector<double> rms(static_cast<std::size_t>(model.dof()), 0.0);
+      for (Eigen::Index k = 0; k < v.samples(); ++k) {
+        for (int j = 0; j < model.dof(); ++j) rms[static_cast<std::size_t>(j)] += r[k * model.dof() + j] * r[k * model.dof() + j];
+      }
+      for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
+      vj["methods_rms_error_Nm"][ident::toString(m)] = rms;
+    }
     validation.push_back(vj);
     if (!shown) shown = std::move(v);
   }

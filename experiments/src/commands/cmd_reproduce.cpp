@@ -1,6 +1,8 @@
 // `exoid reproduce`: the README's main job.
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/chain_reproduce.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
@@ -25,9 +27,41 @@ struct Args {
   std::vector<std::string> variants;
   std::string knee_excitation = defaultKneeExcitationPath(), both_excitation = defaultBothExcitationPath();
   bool optimised_arm = true;
+  CLI::App* cmd = nullptr;
 };
 
+// --model naming a robot other than the APAL leg: the chain protocol (chain_reproduce.hpp). The
+// APAL rig's own options are refused by name, never ignored.
+void runChain(const Args& a) {
+  for (const CLI::Option* o : a.cmd->get_options()) {
+    const std::string name = o->get_name();
+    const bool chain_ok = name == "--model" || name == "--out" || name == "--no-plots" || name == "--plots" || name == "--seed" ||
+                          name == "--methods" || name == "--duration" || name == "--dt" || name == "--noise-q-deg" ||
+                          name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video";
+    if (o->count() > 0 && !chain_ok) {
+      throw CLI::ValidationError(name, "is not an option of the chain protocol (reproduce --model " + a.config.sim.model_path +
+                                           "): it takes --out, --no-plots, --seed, --methods, --duration, --dt, --noise-q-deg, "
+                                           "--quantisation-deg, --noise-tau");
+    }
+  }
+  ChainReproduceArgs c;
+  c.out = a.out.dir;
+  c.plots = a.out.plots;
+  c.sim = chainSimConfig(a.config.sim);
+  c.seed = a.config.seed;
+  if (!a.variants.empty()) {
+    c.methods.clear();
+    for (const std::string& v : a.variants) {
+      const ident::Method m = ident::parseMethod(v);
+      if (m == ident::Method::kIdimIv) throw CLI::ValidationError("--methods", "idim-iv is not available for a chain model yet");
+      c.methods.push_back(m);
+    }
+  }
+  reproduceChain(c);
+}
+
 void run(Args a) {
+  if (!isApalLegModel(a.config.sim.model_path)) return runChain(a);
   if (!a.variants.empty()) {
     a.config.variants.clear();
     for (const std::string& v : a.variants) a.config.variants.push_back(parseVariant(v));
@@ -110,6 +144,7 @@ void addReproduceCommand(CLI::App& app) {
   // One protocol seed instead of the PSO seed: sensor noise and PSO streams derive from it.
   cmd->remove_option(cmd->get_option("--seed"));
   cmd->add_option("--seed", args->config.seed, "Protocol seed (sensor noise of each record, PSO)")->check(seedValidator())->capture_default_str();
+  args->cmd = cmd;
   cmd->callback([args] { run(*args); });
 }
 
