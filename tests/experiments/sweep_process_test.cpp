@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <fstream>
 #include <thread>
 
 namespace exoid::experiments {
@@ -115,6 +116,82 @@ TEST(SweepProcess, KilledWhileWritingTablesOrPlotsTheRerunFinishesThem) {
     ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log3")), 0);
     EXPECT_NE(slurp(d + ".log3").find("nothing to do"), std::string::npos) << slurp(d + ".log3");
   }
+}
+
+// complete.json lists every output with its size and SHA-256: a rerun never says "complete" of a
+// folder whose outputs are missing or were changed, rewrites them, or refuses with --keep-edits.
+TEST(OutputManifest, SweepRerunRewritesMissingAndEditedOutputsOrRefusesToKeepEdits) {
+  const std::string d = freshDir("manifest");
+  std::vector<std::string> args = tinySweepArgs(d);
+  args.erase(std::find(args.begin(), args.end(), "--no-plots"));  // the plots are outputs too
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log1")), 0) << slurp(d + ".log1");
+  const std::string summary = slurp(d + "/summary.md"), timing = slurp(d + "/timing.json");
+  ASSERT_TRUE(fs::exists(d + "/ratio_map.png"));
+  // The measured case: timing.json and the plots removed, the same command again.
+  fs::remove(d + "/timing.json");
+  for (const auto& e : fs::directory_iterator(d)) {
+    if (e.path().extension() == ".png") fs::remove(e.path());
+  }
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log2")), 0) << slurp(d + ".log2");
+  const std::string log2 = slurp(d + ".log2");
+  EXPECT_EQ(log2.find("nothing to do"), std::string::npos) << log2;
+  EXPECT_NE(log2.find("timing.json missing: rewriting"), std::string::npos) << log2;
+  EXPECT_NE(log2.find("ratio_map.png missing: rewriting"), std::string::npos) << log2;
+  EXPECT_TRUE(fs::exists(d + "/timing.json") && fs::exists(d + "/ratio_map.png"));
+  // Edited by hand: rewritten from the runs (the same bytes as before the edit) ...
+  std::ofstream(d + "/summary.md", std::ios::app) << "my note\n";
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log3")), 0) << slurp(d + ".log3");
+  EXPECT_NE(slurp(d + ".log3").find("summary.md changed since it was written: rewriting"), std::string::npos) << slurp(d + ".log3");
+  EXPECT_EQ(slurp(d + "/summary.md"), summary);
+  // ... or, with --keep-edits, refused by name and left as edited.
+  std::ofstream(d + "/summary.md", std::ios::app) << "my note\n";
+  std::vector<std::string> keep = args;
+  keep.push_back("--keep-edits");
+  EXPECT_NE(waitExit(spawn(binaryArgs(keep), d + ".log4")), 0);
+  EXPECT_NE(slurp(d + ".log4").find("refusing to rewrite summary.md"), std::string::npos) << slurp(d + ".log4");
+  EXPECT_EQ(slurp(d + "/summary.md"), summary + "my note\n");
+  // Intact again: nothing to do.
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log5")), 0);
+  ASSERT_EQ(waitExit(spawn(binaryArgs(args), d + ".log6")), 0);
+  EXPECT_NE(slurp(d + ".log6").find("nothing to do"), std::string::npos) << slurp(d + ".log6");
+  (void)timing;
+}
+
+TEST(OutputManifest, MergeAndReproduceSayWhatTheyRewriteAndKeepEditsOnRequest) {
+  // merge: two shards into M, M's summary edited, merged again.
+  const std::string a = freshDir("manifest_shard0"), b = freshDir("manifest_shard1"), m = freshDir("manifest_merged");
+  for (const auto& [dir, shard] : {std::pair{a, "0/2"}, std::pair{b, "1/2"}}) {
+    std::vector<std::string> args = tinySweepArgs(dir);
+    args.insert(args.end(), {"--shard", shard});
+    ASSERT_EQ(waitExit(spawn(binaryArgs(args), dir + ".log")), 0) << slurp(dir + ".log");
+  }
+  const std::vector<std::string> merge = {"merge", "--out", m, "--no-plots", a, b};
+  ASSERT_EQ(waitExit(spawn(binaryArgs(merge), m + ".log1")), 0) << slurp(m + ".log1");
+  std::ofstream(m + "/summary.csv", std::ios::app) << "edit\n";
+  std::vector<std::string> keep = merge;
+  keep.push_back("--keep-edits");
+  EXPECT_NE(waitExit(spawn(binaryArgs(keep), m + ".log2")), 0);
+  EXPECT_NE(slurp(m + ".log2").find("refusing to rewrite summary.csv"), std::string::npos) << slurp(m + ".log2");
+  ASSERT_EQ(waitExit(spawn(binaryArgs(merge), m + ".log3")), 0) << slurp(m + ".log3");
+  EXPECT_NE(slurp(m + ".log3").find("summary.csv changed since it was written: rewriting"), std::string::npos) << slurp(m + ".log3");
+  // reproduce: a previous run's report edited and a table removed.
+  const std::string r = freshDir("manifest_reproduce");
+  const std::vector<std::string> rep = {"reproduce", "--out", r, "--methods", "ls", "--no-video", "--no-plots", "--no-optimised-arm",
+                                        "--duration", "3"};
+  ASSERT_EQ(waitExit(spawn(binaryArgs(rep), r + ".log1")), 0) << slurp(r + ".log1");
+  ASSERT_NE(slurp(r + "/complete.json").find("\"sha256\""), std::string::npos);
+  const std::string report = slurp(r + "/report.md");
+  std::ofstream(r + "/report.md", std::ios::app) << "edit\n";
+  fs::remove(r + "/validation.csv");
+  std::vector<std::string> rep_keep = rep;
+  rep_keep.push_back("--keep-edits");
+  EXPECT_NE(waitExit(spawn(binaryArgs(rep_keep), r + ".log2")), 0);
+  EXPECT_NE(slurp(r + ".log2").find("refusing to rewrite report.md"), std::string::npos) << slurp(r + ".log2");
+  EXPECT_EQ(slurp(r + "/report.md"), report + "edit\n");
+  ASSERT_EQ(waitExit(spawn(binaryArgs(rep), r + ".log3")), 0) << slurp(r + ".log3");
+  EXPECT_NE(slurp(r + ".log3").find("report.md changed since it was written: rewriting"), std::string::npos) << slurp(r + ".log3");
+  EXPECT_NE(slurp(r + ".log3").find("validation.csv missing: rewriting"), std::string::npos) << slurp(r + ".log3");
+  EXPECT_TRUE(fs::exists(r + "/validation.csv"));
 }
 
 // ---- local single-node Slurm: the daemons started by hand on a scratch slurm.conf ----

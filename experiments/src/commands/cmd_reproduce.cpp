@@ -7,8 +7,12 @@
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
 #include "exoid/experiments/protocol/sim_bridge.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/report/table.hpp"
 
+#include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -27,6 +31,7 @@ struct Args {
   std::vector<std::string> variants;
   std::string knee_excitation = defaultKneeExcitationPath(), both_excitation = defaultBothExcitationPath();
   bool optimised_arm = true;
+  bool keep_edits = false;
   CLI::App* cmd = nullptr;
 };
 
@@ -35,7 +40,7 @@ struct Args {
 void runChain(const Args& a) {
   for (const CLI::Option* o : a.cmd->get_options()) {
     const std::string name = o->get_name();
-    const bool chain_ok = name == "--model" || name == "--out" || name == "--no-plots" || name == "--plots" || name == "--seed" ||
+    const bool chain_ok = name == "--model" || name == "--out" || name == "--no-plots" || name == "--plots" || name == "--seed" || name == "--keep-edits" ||
                           name == "--methods" || name == "--duration" || name == "--dt" || name == "--noise-q-deg" ||
                           name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video";
     if (o->count() > 0 && !chain_ok) {
@@ -49,6 +54,7 @@ void runChain(const Args& a) {
   c.plots = a.out.plots;
   c.sim = chainSimConfig(a.config.sim);
   c.seed = a.config.seed;
+  c.keep_edits = a.keep_edits;
   if (!a.variants.empty()) {
     c.methods.clear();
     for (const std::string& v : a.variants) {
@@ -74,6 +80,8 @@ void run(Args a) {
     optimised_config.validate();
   }
   core::prepareOutputFolder(a.out.dir);  // before the work, not after it
+  startFolderRun(a.out.dir, a.keep_edits, std::cout);
+  const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
   std::cout << "exoid reproduce: simulating trajectories 1-4 (" << a.config.sim.duration_s
             << " s each), identifying with " << a.config.variants.size() << " methods (G = "
             << a.config.methods.rls_pso.pso.max_iterations << ")...\n"
@@ -87,6 +95,7 @@ void run(Args a) {
     opt = runProtocol(optimised_config);
   }
   writeReproduceOutputs(r, a.out, opt ? &*opt : nullptr);
+  finishFolderRun(a.out.dir, started, {{"command", "reproduce"}, {"seed", a.config.seed}, {"tool", toolJson()}});
   TextTable t({"method", "torque-space err hip", "knee", "worst param err", "knee val |e| (N m)", "hip val |e| (N m)", "time (s)"});
   for (const VariantScore& s : r.scores) {
     Eigen::Index w = 0;
@@ -126,6 +135,9 @@ void addReproduceCommand(CLI::App& app) {
       "LS on stacked records), validate (knee on 2, hip on 4), and write report.md with figures.");
   cmd->add_option("--out", args->out.dir, "Results folder")->capture_default_str();
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
+  cmd->add_flag("--keep-edits", args->keep_edits,
+                "When --out holds a previous run whose outputs were changed by hand (complete.json keeps their sizes and "
+                "SHA-256): refuse, naming them, instead of rewriting them");
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_flag("--clip-raw-torque", args->out.clip_raw_torque,
                 "The clip's overlay: the raw recorded torque instead of the processed (filtered) one the methods fit");

@@ -77,6 +77,7 @@ struct MergeArgs {
   std::string out;
   std::vector<std::string> shards;
   bool plots = true;
+  bool keep_edits = false;
 };
 
 }  // namespace
@@ -94,6 +95,9 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--threads", a->run.threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--shard", a->shard, "Run shard K/N: cells with cell % N == K (default: from SLURM_ARRAY_TASK_ID/COUNT)");
   cmd->add_flag("!--no-plots", a->run.plots, "Skip the figures");
+  cmd->add_flag("--keep-edits", a->run.keep_edits,
+                "A finished folder whose outputs were changed after exoid wrote them (complete.json keeps their sizes and "
+                "SHA-256): refuse, naming them, instead of rewriting them");
   const char* o = "Overrides of the config file";
   cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell, 1 to 1e6")->check(CLI::Range(1, 1000000))->group(o);
   cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->check(seedValidator())->group(o);
@@ -118,7 +122,8 @@ void addMergeCommand(CLI::App& app) {
   cmd->add_option("--out", a->out, "Merged results folder")->required();
   cmd->add_option("shards", a->shards, "Shard folders")->required()->check(CLI::ExistingDirectory);
   cmd->add_flag("!--no-plots", a->plots, "Skip the figures");
-  cmd->callback([a] { mergeSweeps(a->shards, a->out, a->plots, std::cout); });
+  cmd->add_flag("--keep-edits", a->keep_edits, "Refuse, naming them, to rewrite outputs of --out changed by hand since exoid wrote them");
+  cmd->callback([a] { mergeSweeps(a->shards, a->out, a->plots, std::cout, a->keep_edits); });
 }
 
 }  // namespace exoid::experiments

@@ -7,12 +7,14 @@
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -56,6 +58,8 @@ double medianAbsError(const std::vector<double>& estimate, const std::vector<dou
 
 int reproduceChain(const ChainReproduceArgs& a) {
   core::prepareOutputFolder(a.out);
+  startFolderRun(a.out, a.keep_edits, std::cout);
+  const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
   const std::string dir = a.out + "/";
   const std::string model = a.sim.model_path;
   std::cout << "exoid reproduce --model " << model << ": design, " << a.sim.duration_s << " s records, identification by every method, "
@@ -165,6 +169,7 @@ int reproduceChain(const ChainReproduceArgs& a) {
   core::writeFileAtomically(dir + "report.md", [&](std::ostream& o) { o << md.str(); });
   std::cout << "\n";
   t.print(std::cout);
+  finishFolderRun(a.out, started, {{"command", "reproduce --model"}, {"seed", a.seed}, {"tool", toolJson()}});
   std::cout << "\nreport: " << dir << "report.md\n";
   return 0;
 }

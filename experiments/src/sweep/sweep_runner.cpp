@@ -7,6 +7,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/sweep/progress.hpp"
+#include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/sweep/sweep_summary.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
@@ -146,11 +147,34 @@ RunFailures writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::
   }
   writeJsonFile((dir / "timing.json").string(), timing);
   const RunFailures failures = failuresOf(jobs);
+  std::vector<std::string> outputs = {"runs.csv", "summary.json", "summary.csv", "summary.md", "timing.json"};
+  if (plots_written) {
+    for (const std::string& png : pngFilesIn(dir.string())) outputs.push_back(png);
+  }
+  // Every output with its size and SHA-256: a rerun checks them before it says "complete".
   writeJsonFile((dir / kMarker).string(), {{"runs", failures.runs}, {"failed_runs", failures.failed},
                                            {"failure_example", failures.example}, {"plots", plots_written},
-                                           {"outputs", {"runs.csv", "summary.json", "summary.csv", "summary.md", "timing.json"}},
+                                           {"outputs", outputManifest(dir.string(), outputs)},
                                            {"tool", toolJson()}});
   return failures;
+}
+
+// The outputs of a finished folder that are not as its complete.json lists them, each said; with
+// keep_edits a changed one is refused (nothing is rewritten), else all are rewritten.
+std::vector<OutputProblem> checkFinishedOutputs(const fs::path& dir, const nlohmann::json& marker, bool keep_edits, std::ostream& log) {
+  if (!marker.is_object()) return {};
+  const std::vector<OutputProblem> problems = checkOutputs(dir.string(), marker.value("outputs", nlohmann::json()));
+  std::string changed;
+  for (const OutputProblem& p : problems) {
+    if (!p.missing) changed += (changed.empty() ? "" : ", ") + p.file;
+  }
+  if (keep_edits && !changed.empty()) {
+    throw std::invalid_argument("refusing to rewrite " + changed + " in " + dir.string() +
+                                ": changed since exoid wrote them, and --keep-edits keeps hand edits (move them aside, or "
+                                "rerun without --keep-edits to have them rewritten from the runs)");
+  }
+  for (const OutputProblem& p : problems) log << p.describe() << ": rewriting\n";
+  return problems;
 }
 
 // A finished folder with failed runs still exits non-zero, however often it is rerun.
@@ -247,7 +271,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   rep.skipped = rep.jobs - static_cast<long>(pending.size());
   const nlohmann::json marker = completionRecord(dir);
   if (pending.empty() && marker.is_object() && marker.value("runs", -1L) == rep.jobs &&
-      (marker.value("plots", false) || !o.plots)) {
+      (marker.value("plots", false) || !o.plots) && checkFinishedOutputs(dir, marker, o.keep_edits, log).empty()) {
     rep.nothing_to_do = true;
     log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
         << " are finished and its outputs complete; nothing to do.\n";
@@ -314,7 +338,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   return rep;
 }
 
-void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out, bool plots, std::ostream& log) {
+void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out, bool plots, std::ostream& log, bool keep_edits) {
   if (shard_dirs.empty()) throw std::invalid_argument("exoid merge: give at least one shard folder");
   ident::Stopwatch clock;
   nlohmann::json resolved;
@@ -368,6 +392,7 @@ void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& 
     if (!fs::exists(target)) writeJsonFile(target.string(), j);
   }
   writeJsonFile((dir / "shard.json").string(), {{"index", 0}, {"count", 1}});
+  checkFinishedOutputs(dir, completionRecord(dir), keep_edits, log);  // a merge into a merged folder: say what it replaces
   const RunFailures failures = writeOutputs(layout, jobs, dir, plots,
                                             {{"merged_from", shard_dirs}, {"shards", shard_timing}, {"merge_wall_time_s", clock.seconds()}}, log);
   log << "exoid merge: " << jobs.size() << " runs from " << shard_dirs.size() << " folders -> " << (dir / "summary.md").string() << '\n';

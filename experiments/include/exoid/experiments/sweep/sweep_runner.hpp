@@ -35,6 +35,9 @@ struct SweepRunOptions {
   ShardSpec shard;
   bool plots = true;
   int progress_tty = -1;  ///< -1: isatty(stderr)
+  /// A finished folder whose outputs differ from complete.json's sizes and digests (edited by
+  /// hand): refuse, naming them, instead of rewriting them (missing ones alone are rewritten).
+  bool keep_edits = false;
 };
 
 struct SweepRunReport {
@@ -49,6 +52,7 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
 
 /// Combines shard folders (same config.json, together every job of the grid) into `out`:
 /// the same runs/, runs.csv and summary.* as a single-process run.
-void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out, bool plots, std::ostream& log);
+void mergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out, bool plots, std::ostream& log,
+                 bool keep_edits = false);
 
 }  // namespace exoid::experiments
