@@ -105,6 +105,46 @@ TEST(InputErrors, TimeInTheWrongUnitIsSuggested) {
   EXPECT_EQ(o.text.find("pole"), std::string::npos) << o.text;
 }
 
+TEST(InputErrors, AnglesInDegreesReadAsRadiansAreNamedWithTheLikelyUnit) {
+  // The new user's log: 17 deg of hip and 23 deg of knee amplitude, read as radians (no unit said).
+  std::ostringstream out;
+  out << "t,q_hip,q_knee,tau_hip,tau_knee\n";
+  for (int i = 0; i < 4000; ++i) {
+    const double s = std::sin(2 * M_PI * 1.0 * i * 1e-3);
+    out << i * 1e-3 << ',' << 0.3 * s * 180.0 / M_PI << ',' << (0.5 + 0.4 * s) * 180.0 / M_PI << ',' << 20 * s << ',' << 3 * s << '\n';
+  }
+  const std::string p = scratch("degrees.csv");
+  std::ofstream(p) << out.str();
+  Outcome o = run({"identify", "--data", p, "--thigh-length", "0.45"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("q_hip spans 34.38 rad"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("--angle-unit deg"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("friction"), std::string::npos) << o.text;
+  o = run({"identifiability", "--data", p, "--thigh-length", "0.45"});
+  EXPECT_NE(o.text.find("--angle-unit deg"), std::string::npos) << o.text;
+  // Said in degrees: read, converted, identified; said in radians: trusted (no refusal for the unit).
+  o = run({"identify", "--data", p, "--thigh-length", "0.45", "--angle-unit", "deg", "--method", "ls"});
+  EXPECT_EQ(o.text.find("--angle-unit deg"), std::string::npos) << o.text;
+  o = run({"identify", "--data", p, "--thigh-length", "0.45", "--angle-unit", "rad", "--method", "ls"});
+  EXPECT_EQ(o.text.find("implausible in radians"), std::string::npos) << o.text;
+}
+
+TEST(InputErrors, AWrongColumnMapNamesTheFilesOwnHeaderAndUnknownExoidNames) {
+  const std::string p = writeLog("own_names.csv", "time,pos1,pos2,trq1,trq2", ',', 1e-3);
+  // A log name that is not there: the file's own header is listed, not the half-renamed one.
+  Outcome o = run({"identify", "--data", p, "--thigh-length", "0.45", "--columns", "t=time,q_hip=pos1,q_knee=pos3,tau_hip=trq1,tau_knee=trq2"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("column 'pos3' (mapped to q_knee) is not in the header; it has: time, pos1, pos2, trq1, trq2"), std::string::npos) << o.text;
+  // An exoid-side name exoid does not read: named as unknown, with the map's direction.
+  o = run({"identify", "--data", p, "--thigh-length", "0.45", "--columns", "time=time,q_hip=pos1,q_knee=pos2,tau_hip=trq1,tau_knee=trq2"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("unknown exoid column 'time'"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("e.g. t=time"), std::string::npos) << o.text;
+  o = run({"identify", "--data", p, "--thigh-length", "0.45", "--method", "ls", "--columns", "t=time,q_hip=pos1,q_knee=pos2,tau_hip=trq1,tau_knee=trq2"});
+  EXPECT_EQ(o.text.find("unknown exoid column"), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find("is not in the header"), std::string::npos) << o.text;
+}
+
 TEST(InputErrors, AutoCutoffsAreIdentifysNotTheProtocols) {
   // The protocol's arms and render's prediction use fixed cutoffs; 'auto' there would be silently
   // ignored or mismatch the arms' noise paths, so it is refused by name.

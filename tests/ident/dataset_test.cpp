@@ -220,5 +220,28 @@ TEST(DatasetErrors, AFolderGivenAsTheLogSaysItCannotBeRead) {
   }
 }
 
+TEST(AngleUnitHint, RadiansPassAndDegreesAreNamedWithTheLikelyUnit) {
+  Dataset d;
+  d.joints = {"hip", "knee"};
+  const Eigen::Index n = 3000;
+  d.t_s = Eigen::VectorXd::LinSpaced(n, 0.0, 1e-3 * static_cast<double>(n - 1));
+  d.q_rad.resize(n, 2);
+  d.tau_Nm = Eigen::MatrixXd::Zero(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    d.q_rad(i, 0) = 1.2 * std::sin(2 * M_PI * 0.8 * d.t_s[i]);  // a fast, wide, real motion: 1.2 rad at 0.8 Hz
+    d.q_rad(i, 1) = 1.0 + 0.9 * std::sin(2 * M_PI * 1.5 * d.t_s[i]);
+  }
+  EXPECT_EQ(angleUnitHint(d), "");
+  Dataset deg = d;
+  deg.q_rad.col(1) *= 180.0 / M_PI;  // the knee logged in degrees: 103 "rad" of span
+  const std::string h = angleUnitHint(deg);
+  EXPECT_NE(h.find("q_knee spans"), std::string::npos) << h;
+  EXPECT_NE(h.find("--angle-unit deg"), std::string::npos) << h;
+  // A small motion in degrees still moves too fast as radians: 3 deg at 8 Hz is 151 "rad/s".
+  Dataset small = d;
+  for (Eigen::Index i = 0; i < n; ++i) small.q_rad(i, 0) = 3.0 * std::sin(2 * M_PI * 8.0 * d.t_s[i]);
+  EXPECT_NE(angleUnitHint(small).find("q_hip"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace exoid::ident

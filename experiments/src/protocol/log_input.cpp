@@ -36,6 +36,26 @@ void addLogInputOptions(CLI::App& app, LogInputFlags& f) {
       ->check(positiveNumber())->group(g);
 }
 
+namespace {
+
+// The names a column map may give a log's columns: what exoid reads for these joints.
+std::set<std::string> exoidColumns(const std::vector<std::string>& joints) {
+  std::set<std::string> out = {"t", "base_acc_x", "base_acc_z", "base_gyro_y"};
+  for (const std::string& j : joints) {
+    for (const char* prefix : {"q_", "tau_", "qd_", "qdd_"}) out.insert(prefix + j);
+    out.insert("q_" + j + "_ref");
+  }
+  return out;
+}
+
+std::string unknownColumnMessage(const std::string& name, const std::set<std::string>& known) {
+  std::string list;
+  for (const std::string& c : known) list += (list.empty() ? "" : ", ") + c;
+  return "unknown exoid column '" + name + "' (a column map is exoid name = log name, e.g. t=time); exoid's names: " + list;
+}
+
+}  // namespace
+
 LogInput readLogProfile(const std::string& path, const std::vector<std::string>& joints) {
   toml::table t;
   try {
@@ -58,9 +78,7 @@ LogInput readLogProfile(const std::string& path, const std::vector<std::string>&
     if (!(n.is_integer() || n.is_floating_point())) throw std::invalid_argument(at(n) + ": '" + key + "' must be a number");
     return *n.value<double>();
   };
-  static const std::set<std::string> kColumns = {"t",      "q_hip",   "q_knee",   "tau_hip",    "tau_knee",   "qd_hip",
-                                                 "qd_knee", "qdd_hip", "qdd_knee", "base_acc_x", "base_acc_z", "base_gyro_y",
-                                                 "q_hip_ref", "q_knee_ref"};
+  const std::set<std::string> kColumns = exoidColumns(joints);
   for (const auto& [section, node] : t) {
     const std::string s(section.str());
     const toml::table* tab = node.as_table();
@@ -69,16 +87,13 @@ LogInput readLogProfile(const std::string& path, const std::vector<std::string>&
       const std::string key(k.str()), full = s + "." + key;
       try {
         if (s == "columns") {
-          if (!kColumns.count(key)) {
-            std::string list;
-            for (const std::string& c : kColumns) list += (list.empty() ? "" : ", ") + c;
-            throw std::invalid_argument("unknown exoid column '" + key + "'; expected one of " + list);
-          }
+          if (!kColumns.count(key)) throw std::invalid_argument(unknownColumnMessage(key, kColumns));
           in.csv.format.columns.emplace_back(key, text(v, full));
         } else if (full == "units.time") {
           in.csv.format.time_scale_s = ident::parseTimeUnit(text(v, full));
         } else if (full == "units.angle") {
           in.csv.format.angle_scale_rad = ident::parseAngleUnit(text(v, full));
+          in.angle_unit_given = true;
         } else if (full.rfind("torque_sign.", 0) == 0 &&
                    std::find(in.csv.joints.begin(), in.csv.joints.end(), key) != in.csv.joints.end()) {
           const double sgn = number(v, full);
@@ -116,7 +131,9 @@ LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz, const 
   try {
     if (!f.columns.empty()) {
       // Flags override the profile name by name.
+      const std::set<std::string> known = exoidColumns(joints);
       for (const auto& [ours, theirs] : ident::parseColumnMap(f.columns)) {
+        if (!known.count(ours)) throw std::invalid_argument(unknownColumnMessage(ours, known));
         auto& cols = in.csv.format.columns;
         const std::string& name = ours;  // a lambda may not capture a structured binding in C++17 (clang)
         const auto it = std::find_if(cols.begin(), cols.end(), [&](const auto& p) { return p.first == name; });
@@ -131,7 +148,10 @@ LogInput resolveLogInput(const LogInputFlags& f, double filter_cutoff_hz, const 
     throw std::invalid_argument(std::string("--columns: ") + e.what());
   }
   if (!f.time_unit.empty()) in.csv.format.time_scale_s = ident::parseTimeUnit(f.time_unit);
-  if (!f.angle_unit.empty()) in.csv.format.angle_scale_rad = ident::parseAngleUnit(f.angle_unit);
+  if (!f.angle_unit.empty()) {
+    in.csv.format.angle_scale_rad = ident::parseAngleUnit(f.angle_unit);
+    in.angle_unit_given = true;
+  }
   if (!f.torque_sign.empty()) {
     const bool ok = f.torque_sign.size() == in.csv.joints.size() &&
                     std::all_of(f.torque_sign.begin(), f.torque_sign.end(), [](double x) { return std::abs(x) == 1.0; });
@@ -173,8 +193,12 @@ std::string gunzip(const std::string& path) {
 }  // namespace
 
 ident::Dataset readLog(const std::string& path, const LogInput& in) {
-  if (endsWith(path, ".gz")) return ident::parseDatasetText(gunzip(path), path, in.csv);
-  return ident::readDatasetCsv(path, in.csv);
+  ident::Dataset d = endsWith(path, ".gz") ? ident::parseDatasetText(gunzip(path), path, in.csv) : ident::readDatasetCsv(path, in.csv);
+  if (!in.angle_unit_given) {
+    const std::string hint = ident::angleUnitHint(d);
+    if (!hint.empty()) throw std::invalid_argument(path + ": " + hint);
+  }
+  return d;
 }
 
 std::string timeUnitHint(const ident::Dataset& d) {

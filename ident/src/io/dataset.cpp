@@ -245,11 +245,12 @@ class LogParser {
 
   // The log's names -> exoid's, as the format maps them.
   void mapColumns() {
+    const std::vector<std::string> file_names = names_;  // the header as written, for messages
     for (const auto& [ours, theirs] : options_.format.columns) {
       const auto it = std::find(names_.begin(), names_.end(), theirs);
       if (it == names_.end()) {
         throw DatasetError(source_, header_line_, 0,
-                           "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(names_));
+                           "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(file_names));
       }
       if (ours != theirs && std::find(names_.begin(), names_.end(), ours) != names_.end()) {
         throw DatasetError(source_, header_line_, static_cast<long>(std::find(names_.begin(), names_.end(), ours) - names_.begin()) + 1,
@@ -670,6 +671,31 @@ void writeDatasetCsv(const Dataset& d, std::ostream& out) {
 
 void writeDatasetCsv(const Dataset& d, const std::string& path) {
   core::writeFileAtomically(path, [&](std::ostream& out) { writeDatasetCsv(d, out); });
+}
+
+std::string angleUnitHint(const Dataset& d) {
+  if (d.size() < 3) return "";
+  const double dt = d.sampleInterval_s();
+  for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) {
+    const auto q = d.q_rad.col(j);
+    const double span = q.maxCoeff() - q.minCoeff();
+    std::vector<double> speed(static_cast<std::size_t>(d.size() - 2));
+    for (Eigen::Index i = 1; i + 1 < d.size(); ++i) speed[static_cast<std::size_t>(i - 1)] = std::abs(q[i + 1] - q[i - 1]) / (2.0 * dt);
+    const auto k = static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(speed.size() - 1));
+    std::nth_element(speed.begin(), speed.begin() + k, speed.end());
+    // Speeds only at a plausible sampling rate: a time column in another unit is its own error.
+    const bool rate_plausible = dt >= 1e-5 && dt <= 0.05;
+    const double fast = rate_plausible ? speed[static_cast<std::size_t>(k)] : 0.0;
+    if (span > 4.0 * M_PI || fast > 100.0) {
+      const std::string joint = static_cast<std::size_t>(j) < d.joints.size() ? d.joints[static_cast<std::size_t>(j)] : core::toText(j);
+      return "q_" + joint + " spans " + core::formatNumber(span, 4) + " rad (" + core::formatNumber(span / (2.0 * M_PI), 3) +
+             " turns) and moves at " + core::formatNumber(fast, 4) + " rad/s (99th percentile): implausible in radians for a robot joint "
+             "(at most 2 turns, 100 rad/s); as degrees it would be " + core::formatNumber(span * M_PI / 180.0, 4) + " rad and " +
+             core::formatNumber(fast * M_PI / 180.0, 4) + " rad/s. A log in degrees? Give --angle-unit deg (a profile: [units] angle = "
+             "\"deg\"); --angle-unit rad says the radians are meant";
+    }
+  }
+  return "";
 }
 
 }  // namespace exoid::ident

@@ -27,6 +27,9 @@ struct LogInput {
   ident::CsvReadOptions csv;
   std::optional<double> thigh_length_m, gravity_mps2;  ///< from the profile's [model]
   std::string profile;                                 ///< its path, if any
+  /// The angle unit was said (--angle-unit or the profile's [units] angle): readLog trusts it;
+  /// else it refuses angles implausible as radians, naming the likely unit (ident::angleUnitHint).
+  bool angle_unit_given = false;
 };
 /// Profile first, then the flags over it. `filter_cutoff_hz` > 0 sets the longest gap resampling
 /// bridges to a tenth of the filter's period unless --max-gap-ms says otherwise. Throws

@@ -88,6 +88,12 @@ struct LogFormat {
 };
 /// "t=time,q_hip=pos_meas1,...": exoid name = log name pairs. Throws std::invalid_argument.
 std::vector<std::pair<std::string, std::string>> parseColumnMap(const std::string& text);
+/// A hint when the record's angles are implausible as radians: "" when they are plausible, else
+/// one line naming the joint whose angle spans more than 4 pi rad (two turns: no leg joint does)
+/// or whose speed (the 99th percentile of |central differences|, when sampled at 20 Hz to 100 kHz)
+/// exceeds 100 rad/s, and the likely
+/// cause, a log in degrees (--angle-unit deg). Needs size() >= 3.
+std::string angleUnitHint(const Dataset& d);
 /// "s", "ms", "us" -> seconds per unit. Throws std::invalid_argument listing them.
 double parseTimeUnit(const std::string& unit);
 /// "rad", "deg" -> radians per unit. Throws std::invalid_argument listing them.
