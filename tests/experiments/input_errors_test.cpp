@@ -167,6 +167,43 @@ TEST(InputErrors, ARecordTooShortForTheProcessingSaysHowLongItMustBe) {
 namespace exoid {
 namespace {
 
+TEST(CommandLineMessages, HelpIsPlainWordsWithinOneHundredColumns) {
+  // No CLI11 internals, no line past 100 characters, defaults that say what identify does.
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"--help"}, {"identify", "--help"}, {"identifiability", "--help"}, {"sweep", "--help"}, {"reproduce", "--help"},
+           {"simulate", "--help"}, {"excite", "--help"}}) {
+    const Outcome o = run(args);
+    for (const char* internal : {"ENUM:", "value in {", "{false}", "{true}", "{1,0,2}", "TEXT:"}) {
+      EXPECT_EQ(o.text.find(internal), std::string::npos) << args.front() << " shows '" << internal << "'";
+    }
+    std::istringstream lines(o.text);
+    std::string line;
+    while (std::getline(lines, line)) EXPECT_LE(line.size(), 100u) << args.front() << ": " << line;
+  }
+  const Outcome id = run({"identify", "--help"});
+  EXPECT_NE(id.text.find("--processing paper|parallel (default parallel)"), std::string::npos) << id.text;
+  EXPECT_NE(id.text.find("(default 10 x the largest |LS estimate|)"), std::string::npos) << id.text;
+  EXPECT_NE(id.text.find("--no-filter "), std::string::npos) << id.text;
+  // exoid --help names every arm reproduce runs.
+  const Outcome top = run({"--help"});
+  for (const char* arm : {"ls-exact", "ls-stacked", "ls-parallel", "idim-iv-base", "default"}) {
+    EXPECT_NE(top.text.find(arm), std::string::npos) << arm;
+  }
+}
+
+TEST(CommandLineMessages, TheReadmesNameForTheDefaultIsAMethod) {
+  const std::string log = writeLog("ls_parallel.csv", "t,q_hip,q_knee,tau_hip,tau_knee", ',', 1e-3);
+  Outcome o = run({"identify", "--data", log, "--thigh-length", "0.45", "--method", "ls-parallel"});
+  EXPECT_EQ(o.text.find("unknown method"), std::string::npos) << o.text;
+  EXPECT_NE(o.text.find("ls"), std::string::npos);
+  o = run({"identify", "--data", log, "--thigh-length", "0.45", "--method", "ls-parallel", "--processing", "paper"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("contradicts"), std::string::npos) << o.text;
+  o = run({"identify", "--data", log, "--thigh-length", "0.45", "--method", "ls-exact"});
+  EXPECT_NE(o.rc, 0);
+  EXPECT_NE(o.text.find("is an arm of exoid reproduce and exoid sweep"), std::string::npos) << o.text;
+}
+
 TEST(CommandLineMessages, AnUnknownCommandIsNamedWithTheNearestAndTheList) {
   Outcome o = run({"frobnicate"});
   EXPECT_EQ(o.rc, 2);

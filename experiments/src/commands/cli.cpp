@@ -1,5 +1,7 @@
 #include "exoid/experiments/commands/cli.hpp"
 
+#include "exoid/experiments/commands/help_formatter.hpp"
+
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/version.hpp"
 
@@ -55,6 +57,7 @@ std::string unknownCommandMessage(const CLI::App& app, int argc, char** argv) {
 int runCli(int argc, char** argv) {
   CLI::App app{"exoid: simulation-based validation of dynamic parameter identification (RLS-PSO, LS, PSO)\n"
                "for a 2-link lower-extremity exoskeleton leg. SI units inside; see README.md."};
+  app.formatter(std::make_shared<HelpFormatter>());  // before the subcommands: they copy it
   app.set_version_flag("--version", std::string("exoid ") + kVersion + " (" + kGitRevision + ")");
   app.require_subcommand(1);
   app.fallthrough(false);

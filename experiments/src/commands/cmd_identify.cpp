@@ -60,6 +60,12 @@ std::vector<ident::Method> resolveMethods(const std::vector<std::string>& names)
   for (const std::string& n : names) {
     if (n == "all") {
       for (ident::Method m : ident::allMethods()) out.push_back(m);
+    } else if (n == "ls-parallel" || n == "default") {
+      out.push_back(ident::Method::kLs);  // the README's and the sweep's names for identify's default: LS, parallel processing
+    } else if (n == "ls-exact" || n == "ls-stacked" || n == "ls-base" || n == "idim-iv-base") {
+      throw CLI::ValidationError("--method", "'" + n + "' is an arm of exoid reproduce and exoid sweep (it needs the simulator's exact "
+                                                     "states or records), not a method for a log; identify's are ls (= ls-parallel, the "
+                                                     "default), rls, pso, rls-pso, lad, idim-iv, iv-band, all");
     } else {
       out.push_back(ident::parseMethod(n));
     }
@@ -552,6 +558,9 @@ void run(const IdentifyArgs& a) {
     throw CLI::ValidationError("--stage", "is the segmental strategy of a chain model (--model leg3|FILE); the APAL leg's is --knee-data and --both-data");
   }
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
+  if (std::find(a.methods.begin(), a.methods.end(), "ls-parallel") != a.methods.end() && a.signals.processing != ident::Processing::kParallel) {
+    throw CLI::ValidationError("--method ls-parallel", "is LS with the parallel processing; --processing paper contradicts it (use --method ls)");
+  }
   checkArguments(a, methods);
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const bool single = !a.data.empty(), segmental = !single;
@@ -650,7 +659,8 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--method", args->methods,
-                  "ls, rls, pso, rls-pso, lad, idim-iv, iv-band, or all (= all but idim-iv and iv-band) (repeatable).\n"
+                  "ls (also ls-parallel: LS with the default parallel processing), rls, pso, rls-pso, lad, idim-iv, iv-band, or all\n"
+                  "(= all but idim-iv and iv-band) (repeatable).\n"
                   "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
                   "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
                   "'# controller_*' metadata exoid simulate writes)")
@@ -693,6 +703,7 @@ void addIdentifyCommand(CLI::App& app) {
   args->wide_box_option->description(
       "Half-width of the PSO baseline's box in every parameter (default for identify: 10 x the largest |LS estimate| of "
       "the records, printed; a PSO result on its box's bound is not usable)");
+  args->wide_box_option->default_str("10 x the largest |LS estimate|");
 #ifdef EXOID_WITH_MUJOCO
   cmd->add_option("--model", args->model,
                   "The robot: apal (the built-in APAL leg, the default), leg3 (the built-in hip-knee-ankle leg) or its MJCF or\n"

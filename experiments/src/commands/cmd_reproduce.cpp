@@ -127,12 +127,15 @@ void run(Args a) {
 
 void addReproduceCommand(CLI::App& app) {
   auto args = std::make_shared<Args>();
+  std::string arms;  // every arm the protocol runs, from its own list (the help cannot fall behind it)
+  for (Variant v : allVariants()) arms += (arms.empty() ? "" : ", ") + std::string(toString(v));
   CLI::App* cmd = app.add_subcommand(
       "reproduce",
       "Reproduce the paper on the simulated APAL leg with ground truth: simulate trajectories 1-4,\n"
       "process signals as the paper (forward differences, 10 Hz zero-phase filter), identify with\n"
-      "the segmental strategy (LS, RLS, PSO, RLS-PSO, exact L1 optimum, LS with exact derivatives,\n"
-      "LS on stacked records), validate (knee on 2, hip on 4), and write report.md with figures.");
+      "the segmental strategy by each of its " + std::to_string(allVariants().size()) + " arms (" + arms + "),\n"
+      "validate (knee on 2, hip on 4), and write report.md with figures. --model leg3 or a robot file:\n"
+      "the same protocol on a serial chain.");
   cmd->add_option("--out", args->out.dir, "Results folder")->capture_default_str();
   cmd->add_flag("!--no-plots", args->out.plots, "Skip the figures (no python3-matplotlib needed)");
   cmd->add_flag("--keep-edits", args->keep_edits,
