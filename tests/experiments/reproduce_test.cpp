@@ -55,6 +55,14 @@ TEST(Reproduce, ShortProtocolWritesEveryTableAndFigure) {
                               "processed torque the methods fit"}) {
     EXPECT_NE(md.find(section), std::string::npos) << section;
   }
+  // What a new user tripped on: no absolute paths in the report, no "-0.00" read as a sign.
+  EXPECT_EQ(md.find(::testing::TempDir()), std::string::npos);
+  EXPECT_EQ(md.find("/usr/"), std::string::npos);
+  EXPECT_EQ(md.find("/build/"), std::string::npos);
+  EXPECT_NE(md.find("(`apal_leg.xml`)"), std::string::npos);
+  EXPECT_EQ(md.find("-0.00 "), std::string::npos);
+  EXPECT_EQ(fixed(-0.001, 2), "0.00");
+  EXPECT_EQ(fixed(-0.006, 2), "-0.01");
   const nlohmann::json j = nlohmann::json::parse(slurp(dir + "/results.json"));
   EXPECT_EQ(j["methods"].size(), allVariants().size());
   EXPECT_TRUE(j["tool"].contains("revision"));

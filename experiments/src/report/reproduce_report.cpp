@@ -444,7 +444,7 @@ void writeDataFiles(const ProtocolResult& r, const ReproduceOutputs& out, const 
 void setupSection(std::ostream& md, const ProtocolResult& r) {
   const auto& c = r.config;
   md << "## Setup\n\n";
-  md << "- Simulated APAL leg (`" << c.sim.model_path << "`): four-bar knee cylinder mass scale " << c.sim.variant.cylinder_mass_scale
+  md << "- Simulated APAL leg (`" << std::filesystem::path(c.sim.model_path).filename().string() << "`): four-bar knee cylinder mass scale " << c.sim.variant.cylinder_mass_scale
      << ", pedestal vibration level " << c.sim.variant.vibration_level << ", PID tracking at 1 kHz"
      << (c.sim.feedforward ? " with feedforward" : "") << ".\n";
   md << "- Sensors: encoder quantisation " << fmt(c.sim.sensors.quantisation_deg, 4) << " deg, noise " << c.sim.sensors.noise_q_deg

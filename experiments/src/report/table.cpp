@@ -48,7 +48,12 @@ void TextTable::printMarkdown(std::ostream& out) const {
 }
 
 std::string fmt(double v, int significant) { return core::formatNumber(v, significant); }
-std::string fixed(double v, int decimals) { return core::formatFixed(v, decimals); }
+std::string fixed(double v, int decimals) {
+  std::string s = core::formatFixed(v, decimals);
+  // A value that rounds to zero is 0, not "-0.00" (a tiny negative gap read as a sign).
+  if (s.size() > 1 && s[0] == '-' && s.find_first_not_of("0.", 1) == std::string::npos) s.erase(0, 1);
+  return s;
+}
 bool endsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
