@@ -166,8 +166,12 @@ TEST(SensorsTest, EncoderBacklashIsAPlayOperator) {
     const Eigen::Vector2d r = s.angles(Eigen::Vector2d(q, -q));
     worst = std::max(worst, std::abs(r[0] - q));
     if (i > 0 && r[0] == prev[0]) ++standing;
-    if (i == 100) EXPECT_NEAR(r[0], q - 0.5 * b, 1e-12);  // moving up: lags by b/2
-    if (i == 500) EXPECT_NEAR(r[0], q + 0.5 * b, 1e-12);  // moving down: leads by b/2
+    if (i == 100) {
+      EXPECT_NEAR(r[0], q - 0.5 * b, 1e-12);  // moving up: lags by b/2
+    }
+    if (i == 500) {
+      EXPECT_NEAR(r[0], q + 0.5 * b, 1e-12);  // moving down: leads by b/2
+    }
     prev = r;
   }
   EXPECT_LE(worst, 0.5 * b * (1 + 1e-12));
