@@ -18,8 +18,11 @@ using namespace exoid::ident;
 namespace {
 
 py::dict segmentalDict(const SegmentalResult& r) {
+  std::vector<std::string> warnings;  // both stages', named
+  for (const std::string& w : estimateWarnings(r.knee)) warnings.push_back("knee stage: " + w);
+  for (const std::string& w : estimateWarnings(r.hip)) warnings.push_back("hip stage: " + w);
   return py::dict(py::arg("x") = Eigen::VectorXd(r.x), py::arg("knee") = estimateDict(r.knee),
-                  py::arg("hip") = estimateDict(r.hip));
+                  py::arg("hip") = estimateDict(r.hip), py::arg("warnings") = warnings);
 }
 
 std::string sourceOf(const py::dict& d, const char* role) {
@@ -38,7 +41,8 @@ void bindMethods(py::module_& m) {
                      "(exact L1 optimum). Returns a dict: x, method, status, usable, message, iterations, "
                      "initial_cost, final_cost, wall_time_s, l1_cost; rank, condition_number, unidentifiable (LS); "
                      "box (PSO, RLS-PSO; RLS's fluctuation range); optimum_l1_cost, optimality_gap and their "
-                     "in-box versions (PSO, RLS-PSO); cost_history (PSO). ") + kMethodOptionsDoc).c_str());
+                     "in-box versions (PSO, RLS-PSO); cost_history (PSO); warnings (what the command line would say: "
+                     "not usable, unidentified columns, condition number above 100). ") + kMethodOptionsDoc).c_str());
 
   m.def("identify_segmental",
         [](const py::dict& knee_record, const py::dict& both_record, double thigh_length_m, const std::string& method,
@@ -58,7 +62,7 @@ void bindMethods(py::module_& m) {
         (std::string("The paper's segmental strategy: the knee parameters (Mxs, Mys, Js, fc2, fv2) from a record with the "
                      "hip fixed, then the hip parameters from a record where both joints move, its hip torque minus "
                      "the knee part. Records are dataset dicts (read_dataset). Returns x (10) and the knee and hip "
-                     "stages' estimates (dicts as identify returns). ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
+                     "stages' estimates (dicts as identify returns) and warnings (both stages', named). ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
 
   m.def("identify_idim_iv",
         [](const py::dict& both_record, double thigh_length_m, const std::optional<py::dict>& knee_record,

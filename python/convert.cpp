@@ -5,6 +5,9 @@
 
 #include <functional>
 #include <map>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <stdexcept>
 
 namespace exoid::python {
@@ -81,6 +84,28 @@ Dataset datasetFrom(const py::dict& d) {
 
 py::object optional(const std::optional<double>& v) { return v ? py::cast(*v) : py::none(); }
 
+std::vector<std::string> estimateWarnings(const Estimate& e) {
+  std::vector<std::string> w;
+  if (!usable(e.summary.status)) w.push_back("not usable: " + e.summary.message);
+  if (!e.unidentifiable.empty()) {
+    std::string cols;
+    for (Eigen::Index c : e.unidentifiable) cols += (cols.empty() ? "" : ", ") + std::to_string(c);
+    w.push_back("columns " + cols + " are not identified by these rows (rank " + (e.rank ? std::to_string(*e.rank) : std::string("?")) +
+                " of " + std::to_string(e.x.size()) + ")");
+  }
+  // The command line's threshold (identify's "excitation" line): above it, what the model leaves
+  // out is amplified in the estimate up to that factor.
+  if (e.condition_number && *e.condition_number > 100.0) {
+    std::ostringstream s;
+    s.precision(4);
+    s << "condition number " << *e.condition_number
+      << " (columns scaled) > 100: errors the model leaves out are amplified up to that much in the estimate; "
+         "exoid.identifiability (or exoid identifiability --data) says which motion would separate the parameters";
+    w.push_back(s.str());
+  }
+  return w;
+}
+
 py::dict estimateDict(const Estimate& e) {
   const Summary& s = e.summary;
   py::dict out(py::arg("x") = e.x, py::arg("method") = toString(e.method), py::arg("status") = toString(s.status),
@@ -96,6 +121,7 @@ py::dict estimateDict(const Estimate& e) {
   out["optimum_box_l1_cost"] = optional(e.optimum_box_l1_cost);
   out["optimality_gap_box"] = optional(e.optimality_gap_box_rel);
   out["cost_history"] = e.cost_history;
+  out["warnings"] = estimateWarnings(e);  // what the command line would print beside the estimate
   return out;
 }
 

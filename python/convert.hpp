@@ -13,6 +13,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace exoid::python {
 
@@ -23,8 +24,12 @@ py::dict datasetDict(const ident::Dataset& d);
 /// The reverse; throws std::invalid_argument naming a missing key or a size mismatch.
 ident::Dataset datasetFrom(const py::dict& d);
 
-/// One estimate: x, method, the summary (status, usable, message, iterations, costs, wall time)
-/// and whatever the method reports (rank, condition number, box, optimality gaps, history).
+/// What the command line would say beside an estimate: not usable, unidentified columns, a
+/// condition number above 100 (identify's threshold).
+std::vector<std::string> estimateWarnings(const ident::Estimate& e);
+/// One estimate: x, method, the summary (status, usable, message, iterations, costs, wall time),
+/// whatever the method reports (rank, condition number, box, optimality gaps, history) and its
+/// warnings (estimateWarnings).
 py::dict estimateDict(const ident::Estimate& e);
 
 /// MethodOptions from keyword arguments (the names in kMethodOptionNames); every key is consumed

@@ -242,3 +242,21 @@ def test_simulate_option_mistakes_name_the_option():
         exoid.simulate(trajectry=3)
     with pytest.raises(ValueError, match="--trajectory: Value 9 not in range 1 to 4"):
         exoid.simulate(trajectory=9)
+
+
+def test_results_carry_the_warnings_the_command_line_prints():
+    # A well-posed fit has none; nearly parallel columns (condition > 100) are said, as identify's
+    # "excitation" line says them; an unidentified column and an unusable result too.
+    rng = np.random.default_rng(5)
+    H = rng.normal(size=(400, 3))
+    y = H @ np.array([1.0, 2.0, 3.0])
+    assert exoid.identify(H, y)["warnings"] == []
+    H2 = H.copy()
+    H2[:, 2] = H2[:, 1] + 1e-3 * rng.normal(size=400)
+    fit = exoid.identify(H2, H2 @ np.array([1.0, 2.0, 3.0]))
+    assert any("condition number" in w and "> 100" in w for w in fit["warnings"]), fit["warnings"]
+    H3 = H.copy()
+    H3[:, 2] = H3[:, 1]
+    fit = exoid.identify(H3, y)
+    assert any("not identified" in w for w in fit["warnings"]), fit["warnings"]
+    assert any(w.startswith("not usable") for w in fit["warnings"]), fit["warnings"]
