@@ -15,14 +15,7 @@
 namespace exoid::ident {
 namespace {
 
-SignalOptions tenHertz() {
-  SignalOptions o;
-  o.processing = Processing::kParallel;
-  o.differentiation = Differentiation::kCentral4;
-  o.cutoff_hz = 10.0;
-  o.derivative_cutoff_hz = 50.0;
-  return o;
-}
+SignalOptions tenHertz() { return test::tenHertzParallel(); }
 
 TEST(BandIv, ExactOnExactData) {
   const Dataset d = test::multisineRecord(10.0, true, false);

@@ -4,6 +4,7 @@
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -123,6 +124,17 @@ inline ident::Dataset multisineRecord(double duration_s, bool hip_moves = true, 
 }
 
 /// Expects `call` to throw std::invalid_argument whose message contains `text`.
+// The iv-band tests' fixed band: parallel processing at 10 Hz, five-point differences after a 50 Hz
+// pre-filter.
+inline ident::SignalOptions tenHertzParallel() {
+  ident::SignalOptions o;
+  o.processing = ident::Processing::kParallel;
+  o.differentiation = ident::Differentiation::kCentral4;
+  o.cutoff_hz = 10.0;
+  o.derivative_cutoff_hz = 50.0;
+  return o;
+}
+
 inline void expectInvalidArgumentMentioning(const std::function<void()>& call, const std::string& text) {
   try {
     call();

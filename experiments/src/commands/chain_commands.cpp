@@ -407,14 +407,8 @@ int identifyChain(const ChainIdentifyArgs& a) {
 
   for (const auto& [m, e] : others) {
     if (!ident::usable(e.summary.status)) problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
-    if (e.box && (m == ident::Method::kPso || m == ident::Method::kRlsPso)) {
-      for (int i = 0; i < base.rank; ++i) {
-        const double lo = e.box->lower[i], hi = e.box->upper[i], tol = 1e-9 * (hi - lo);
-        if (e.x[i] <= lo + tol || e.x[i] >= hi - tol) {
-          problems.push_back(std::string(ident::toString(m)) + ": " + base.names[static_cast<std::size_t>(i)] + " = " + fmt(e.x[i], 6) +
-                             " is on its box's bound [" + fmt(lo, 6) + ", " + fmt(hi, 6) + "]");
-        }
-      }
+    for (Eigen::Index i : boxBoundIndices(e)) {
+      problems.push_back(std::string(ident::toString(m)) + ": " + boxBoundMessage(base.names[static_cast<std::size_t>(i)], e, i));
     }
   }
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {

@@ -118,14 +118,9 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
       if (!ident::usable(e.summary.status)) {
         problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " + e.summary.message);
       }
-      if (e.box && (methods[k] == ident::Method::kPso || methods[k] == ident::Method::kRlsPso)) {
-        for (Eigen::Index i = 0; i < e.x.size(); ++i) {
-          const double lo = e.box->lower[i], hi = e.box->upper[i], tol = 1e-9 * (hi - lo);
-          if (e.x[i] <= lo + tol || e.x[i] >= hi - tol) {
-            problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " +
-                               st.names[static_cast<std::size_t>(i)] + " on its box's bound");
-          }
-        }
+      for (Eigen::Index i : boxBoundIndices(e)) {
+        problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " +
+                           boxBoundMessage(st.names[static_cast<std::size_t>(i)], e, i));
       }
     }
     nlohmann::json& sj = stages_json[s];

@@ -24,11 +24,6 @@
 namespace exoid::experiments {
 namespace {
 
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
-
 // Runs an identification, its exit-3 verdict kept as a note (the JSON is written first).
 std::string identifyNoting(const ChainIdentifyArgs& a) {
   try {
@@ -79,7 +74,8 @@ int reproduceChain(const ChainReproduceArgs& a) {
   sim::ChainSimConfig check = a.sim;
   check.seed = core::deriveSeed(a.seed, 2);  // the default trajectory of this seed: another motion
   simulateChainToFiles(check, dir + "check.csv");
-  const std::vector<std::string> joints = readJson(dir + "fit.json")["model"]["joints"].get<std::vector<std::string>>();
+  const nlohmann::json side = readJsonFile(dir + "fit.json");  // the fit record's sidecar: its joints and name
+  const std::vector<std::string> joints = side["model"]["joints"].get<std::vector<std::string>>();
   std::vector<std::pair<std::string, std::string>> stages;
   for (std::size_t j = joints.size() - 1; j >= 1; --j) {
     sim::ChainSimConfig st = a.sim;
@@ -109,7 +105,7 @@ int reproduceChain(const ChainReproduceArgs& a) {
   const std::string segmental_note = identifyNoting(seg);
 
   // 4. The report.
-  const nlohmann::json one = readJson(id.json_out), sg = readJson(seg.json_out), side = readJson(dir + "fit.json");
+  const nlohmann::json one = readJsonFile(id.json_out), sg = readJsonFile(seg.json_out);
   const std::vector<std::string> names = one["base_parameters"]["names"];
   const std::vector<double> truth = one["base_parameters"]["truth"];
   std::vector<std::pair<std::string, std::vector<double>>> fits = {{"ls", one["base_parameters"]["ls"]}};
@@ -125,7 +121,7 @@ int reproduceChain(const ChainReproduceArgs& a) {
      << "Records (" << fmt(a.sim.duration_s, 4) << " s at " << fmt(1.0 / a.sim.dt_s, 4) << " Hz; encoder noise "
      << fmt(a.sim.encoder_noise_rad, 3) << " rad, resolution " << fmt(a.sim.encoder_resolution_rad, 3) << " rad, torque noise "
      << fmt(a.sim.torque_noise_Nm, 3) << " N m): `fit.csv` the design `design.json` (condition number "
-     << fmt(readJson(ex.out)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
+     << fmt(readJsonFile(ex.out)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
   for (const auto& [joint, file] : stages) md << "`stage_" << joint << ".csv` (joints above " << joint << " locked), ";
   md << "each with its sidecar (settings, seed, truth). The stage records follow the simulator's default motion of "
         "their seed, not a design (exoid excite designs with every joint free), as the paper's knee-only record was not one: "

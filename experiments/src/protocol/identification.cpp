@@ -35,17 +35,28 @@ std::string MethodOutcome::problems() const {
   return out;
 }
 
+std::vector<Eigen::Index> boxBoundIndices(const ident::Estimate& e) {
+  std::vector<Eigen::Index> out;
+  if ((e.method != ident::Method::kPso && e.method != ident::Method::kRlsPso) || !e.box) return out;
+  const ident::Box& b = *e.box;
+  for (Eigen::Index k = 0; k < e.x.size(); ++k) {
+    const double v = e.x[k], tol = 1e-9 * (b.upper[k] - b.lower[k]);
+    if (v <= b.lower[k] + tol || v >= b.upper[k] - tol) out.push_back(k);
+  }
+  return out;
+}
+
+std::string boxBoundMessage(const std::string& name, const ident::Estimate& e, Eigen::Index i) {
+  return name + " = " + core::formatNumber(e.x[i], 6) + " is on its box's bound [" + core::formatNumber(e.box->lower[i], 6) + ", " +
+         core::formatNumber(e.box->upper[i], 6) + "]";
+}
+
 std::vector<BoundHit> boxBoundHits(const MethodOutcome& m) {
   std::vector<BoundHit> hits;
   if (m.method != ident::Method::kPso && m.method != ident::Method::kRlsPso) return hits;
   for (const Stage& st : m.stages) {
-    if (!st.estimate.box) continue;
-    const ident::Box& b = *st.estimate.box;
-    for (std::size_t k = 0; k < st.indices.size(); ++k) {
-      const auto K = static_cast<Eigen::Index>(k);
-      const double v = st.estimate.x[K], tol = 1e-9 * (b.upper[K] - b.lower[K]);
-      if (v > b.lower[K] + tol && v < b.upper[K] - tol) continue;
-      hits.push_back({st.name, st.indices[k], v, b.lower[K], b.upper[K]});
+    for (Eigen::Index k : boxBoundIndices(st.estimate)) {
+      hits.push_back({st.name, st.indices[static_cast<std::size_t>(k)], st.estimate.x[k], st.estimate.box->lower[k], st.estimate.box->upper[k]});
     }
   }
   return hits;
@@ -341,6 +352,16 @@ nlohmann::json toolJson() { return {{"name", "exoid"}, {"version", kVersion}, {"
 
 void writeJsonFile(const std::string& path, const nlohmann::json& j) {
   core::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+nlohmann::json readJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("cannot parse " + path + ": " + e.what());
+  }
 }
 
 }  // namespace exoid::experiments

@@ -53,6 +53,22 @@ std::vector<std::string> pngFilesIn(const std::string& dir) {
   return out;
 }
 
+std::vector<OutputProblem> announceRewrites(const std::string& dir, const nlohmann::json& manifest, bool keep_edits,
+                                            const std::string& rewrite_from, std::ostream& log) {
+  const std::vector<OutputProblem> problems = checkOutputs(dir, manifest);
+  std::string changed;
+  for (const OutputProblem& p : problems) {
+    if (!p.missing) changed += (changed.empty() ? "" : ", ") + p.file;
+  }
+  if (keep_edits && !changed.empty()) {
+    throw std::invalid_argument("refusing to rewrite " + changed + " in " + dir +
+                                ": changed since exoid wrote them, and --keep-edits keeps hand edits (move them aside, or rerun "
+                                "without --keep-edits" + (rewrite_from.empty() ? "" : " to have them rewritten from " + rewrite_from) + ")");
+  }
+  for (const OutputProblem& p : problems) log << p.describe() << ": rewriting\n";
+  return problems;
+}
+
 void startFolderRun(const std::string& dir, bool keep_edits, std::ostream& log) {
   const fs::path marker = fs::path(dir) / "complete.json";
   std::error_code ec;
@@ -64,17 +80,7 @@ void startFolderRun(const std::string& dir, bool keep_edits, std::ostream& log) 
   } catch (const std::exception&) {
     m = nullptr;
   }
-  const std::vector<OutputProblem> problems = checkOutputs(dir, m.is_object() ? m.value("outputs", nlohmann::json()) : nlohmann::json());
-  std::string changed;
-  for (const OutputProblem& p : problems) {
-    if (!p.missing) changed += (changed.empty() ? "" : ", ") + p.file;
-  }
-  if (keep_edits && !changed.empty()) {
-    throw std::invalid_argument("refusing to rewrite " + changed + " in " + dir +
-                                ": changed since exoid wrote them, and --keep-edits keeps hand edits (move them aside, or rerun "
-                                "without --keep-edits)");
-  }
-  for (const OutputProblem& p : problems) log << p.describe() << ": rewriting\n";
+  announceRewrites(dir, m.is_object() ? m.value("outputs", nlohmann::json()) : nlohmann::json(), keep_edits, "", log);
   fs::remove(marker, ec);
 }
 

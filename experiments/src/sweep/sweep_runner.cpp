@@ -30,15 +30,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-nlohmann::json readJson(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error("cannot parse " + p.string() + ": " + e.what());
-  }
-}
+nlohmann::json readJson(const fs::path& p) { return readJsonFile(p.string()); }
 
 // Finished jobs in DIR/runs, keyed by (cell, replicate). Files are renamed into place whole, so
 // a file that does not parse was damaged afterwards (a disk error, a full disk on a filesystem
@@ -163,18 +155,7 @@ RunFailures writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::
 // keep_edits a changed one is refused (nothing is rewritten), else all are rewritten.
 std::vector<OutputProblem> checkFinishedOutputs(const fs::path& dir, const nlohmann::json& marker, bool keep_edits, std::ostream& log) {
   if (!marker.is_object()) return {};
-  const std::vector<OutputProblem> problems = checkOutputs(dir.string(), marker.value("outputs", nlohmann::json()));
-  std::string changed;
-  for (const OutputProblem& p : problems) {
-    if (!p.missing) changed += (changed.empty() ? "" : ", ") + p.file;
-  }
-  if (keep_edits && !changed.empty()) {
-    throw std::invalid_argument("refusing to rewrite " + changed + " in " + dir.string() +
-                                ": changed since exoid wrote them, and --keep-edits keeps hand edits (move them aside, or "
-                                "rerun without --keep-edits to have them rewritten from the runs)");
-  }
-  for (const OutputProblem& p : problems) log << p.describe() << ": rewriting\n";
-  return problems;
+  return announceRewrites(dir.string(), marker.value("outputs", nlohmann::json()), keep_edits, "the runs", log);
 }
 
 // A finished folder with failed runs still exits non-zero, however often it is rerun.

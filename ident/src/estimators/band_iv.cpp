@@ -15,8 +15,7 @@
 
 namespace exoid::ident {
 
-BandIvRows bandIvRows(const Dataset& d, const LegConstants& c, const SignalOptions& o, double instrument_cutoff_hz,
-                      bool knee_armature) {
+Dataset instrumentRecord(const Dataset& d, const SignalOptions& o, double instrument_cutoff_hz) {
   if (o.processing != Processing::kParallel) {
     throw std::invalid_argument("iv-band needs the parallel processing: its instruments are processed like the rows");
   }
@@ -25,13 +24,19 @@ BandIvRows bandIvRows(const Dataset& d, const LegConstants& c, const SignalOptio
     throw std::invalid_argument("iv-band: the instruments' cutoff must be in (0, " + core::formatNumber(0.5 * fs, 6) +
                                 ") Hz, got " + core::formatNumber(instrument_cutoff_hz, 6));
   }
-  const SegmentalProblem measured = bothEquations(processRecord(d, c, o), knee_armature);
-  // The same record with every angle (and recorded derivative) low-passed at the motion's band.
   Dataset smooth = d;
   const SosFilter lp = butterworthLowpass(4, instrument_cutoff_hz, fs);
   smooth.q_rad = filtfilt(lp, d.q_rad);
-  if (d.qd_radps) smooth.qd_radps = Eigen::MatrixX2d(filtfilt(lp, *d.qd_radps));
-  if (d.qdd_radps2) smooth.qdd_radps2 = Eigen::MatrixX2d(filtfilt(lp, *d.qdd_radps2));
+  if (d.qd_radps) smooth.qd_radps = filtfilt(lp, *d.qd_radps);
+  if (d.qdd_radps2) smooth.qdd_radps2 = filtfilt(lp, *d.qdd_radps2);
+  return smooth;
+}
+
+BandIvRows bandIvRows(const Dataset& d, const LegConstants& c, const SignalOptions& o, double instrument_cutoff_hz,
+                      bool knee_armature) {
+  // The same record with every angle (and recorded derivative) low-passed at the motion's band.
+  const Dataset smooth = instrumentRecord(d, o, instrument_cutoff_hz);
+  const SegmentalProblem measured = bothEquations(processRecord(d, c, o), knee_armature);
   const SegmentalProblem instruments = bothEquations(processRecord(smooth, c, o), knee_armature);
   if (instruments.H.rows() != measured.H.rows()) throw std::logic_error("iv-band: instruments and rows do not align");
   BandIvRows out{measured.H, instruments.H, measured.y};

@@ -114,17 +114,10 @@ BandChoice chooseChainBand(const Dataset& d, const ChainModel& model, const Sign
     throw std::invalid_argument("band rule: first_moving_joint " + core::toText(first) + " of a " + core::toText(dof) + "-joint model");
   }
   const BaseParameters bp = baseParameters(model);
-  // The equations of joints first.. (all when first = 0): the locked joints' torque is the lock's.
-  const auto movingRows = [&](Eigen::Index samples) {
-    std::vector<Eigen::Index> rows;
-    for (Eigen::Index k = 0; k < samples; ++k) {
-      for (Eigen::Index j = first; j < dof; ++j) rows.push_back(k * dof + j);
-    }
-    return rows;
-  };
   return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
     const ChainRecord rows = processChainRecord(record, model, pilot);
-    const std::vector<Eigen::Index> fit_rows = movingRows(rows.samples());
+    // The equations of joints first.. (all when first = 0): the locked joints' torque is the lock's.
+    const std::vector<Eigen::Index> fit_rows = rows.rowsOfJointsFrom(first);
     LsOptions ls;
     ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
     const Eigen::VectorXd beta = solveLeastSquares(bp.baseRegressor(rows.W(fit_rows, Eigen::all)), rows.y(fit_rows), ls).x;

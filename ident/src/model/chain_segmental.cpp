@@ -15,16 +15,6 @@
 namespace exoid::ident {
 namespace {
 
-// Rows of the equations of joints first..dof-1 (sample k's equation of joint j is row k dof + j).
-std::vector<Eigen::Index> stageRows(Eigen::Index samples, Eigen::Index dof, Eigen::Index first) {
-  std::vector<Eigen::Index> rows;
-  rows.reserve(static_cast<std::size_t>(samples * (dof - first)));
-  for (Eigen::Index k = 0; k < samples; ++k) {
-    for (Eigen::Index j = first; j < dof; ++j) rows.push_back(k * dof + j);
-  }
-  return rows;
-}
-
 // The stage's base regressor at random states, the locked joints still (the structure, not data).
 Eigen::MatrixXd lockedRegressor(const ChainModel& model, const BaseParameters& base, Eigen::Index first,
                                 const BaseParameterOptions& o) {
@@ -131,7 +121,7 @@ ChainSegmentalResult identifyChainSegmental(const ChainModel& model, const BaseP
     }
     const Eigen::MatrixXd B = readableBasis(N * svd.matrixV().leftCols(k));
     // The data: the stage's rows, what is known moved to the torque side.
-    const std::vector<Eigen::Index> rows = stageRows(st.record.samples(), dof, st.first_joint);
+    const std::vector<Eigen::Index> rows = st.record.rowsOfJointsFrom(st.first_joint);
     const Eigen::MatrixXd Yb = base.baseRegressor(st.record.W(rows, Eigen::all));
     Eigen::VectorXd y = st.record.y(rows);
     if (V.cols() > 0) y -= Yb * V.transpose().completeOrthogonalDecomposition().solve(c);

@@ -58,6 +58,11 @@ struct MethodOutcome {
 
 /// Entries of a search-box estimate (PSO, RLS-PSO) on their box's bound (within 1e-9 of the box
 /// width): there the box, not the data, chose the value, and the cost's optimum lies outside.
+/// The entries of one estimate on its box's bound (a PSO or RLS-PSO estimate with a box; none
+/// for other methods), by index into its x.
+std::vector<Eigen::Index> boxBoundIndices(const ident::Estimate& e);
+/// "name = 50 is on its box's bound [-50, 50]" for entry i of e.
+std::string boxBoundMessage(const std::string& name, const ident::Estimate& e, Eigen::Index i);
 struct BoundHit {
   std::string stage;
   int param = 0;  ///< index into X
@@ -125,5 +130,7 @@ std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path)
 nlohmann::json toolJson();
 /// Writes pretty JSON atomically.
 void writeJsonFile(const std::string& path, const nlohmann::json& j);
+/// The JSON file at path; std::runtime_error naming it when it cannot be read or parsed.
+nlohmann::json readJsonFile(const std::string& path);
 
 }  // namespace exoid::experiments

@@ -28,6 +28,13 @@ struct OutputProblem {
 /// "complete.json", as changed.
 std::vector<OutputProblem> checkOutputs(const std::string& dir, const nlohmann::json& manifest);
 
+/// checkOutputs(dir, manifest), each problem said on log ("summary.md changed since it was
+/// written: rewriting"); with keep_edits a changed output is refused instead (std::invalid_argument
+/// naming the files, nothing said or touched). `rewrite_from` ends the refusal: what a rerun without
+/// --keep-edits rewrites them from. Returns the problems.
+std::vector<OutputProblem> announceRewrites(const std::string& dir, const nlohmann::json& manifest, bool keep_edits,
+                                            const std::string& rewrite_from, std::ostream& log);
+
 /// The PNG files directly in dir, sorted (the plots a script wrote).
 std::vector<std::string> pngFilesIn(const std::string& dir);
 

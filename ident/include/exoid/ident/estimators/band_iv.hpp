@@ -27,6 +27,11 @@ struct BandIvRows {
   Eigen::VectorXd y;
 };
 
+/// The record the instruments are built from: d with its angles (and recorded derivatives)
+/// low-passed at instrument_cutoff_hz (zero-phase, order 4). Throws std::invalid_argument for a
+/// non-parallel o (the instruments must be processed like the rows) or a cutoff outside (0, Nyquist).
+Dataset instrumentRecord(const Dataset& d, const SignalOptions& o, double instrument_cutoff_hz);
+
 /// The rows of record d processed by o (o's choices already made: resolveSignalOptions) and its
 /// instruments from the angles low-passed at instrument_cutoff_hz. knee_armature: the 11th column.
 /// Throws std::invalid_argument for a non-parallel o, a cutoff outside (0, Nyquist) or as

@@ -25,6 +25,16 @@ struct ChainRecord {
   /// correlation is estimated within a record, never across a seam.
   std::vector<Eigen::Index> record_rows;
   Eigen::Index samples() const { return dof ? y.size() / dof : 0; }
+  /// The rows of the equations of joints first .. dof - 1, in time order (a record whose joints
+  /// above `first` are locked: the lock, not the motor, carries theirs).
+  std::vector<Eigen::Index> rowsOfJointsFrom(Eigen::Index first) const {
+    std::vector<Eigen::Index> rows;
+    rows.reserve(static_cast<std::size_t>(samples() * (dof - first)));
+    for (Eigen::Index k = 0; k < samples(); ++k) {
+      for (Eigen::Index j = first; j < dof; ++j) rows.push_back(k * dof + j);
+    }
+    return rows;
+  }
 };
 
 /// The rows of signals as they are (no processing). Base motion, when s.base has rows, as the
