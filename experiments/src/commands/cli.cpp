@@ -4,8 +4,12 @@
 
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/version.hpp"
+#ifdef EXOID_WITH_MUJOCO
+#include "exoid/sim/data_dir.hpp"
+#endif
 
 #include <algorithm>
+#include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -52,12 +56,25 @@ std::string unknownCommandMessage(const CLI::App& app, int argc, char** argv) {
          "\ncommands: " + list + " (exoid --help; exoid COMMAND --help)";
 }
 
+// Where the shipped models and configs are, for --help to name its defaults by their place in it.
+std::string shippedDataDir() {
+#ifdef EXOID_WITH_MUJOCO
+  try {
+    return sim::dataDir();
+  } catch (const std::exception&) {
+    return {};  // no data directory: defaults print as they are, and the commands that need one say so
+  }
+#else
+  return {};
+#endif
+}
+
 }  // namespace
 
 int runCli(int argc, char** argv) {
   CLI::App app{"exoid: simulation-based validation of dynamic parameter identification (RLS-PSO, LS, PSO)\n"
                "for a 2-link lower-extremity exoskeleton leg. SI units inside; see README.md."};
-  app.formatter(std::make_shared<HelpFormatter>());  // before the subcommands: they copy it
+  app.formatter(std::make_shared<HelpFormatter>(shippedDataDir()));  // before the subcommands: they copy it
   app.set_version_flag("--version", std::string("exoid ") + kVersion + " (" + kGitRevision + ")");
   app.require_subcommand(1);
   app.fallthrough(false);

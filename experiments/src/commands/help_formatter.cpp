@@ -22,6 +22,15 @@ std::string readableTypeName(const std::string& type_name) {
   return type_name;
 }
 
+std::string readableDefault(const std::string& default_str, const std::string& shipped_dir) {
+  if (shipped_dir.empty()) return default_str;
+  const std::string prefix = shipped_dir.back() == '/' ? shipped_dir : shipped_dir + "/";
+  if (default_str.size() > prefix.size() && default_str.compare(0, prefix.size(), prefix) == 0) {
+    return "the shipped " + default_str.substr(prefix.size());
+  }
+  return default_str;
+}
+
 std::string wrapText(const std::string& text, std::size_t width) {
   std::string out, line;
   std::istringstream lines(text);
@@ -57,7 +66,7 @@ std::string HelpFormatter::make_option_opts(const CLI::Option* opt) const {
   std::ostringstream out;
   const std::string type = readableTypeName(opt->get_type_name());
   if (!type.empty()) out << " " << type;
-  if (!opt->get_default_str().empty()) out << " (default " << opt->get_default_str() << ")";
+  if (!opt->get_default_str().empty()) out << " (default " << readableDefault(opt->get_default_str(), shipped_dir_) << ")";
   if (opt->get_expected_max() == CLI::detail::expected_max_vector_size) out << " ...";
   if (opt->get_required()) out << " REQUIRED";
   return out.str();
