@@ -30,6 +30,9 @@ endforeach()
 install(TARGETS ${_exoid_libs} EXPORT exoidTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS exoid RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+if(TARGET exoid-full)  # `exoid` looks for it in ../libexec (commands/launcher.hpp); its data is ../share/exoid from there too
+  install(TARGETS exoid-full RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR})
+endif()
 install(EXPORT exoidTargets NAMESPACE exoid:: DESTINATION ${EXOID_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/exoidConfig.cmake.in
                               ${PROJECT_BINARY_DIR}/exoidConfig.cmake INSTALL_DESTINATION ${EXOID_CMAKE_DIR})

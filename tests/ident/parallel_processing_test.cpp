@@ -77,6 +77,26 @@ TEST(ParallelProcessing, BlocksOfALongLogGiveTheWholeRecordsRows) {
   EXPECT_LT(maxRelError(stackedLs(b), toParamVector(defaultLeg())), 1e-6);
 }
 
+// The blocks on several threads: each is computed alone and stacked in order, so the rows are
+// the same bytes as on one thread (the promise behind identify --threads).
+TEST(ParallelProcessing, BlocksOnSeveralThreadsAreTheSameBytesAsOnOne) {
+  const Dataset d = test::multisineRecord(30.0, true, false);
+  SignalOptions one = parallel();
+  one.block_samples = 1;  // four blocks of 30000
+  one.threads = 1;
+  const ProcessedRecord a = processRecord(d, kC, one);
+  for (int threads : {2, 3, 0}) {
+    SignalOptions many = one;
+    many.threads = threads;
+    const ProcessedRecord b = processRecord(d, kC, many);
+    EXPECT_TRUE(a.hip == b.hip && a.knee == b.knee && a.tau_Nm == b.tau_Nm) << threads << " threads";
+    EXPECT_TRUE(a.states.qdd_radps2 == b.states.qdd_radps2 && a.states.t_s == b.states.t_s) << threads << " threads";
+  }
+  SignalOptions bad = one;
+  bad.threads = -1;
+  EXPECT_THROW(processRecord(d, kC, bad), std::invalid_argument);
+}
+
 // Recorded velocities without accelerations are used (their derivative gives qdd), not silently
 // dropped for the angles' differences: exact data still give exact parameters, and a wrong
 // velocity column changes the answer.

@@ -73,7 +73,8 @@ std::string shippedDataDir() {
 
 int runCli(int argc, char** argv) {
   CLI::App app{"exoid: simulation-based validation of dynamic parameter identification (RLS-PSO, LS, PSO)\n"
-               "for a 2-link lower-extremity exoskeleton leg. SI units inside; see README.md."};
+               "for a 2-link lower-extremity exoskeleton leg. SI units inside; see README.md.",
+               "exoid"};  // named, not argv[0]: the usage line reads "exoid simulate", whichever binary runs it
   app.formatter(std::make_shared<HelpFormatter>(shippedDataDir()));  // before the subcommands: they copy it
   app.set_version_flag("--version", std::string("exoid ") + kVersion + " (" + kGitRevision + ")");
   app.require_subcommand(1);

@@ -642,6 +642,7 @@ void run(const IdentifyArgs& a) {
 
 void addIdentifyCommand(CLI::App& app) {
   auto args = std::make_shared<IdentifyArgs>();
+  args->signals.threads = 0;  // a long record's blocks on every core (same bytes whatever the number)
   CLI::App* cmd = app.add_subcommand(
       "identify",
       "Identify X = [Mxt, Myt, Jt, fc1, fv1, Mxs, Mys, Js, fc2, fv2] from dataset CSV logs (.csv or\n"
@@ -683,6 +684,9 @@ void addIdentifyCommand(CLI::App& app) {
   cmd->add_option("--truth", args->truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")
       ->check(CLI::ExistingFile)->group("Input");
   cmd->add_option("--json", args->json_out, "Write the results as JSON here (atomically)")->group("Output");
+  cmd->add_option("--threads", args->signals.threads,
+                  "Threads processing a long record's blocks (0 = all cores); the results are the same bytes whatever the number")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
   cmd->add_flag("!--no-consistency", args->consistency,
                 "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
                 "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"

@@ -1,6 +1,7 @@
 #include "exoid/ident/signals/preprocess.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/core/parallel_for.hpp"
 #include "exoid/ident/signals/band.hpp"
 
 #include <algorithm>
@@ -44,6 +45,7 @@ int SignalOptions::decimationFactor(double sample_rate_hz) const {
 void SignalOptions::validate() const {
   if (decimation < 0) throw std::invalid_argument("'decimation' must be >= 0 (0 = automatic), got " + core::toText(decimation));
   if (block_samples < 1) throw std::invalid_argument("'block_samples' must be >= 1, got " + core::toText(block_samples));
+  if (threads < 0) throw std::invalid_argument("'threads' must be >= 0 (0 = the machine's cores), got " + core::toText(threads));
   if (!(derivative_cutoff_hz >= 0.0) || !std::isfinite(derivative_cutoff_hz)) {
     throw std::invalid_argument("'derivative_cutoff_hz' must be >= 0 (0 = no pre-filter)");
   }
@@ -292,7 +294,10 @@ ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const Sig
   const Eigen::Index trim = o.edgeTrimSamples(fs);
   const int r = o.decimationFactor(fs);
   checkLength(n, trim, r);
-  std::vector<ProcessedRecord> parts;
+  struct Block {
+    Eigen::Index lo, hi, first, last;  // context [lo, hi); kept rows first, first + r, ... <= last (global)
+  };
+  std::vector<Block> blocks;
   for (Eigen::Index a = 0; a < n; a += block) {
     const Eigen::Index b = std::min(n, a + block), lo = std::max<Eigen::Index>(0, a - margin), hi = std::min(n, b + margin);
     // Kept global rows: trim + k r within [a, b) and [trim, n - trim).
@@ -300,9 +305,15 @@ ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const Sig
     if (last_g < first_g) continue;
     const Eigen::Index first_k = first_g + (r - (first_g - trim) % r) % r;
     if (first_k > last_g) continue;
-    const JointSignals s = parallelStates(d, o, fs, lo, hi);
-    parts.push_back(selectRows(filteredRows(s, c, o, fs), s, first_k - lo, last_g - lo, r));
+    blocks.push_back({lo, hi, first_k, last_g});
   }
+  std::vector<ProcessedRecord> parts(blocks.size());
+  const auto processBlock = [&](std::size_t k) {
+    const Block& bk = blocks[k];
+    const JointSignals s = parallelStates(d, o, fs, bk.lo, bk.hi);
+    parts[k] = selectRows(filteredRows(s, c, o, fs), s, bk.first - bk.lo, bk.last - bk.lo, r);
+  };
+  core::parallelFor(blocks.size(), o.threads, processBlock);
   return stackRecords(parts);
 }
 

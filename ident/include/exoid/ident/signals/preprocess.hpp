@@ -54,6 +54,10 @@ struct SignalOptions {
   /// Parallel processing: a record longer than this (plus two margins, parallelBlockMargin) is
   /// processed a block at a time, so memory stays bounded by the block, not the log. >= 1.
   Eigen::Index block_samples = 65536;
+  /// Parallel processing of a long record: blocks processed at once, each on its own thread
+  /// (0 = the machine's cores). Every block is computed alone and the blocks are stacked in
+  /// order, so the result is the same bytes whatever the number. >= 0.
+  int threads = 1;
   /// The decimation factor for a record sampled at sample_rate_hz.
   int decimationFactor(double sample_rate_hz) const;
   /// How qd and qdd are computed from the angles. Paper: forward differences.
