@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs exoid's Debian 12 build and run dependencies when any is missing.
 # Idempotent and fast when everything is present (one dpkg query, no network).
-# Usage: scripts/deps.sh [--main] [--with-fuzz] [--with-slurm]
+# Usage: scripts/deps.sh [--main] [--with-fuzz] [--with-slurm] [--with-ccache]
 #   --main        only what `exoid` and its report need (scripts/reproduce.sh)
 #   (default)     also the tests', benchmarks' and Python module's packages (scripts/test.sh)
 #   --with-fuzz   clang and its libFuzzer runtime, for scripts/fuzz.sh
 #   --with-slurm  slurm-wlm, for the cluster path and its test (see experiments/SWEEP.md); its
 #                 system services are left stopped and disabled: the test starts its own daemons
+#   --with-ccache ccache, with which .ci/run shares object files between its configurations
 set -euo pipefail
 
 MAIN_PACKAGES=(
@@ -30,7 +31,8 @@ for arg in "$@"; do
     --main) main_only=1 ;;
     --with-fuzz) extra+=(clang-14 libclang-rt-14-dev) ;;
     --with-slurm) extra+=(slurm-wlm); slurm=1 ;;
-    *) echo "scripts/deps.sh: unknown option '$arg' (known: --main, --with-fuzz, --with-slurm)" >&2; exit 2 ;;
+    --with-ccache) extra+=(ccache) ;;
+    *) echo "scripts/deps.sh: unknown option '$arg' (known: --main, --with-fuzz, --with-slurm, --with-ccache)" >&2; exit 2 ;;
   esac
 done
 PACKAGES=("${MAIN_PACKAGES[@]}")

@@ -275,7 +275,13 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   prepareOutput(a.json_out);
   const LoadedChain loaded = loadChain(a.model, a.armature);
-  const auto& [path, chain, model, nominal, base] = loaded;
+  // Named references, not a structured binding: a lambda below captures the model (C++17 forbids
+  // capturing a binding; gcc accepts it, clang does not).
+  const std::string& path = loaded.path;
+  const sim::SerialChain& chain = loaded.chain;
+  const ident::ChainModel& model = loaded.model;
+  const Eigen::VectorXd& nominal = loaded.phi;
+  const ident::BaseParameters& base = loaded.base;
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
   prepareOutput(a.plot);
