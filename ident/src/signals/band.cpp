@@ -132,7 +132,12 @@ Dataset rowWindow(const Dataset& d, Eigen::Index from, Eigen::Index n) {
   if (d.qd_radps) w.qd_radps = d.qd_radps->middleRows(from, n);
   if (d.qdd_radps2) w.qdd_radps2 = d.qdd_radps2->middleRows(from, n);
   w.extra_names = d.extra_names;
-  w.extra = d.extra.middleRows(from, n);
+  // No extra columns: no data pointer to offset (a block of it is undefined behaviour, UBSan says).
+  if (d.extra.cols() > 0) {
+    w.extra = d.extra.middleRows(from, n);
+  } else {
+    w.extra.resize(n, 0);
+  }
   w.text_columns = d.text_columns;
   w.sampling = d.sampling;
   return w;
