@@ -206,6 +206,22 @@ void ExcitationOptions::validate() const {
   if (!std::isfinite(hip_locked_at_rad)) bad("hip_locked_at_rad", "finite");
 }
 
+int unpackRestingHarmonics(const Eigen::VectorXd& p, int at, Eigen::Ref<Eigen::VectorXd> a, Eigen::Ref<Eigen::VectorXd> b) {
+  const Eigen::Index n = a.size();
+  double sa = 0.0, sb = 0.0;
+  for (Eigen::Index k = 2; k <= n; ++k) {
+    a[k - 1] = p[at++];
+    sa += double(k * k) * a[k - 1];
+  }
+  for (Eigen::Index k = 2; k <= n; ++k) {
+    b[k - 1] = p[at++];
+    sb += double(k) * b[k - 1];
+  }
+  a[0] = -sa;
+  b[0] = -sb;
+  return at;
+}
+
 namespace {
 
 // The free coefficients of one joint: offset, a_2..a_N, b_2..b_N (2N - 1 numbers); a_1 and b_1
@@ -223,17 +239,7 @@ FourierTrajectory fromFree(const ExcitationOptions& o, const Eigen::VectorXd& p)
   int at = 0;
   for (int j = o.hip_locked ? 1 : 0; j < 2; ++j) {
     t.offset_rad[j] = p[at++];
-    double sa = 0.0, sb = 0.0;
-    for (int k = 2; k <= n; ++k) {
-      t.a_rad(k - 1, j) = p[at++];
-      sa += double(k * k) * t.a_rad(k - 1, j);
-    }
-    for (int k = 2; k <= n; ++k) {
-      t.b_rad(k - 1, j) = p[at++];
-      sb += double(k) * t.b_rad(k - 1, j);
-    }
-    t.a_rad(0, j) = -sa;  // sum k^2 a_k = 0: qdd(0) = 0
-    t.b_rad(0, j) = -sb;  // sum k b_k = 0: qd(0) = 0
+    at = unpackRestingHarmonics(p, at, t.a_rad.col(j), t.b_rad.col(j));
   }
   return t;
 }

@@ -107,17 +107,7 @@ ChainTrajectory fromFree(const ExcitationOptions& o, int dof, const Eigen::Vecto
   int at = 0;
   for (int j = 0; j < dof; ++j) {
     t.offset_rad[j] = p[at++];
-    double sa = 0.0, sb = 0.0;
-    for (int k = 2; k <= n; ++k) {
-      t.a_rad(k - 1, j) = p[at++];
-      sa += double(k * k) * t.a_rad(k - 1, j);
-    }
-    for (int k = 2; k <= n; ++k) {
-      t.b_rad(k - 1, j) = p[at++];
-      sb += double(k) * t.b_rad(k - 1, j);
-    }
-    t.a_rad(0, j) = -sa;  // sum k^2 a_k = 0: qdd(0) = 0
-    t.b_rad(0, j) = -sb;  // sum k b_k = 0: qd(0) = 0
+    at = unpackRestingHarmonics(p, at, t.a_rad.col(j), t.b_rad.col(j));
   }
   return t;
 }

@@ -128,6 +128,10 @@ struct RestartSearch {
 RestartSearch searchFromRestarts(const ExcitationOptions& options, const std::function<Eigen::VectorXd(core::Rng&)>& start,
                                  const std::function<double(const Eigen::VectorXd&)>& objective,
                                  const std::function<bool(const Eigen::VectorXd&)>& feasible);
+/// One joint's harmonics from a design's free coefficients p[at..]: a_2..a_N then b_2..b_N into
+/// a(1..N-1), b(1..N-1); a_1 and b_1 follow from rest at t = 0 (sum k^2 a_k = 0: qdd(0) = 0;
+/// sum k b_k = 0: qd(0) = 0). a and b hold N each. Returns the index after the last one read.
+int unpackRestingHarmonics(const Eigen::VectorXd& p, int at, Eigen::Ref<Eigen::VectorXd> a, Eigen::Ref<Eigen::VectorXd> b);
 /// The largest s in [0, 1] (40 bisection steps) with feasible_at(s), for shrinking a design's
 /// harmonics into the limits; feasible_at(0) is assumed.
 double largestFeasibleScale(const std::function<bool(double)>& feasible_at);
