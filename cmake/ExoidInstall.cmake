@@ -3,7 +3,7 @@
 include(CMakePackageConfigHelpers)
 set(EXOID_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/exoid)
 
-set(_exoid_libs exoid_core exoid_ident exoid_experiments exoid_warnings)
+set(_exoid_libs exoid_core exoid_ident exoid_experiments_common exoid_experiments exoid_warnings)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/ ${PROJECT_SOURCE_DIR}/ident/include/ ${PROJECT_SOURCE_DIR}/experiments/include/
         ${PROJECT_BINARY_DIR}/experiments/generated/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 if(TARGET exoid_sim)
