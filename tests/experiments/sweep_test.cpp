@@ -1,5 +1,6 @@
 // `exoid sweep` / `exoid merge` in-process: determinism across threads, shards + merge, resume.
 #include "exoid/experiments/sweep/sweep_runner.hpp"
+#include "exoid/experiments/sweep/sweep_summary.hpp"
 #include "sweep_test_support.hpp"
 
 #include <cstdlib>
@@ -46,6 +47,35 @@ TEST(Sweep, WritesEveryOutputWithOneRowPerRunAndMethod) {
     EXPECT_NE(header.find(col), std::string::npos) << col;
   }
   EXPECT_EQ(slurp(d + "/summary.json").find("wall_time"), std::string::npos);
+}
+
+// summary.json is the typed summary serialised at the edge: the job files summarised again give
+// the same JSON, and the typed fields say what the tables show.
+TEST(Sweep, SummaryJsonIsTheTypedSummarySerialised) {
+  const std::string& d = referenceSweep();
+  const SweepLayout layout = layoutFromJson(nlohmann::json::parse(slurp(d + "/config.json")));
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(d + "/runs")) {
+    if (e.path().filename().string().rfind("job-", 0) == 0) names.push_back(e.path().string());
+  }
+  std::sort(names.begin(), names.end());
+  std::vector<nlohmann::json> jobs;
+  for (const std::string& n : names) jobs.push_back(nlohmann::json::parse(slurp(n)));
+  const SweepSummary s = summarizeSweep(layout, jobs);
+  EXPECT_EQ(toJson(s), nlohmann::json::parse(slurp(d + "/summary.json")));
+  ASSERT_EQ(s.cells.size(), 2u);
+  const CellSummary& noisy = s.cells[1];
+  EXPECT_EQ(noisy.condition.torque_noise_Nm, 0.5);
+  ASSERT_EQ(noisy.methods.size(), 5u);
+  EXPECT_FALSE(noisy.method(Variant::kLs).vs_ls);
+  ASSERT_TRUE(noisy.method(Variant::kRlsPso).vs_ls);
+  EXPECT_EQ(noisy.method(Variant::kRlsPso).vs_ls->torque_err_mean.n, 2);
+  EXPECT_EQ(noisy.method(Variant::kRlsPso).n, 2);
+  EXPECT_FALSE(noisy.method(Variant::kLs).vs_paper_trajectories);  // no optimised cells here
+  EXPECT_EQ(noisy.find(Variant::kIdimIv), nullptr);
+  EXPECT_THROW(noisy.method(Variant::kIdimIv), std::out_of_range);
+  EXPECT_STREQ(metricName(SweepMetric::kTorqueErrMean), "torque_err_mean");
+  EXPECT_STREQ(metricName(SweepMetric::kValRms), "val_rms");
 }
 
 // The trajectory axis end to end: each optimised cell is compared with its paper twin over the

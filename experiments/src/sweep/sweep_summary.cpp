@@ -133,42 +133,79 @@ std::string conditionCsv(const SweepCondition& c) {
 }
 const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,trajectories";
 
-// The summary metrics: name and how to read it from a row.
+// The summary metrics, in SweepMetric order: how to read each from a row.
 struct Metric {
+  SweepMetric id;
   const char* name;
   double (*get)(const Row&);
 };
-const Metric kMetrics[] = {
-    {"torque_err_hip", [](const Row& r) { return r.ts_hip; }},
-    {"torque_err_knee", [](const Row& r) { return r.ts_knee; }},
-    {"torque_err_mean", [](const Row& r) { return 0.5 * (r.ts_hip + r.ts_knee); }},
-    {"median_abs_rel_err", [](const Row& r) { return r.median_abs_rel; }},
-    {"max_abs_rel_err", [](const Row& r) { return r.max_abs_rel; }},
-    {"norm_err_best_fit_mxt_dominated", [](const Row& r) { return r.err_best_fit; }},
-    {"norm_err_rigid_mxt_dominated", [](const Row& r) { return r.err_rigid; }},
-    {"gap_box_max", [](const Row& r) { return r.gap_box; }},
-    {"plausible_rate", [](const Row& r) { return r.plausible; }},
-    {"gap_unconstrained_max", [](const Row& r) { return r.gap_free; }},
-    {"knee_val_mean_abs", [](const Row& r) { return r.val[0]; }},
-    {"knee_val_rms", [](const Row& r) { return r.val[2]; }},
-    {"hip_val_mean_abs", [](const Row& r) { return r.val[3]; }},
-    {"hip_val_rms", [](const Row& r) { return r.val[5]; }},
-    {"val_rms", [](const Row& r) { return 0.5 * (r.val[2] + r.val[5]); }},
+constexpr Metric kMetrics[kNumSweepMetrics] = {
+    {SweepMetric::kTorqueErrHip, "torque_err_hip", [](const Row& r) { return r.ts_hip; }},
+    {SweepMetric::kTorqueErrKnee, "torque_err_knee", [](const Row& r) { return r.ts_knee; }},
+    {SweepMetric::kTorqueErrMean, "torque_err_mean", [](const Row& r) { return 0.5 * (r.ts_hip + r.ts_knee); }},
+    {SweepMetric::kMedianAbsRelErr, "median_abs_rel_err", [](const Row& r) { return r.median_abs_rel; }},
+    {SweepMetric::kMaxAbsRelErr, "max_abs_rel_err", [](const Row& r) { return r.max_abs_rel; }},
+    {SweepMetric::kNormErrBestFit, "norm_err_best_fit_mxt_dominated", [](const Row& r) { return r.err_best_fit; }},
+    {SweepMetric::kNormErrRigid, "norm_err_rigid_mxt_dominated", [](const Row& r) { return r.err_rigid; }},
+    {SweepMetric::kGapBoxMax, "gap_box_max", [](const Row& r) { return r.gap_box; }},
+    {SweepMetric::kPlausibleRate, "plausible_rate", [](const Row& r) { return r.plausible; }},
+    {SweepMetric::kGapUnconstrainedMax, "gap_unconstrained_max", [](const Row& r) { return r.gap_free; }},
+    {SweepMetric::kKneeValMeanAbs, "knee_val_mean_abs", [](const Row& r) { return r.val[0]; }},
+    {SweepMetric::kKneeValRms, "knee_val_rms", [](const Row& r) { return r.val[2]; }},
+    {SweepMetric::kHipValMeanAbs, "hip_val_mean_abs", [](const Row& r) { return r.val[3]; }},
+    {SweepMetric::kHipValRms, "hip_val_rms", [](const Row& r) { return r.val[5]; }},
+    {SweepMetric::kValRms, "val_rms", [](const Row& r) { return 0.5 * (r.val[2] + r.val[5]); }},
 };
-// Paired comparisons against LS run on these.
-const char* kPaired[] = {"torque_err_mean", "val_rms"};
 
-double metricOf(const Row& r, const std::string& name) {
-  for (const Metric& m : kMetrics) {
-    if (name == m.name) return m.get(r);
+constexpr bool inSweepMetricOrder() {
+  for (int i = 0; i < kNumSweepMetrics; ++i) {
+    if (static_cast<int>(kMetrics[i].id) != i) return false;
   }
-  return kNaN;
+  return true;
 }
+static_assert(inSweepMetricOrder(), "kMetrics lists the metrics in SweepMetric order (MethodSummary::metrics is indexed by it)");
 
+double metricOf(const Row& r, SweepMetric m) { return kMetrics[static_cast<std::size_t>(m)].get(r); }
+
+// The paired comparisons against LS, and against the paper's trajectories: metric and field.
+struct LsPaired {
+  SweepMetric metric;
+  PairedComparison VersusLs::*field;
+};
+const LsPaired kVersusLs[] = {{SweepMetric::kTorqueErrMean, &VersusLs::torque_err_mean}, {SweepMetric::kValRms, &VersusLs::val_rms}};
+struct PaperPaired {
+  SweepMetric metric;
+  VersusPaper TrajectoryComparison::*field;
+};
+const PaperPaired kVersusPaper[] = {{SweepMetric::kTorqueErrMean, &TrajectoryComparison::torque_err_mean},
+                                    {SweepMetric::kMedianAbsRelErr, &TrajectoryComparison::median_abs_rel_err},
+                                    {SweepMetric::kMaxAbsRelErr, &TrajectoryComparison::max_abs_rel_err},
+                                    {SweepMetric::kValRms, &TrajectoryComparison::val_rms}};
+
+using Replicates = std::map<int, const Row*>;  // replicate -> row (ok only)
 struct Cell {
-  std::map<std::string, std::map<int, const Row*>> by_method;  // method -> replicate -> row (ok only)
+  std::map<std::string, Replicates> by_method;
   std::map<std::string, int> failed;
 };
+
+std::map<int, Cell> cellsOf(const std::vector<Row>& rows) {
+  std::map<int, Cell> cells;
+  for (const Row& r : rows) {
+    Cell& c = cells[r.cell];
+    if (r.ok) {
+      c.by_method[r.method][r.replicate] = &r;
+    } else {
+      ++c.failed[r.method];
+    }
+  }
+  return cells;
+}
+
+const Replicates& repsOf(const Cell& c, const std::string& method) {
+  static const Replicates empty;
+  const auto it = c.by_method.find(method);
+  return it == c.by_method.end() ? empty : it->second;
+}
 
 void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
@@ -194,30 +231,10 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
   });
 }
 
-struct Paired {
-  int n = 0;
-  double win_rate = kNaN, p_value = kNaN, median_diff = kNaN;
-  double mdd = kNaN;  // minimal detectable mean difference, 80 % power, alpha 0.05
-  bool exact = false;
-};
-Paired pairedValues(const std::vector<double>& a, const std::vector<double>& b);
-// `m` against `ref` over the replicates both have, on a metric of a row.
-template <typename Get>
-Paired pairedBy(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ref, Get get) {
-  std::vector<double> a, b;
-  for (const auto& [rep, row] : m) {
-    const auto it = ref.find(rep);
-    if (it == ref.end()) continue;
-    a.push_back(get(*row));
-    b.push_back(get(*it->second));
-  }
-  return pairedValues(a, b);
-}
-Paired paired(const std::map<int, const Row*>& m, const std::map<int, const Row*>& ls, const std::string& metric) {
-  return pairedBy(m, ls, [&](const Row& r) { return metricOf(r, metric); });
-}
-Paired pairedValues(const std::vector<double>& a, const std::vector<double>& b) {
-  Paired p;
+// ---- The summary's statistics ----
+
+PairedComparison pairedValues(const std::vector<double>& a, const std::vector<double>& b) {
+  PairedComparison p;
   p.n = static_cast<int>(a.size());
   if (a.empty()) return p;
   double wins = 0.0;
@@ -232,7 +249,540 @@ Paired pairedValues(const std::vector<double>& a, const std::vector<double>& b) 
   return p;
 }
 
+// `m` against `ref` over the replicates both have, on a value of a row.
+template <typename Get>
+PairedComparison pairedBy(const Replicates& m, const Replicates& ref, Get get) {
+  std::vector<double> a, b;
+  for (const auto& [rep, row] : m) {
+    const auto it = ref.find(rep);
+    if (it == ref.end()) continue;
+    a.push_back(get(*row));
+    b.push_back(get(*it->second));
+  }
+  return pairedValues(a, b);
+}
+
+// Mean over the replicates of the finite values of a row's value.
+template <typename Get>
+double meanOf(const Replicates& reps, Get get) {
+  std::vector<double> x;
+  for (const auto& [rep, row] : reps) {
+    if (std::isfinite(get(*row))) x.push_back(get(*row));
+  }
+  return stats::mean(x);
+}
+
+stats::ConfidenceInterval metricCi(const Replicates& reps, SweepMetric m) {
+  std::vector<double> x;
+  for (const auto& [rep, row] : reps) {
+    if (std::isfinite(metricOf(*row, m))) x.push_back(metricOf(*row, m));
+  }
+  return stats::meanCi(x);
+}
+
+// Parameter i over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
+// mean noise std (CRB) and RMS of error / CRB.
+ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
+  std::vector<double> rel, abs_rel, crb;
+  double z2 = 0.0;
+  int zn = 0;
+  for (const auto& [rep, row] : reps) {
+    rel.push_back(row->rel_best_fit[i]);
+    abs_rel.push_back(std::abs(row->rel_best_fit[i]));
+    if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
+    if (std::isfinite(row->z[i])) {
+      z2 += row->z[i] * row->z[i];
+      ++zn;
+    }
+  }
+  ParameterStatistics p;
+  p.rel_err = stats::meanCi(rel);
+  p.abs_rel_err_median = median(abs_rel);
+  p.abs_rel_err_max = abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end());
+  p.crb_std = stats::mean(crb);
+  p.rms_error_over_crb = zn ? std::sqrt(z2 / zn) : kNaN;
+  return p;
+}
+
+// The largest finite RMS error / CRB over the parameters (NaN when none is).
+double worstOverCrb(const std::array<ParameterStatistics, kNumParams>& parameters) {
+  double worst = kNaN;
+  for (const ParameterStatistics& p : parameters) {
+    const double r = p.rms_error_over_crb;
+    if (std::isfinite(r)) worst = std::isfinite(worst) ? std::max(worst, r) : r;
+  }
+  return worst;
+}
+
+// One method in one cell; `ls` is LS's replicates in the same cell (compared when not empty).
+MethodSummary summarizeMethod(const Cell& c, Variant v, const Replicates& ls) {
+  const std::string name = toString(v);
+  const Replicates& reps = repsOf(c, name);
+  MethodSummary m;
+  m.method = v;
+  m.n = static_cast<int>(reps.size());
+  m.n_failed = c.failed.count(name) ? c.failed.at(name) : 0;
+  for (const Metric& metric : kMetrics) m.metrics[static_cast<std::size_t>(metric.id)] = metricCi(reps, metric.id);
+  if (!ls.empty() && name != "ls") {
+    VersusLs vs;
+    for (const LsPaired& p : kVersusLs) vs.*p.field = pairedBy(reps, ls, [&](const Row& r) { return metricOf(r, p.metric); });
+    m.vs_ls = vs;
+  }
+  for (int i = 0; i < kNumParams; ++i) m.parameters[static_cast<std::size_t>(i)] = parameterStatistics(reps, i);
+  m.rms_error_over_crb_max = worstOverCrb(m.parameters);
+  return m;
+}
+
+// Holm-adjusts a family of tests (a null member is a missing test: NaN in the family).
+void holmAdjustFamily(const std::vector<PairedComparison*>& family) {
+  std::vector<double> ps;
+  for (const PairedComparison* t : family) ps.push_back(t != nullptr && std::isfinite(t->p_value) ? t->p_value : kNaN);
+  const std::vector<double> adj = stats::holmAdjust(ps);
+  for (std::size_t k = 0; k < family.size(); ++k) {
+    if (family[k] != nullptr) family[k]->p_holm = adj[k];
+  }
+}
+
+// Holm over the cells, per method and metric compared with LS.
+void adjustVersusLs(std::vector<CellSummary>& cells, std::size_t num_methods) {
+  for (std::size_t k = 0; k < num_methods; ++k) {
+    for (const LsPaired& p : kVersusLs) {
+      std::vector<PairedComparison*> family;
+      for (CellSummary& c : cells) {
+        std::optional<VersusLs>& vs = c.methods[k].vs_ls;
+        family.push_back(vs ? &((*vs).*p.field) : nullptr);
+      }
+      holmAdjustFamily(family);
+    }
+  }
+}
+
+// The paper cell with the same condition as an optimised cell (-1: none in this sweep).
+int paperTwin(const std::vector<SweepCondition>& conds, std::size_t k) {
+  const SweepCondition& o = conds[k];
+  for (std::size_t i = 0; i < conds.size(); ++i) {
+    const SweepCondition& p = conds[i];
+    if (p.trajectories == "paper" && p.torque_noise_Nm == o.torque_noise_Nm && p.angle_noise_deg == o.angle_noise_deg &&
+        p.quantisation_deg == o.quantisation_deg && p.vibration_level == o.vibration_level &&
+        p.cylinder_mass_scale == o.cylinder_mass_scale) {
+      return static_cast<int>(i);
+    }
+  }
+  return -1;
+}
+
+template <typename Get>
+VersusPaper versusPaper(const Replicates& opt, const Replicates& pap, Get get) {
+  return {pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get)};
+}
+
+// One method of an optimised cell against the same method in its paper twin (Holm not yet applied).
+TrajectoryComparison compareWithTwin(const Cell& optimised, const Cell& paper, int paper_cell, const std::string& method) {
+  const Replicates& opt = repsOf(optimised, method);
+  const Replicates& pap = repsOf(paper, method);
+  TrajectoryComparison t;
+  t.paper_cell = paper_cell;
+  for (const PaperPaired& p : kVersusPaper) {
+    t.*p.field = versusPaper(opt, pap, [&](const Row& r) { return metricOf(r, p.metric); });
+  }
+  for (int i = 0; i < kNumParams; ++i) {
+    t.parameters[static_cast<std::size_t>(i)] = versusPaper(opt, pap, [i](const Row& r) { return std::abs(r.rel_best_fit[i]); });
+  }
+  return t;
+}
+
+// Holm per metric (each parameter's error is a metric) over the compared cells of method k.
+void adjustVersusPaper(const std::vector<CellSummary*>& compared, std::size_t k) {
+  const auto adjust = [&](auto pick) {
+    std::vector<PairedComparison*> family;
+    for (CellSummary* c : compared) family.push_back(&pick(*c->methods[k].vs_paper_trajectories).test);
+    holmAdjustFamily(family);
+  };
+  for (const PaperPaired& p : kVersusPaper) adjust([&](TrajectoryComparison& t) -> VersusPaper& { return t.*p.field; });
+  for (std::size_t i = 0; i < kNumParams; ++i) adjust([i](TrajectoryComparison& t) -> VersusPaper& { return t.parameters[i]; });
+}
+
+// Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
+// random numbers), per method: the paired metrics and each parameter's |relative error|, with
+// Holm over the compared cells per method and metric.
+void compareTrajectories(const std::vector<SweepCondition>& conds, const std::map<int, Cell>& cells, std::vector<CellSummary>& out) {
+  std::vector<CellSummary*> compared;
+  std::vector<int> twins;
+  for (CellSummary& c : out) {
+    if (c.condition.trajectories != "optimised") continue;
+    const int twin = paperTwin(conds, static_cast<std::size_t>(c.cell));
+    if (twin < 0 || !cells.count(twin)) continue;
+    compared.push_back(&c);
+    twins.push_back(twin);
+  }
+  for (std::size_t j = 0; j < compared.size(); ++j) {
+    for (MethodSummary& m : compared[j]->methods) {
+      m.vs_paper_trajectories = compareWithTwin(cells.at(compared[j]->cell), cells.at(twins[j]), twins[j], toString(m.method));
+    }
+  }
+  if (compared.empty()) return;
+  for (std::size_t k = 0; k < compared.front()->methods.size(); ++k) adjustVersusPaper(compared, k);
+}
+
+SweepSummary summarize(const SweepLayout& config, const std::vector<Row>& rows) {
+  const std::vector<SweepCondition> conds = config.conditions();
+  const std::map<int, Cell> cells = cellsOf(rows);
+  SweepSummary s;
+  s.layout = config;
+  for (const auto& [cell, c] : cells) {
+    CellSummary cs;
+    cs.cell = cell;
+    cs.condition = conds[static_cast<std::size_t>(cell)];
+    const Replicates& ls = repsOf(c, "ls");
+    for (Variant v : config.methods) cs.methods.push_back(summarizeMethod(c, v, ls));
+    s.cells.push_back(std::move(cs));
+  }
+  adjustVersusLs(s.cells, config.methods.size());
+  compareTrajectories(conds, cells, s.cells);
+  return s;
+}
+
+// ---- summary.json ----
+
+nlohmann::json statisticsJson() {
+  return {
+      {"confidence_interval", "95 % Student t interval of the mean over seeds: mean -+ t(0.975, n-1) std / sqrt(n)"},
+      {"paired_test", "Wilcoxon signed-rank vs ls over the same seeds, two-sided; exact for n <= 25 without ties, "
+                      "else normal approximation with tie and continuity corrections; zero differences dropped"},
+      {"p_holm", "Holm-Bonferroni adjusted over the sweep's cells, per method and metric"},
+      {"mdd", "minimal detectable mean paired difference (method - ls) at 80 % power, alpha 0.05, paired t: "
+              "(t(0.975, n-1) + t(0.8, n-1)) sd(diff) / sqrt(n)"},
+      {"win_rate", "fraction of seeds where the method's value < ls's (ties count 1/2)"},
+      {"vs_paper_trajectories", "an optimised-trajectories cell against its paper twin (same condition and seeds), per "
+                                "method: Wilcoxon signed-rank, win_rate = share of seeds where optimised < paper, Holm "
+                                "over the compared cells per method and metric (each parameter's error is a metric)"},
+      {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
+      {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
+                  "(experiments::noiseStd); mean over the cell's seeds"},
+      {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std of that seed"},
+      {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
+}
+
+nlohmann::json toJson(const stats::ConfidenceInterval& ci) {
+  return {{"mean", jnum(ci.mean)}, {"std", jnum(ci.std)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}};
+}
+
+nlohmann::json toJson(const PairedComparison& p) {
+  return {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
+          {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}, {"p_holm", jnum(p.p_holm)}};
+}
+
+nlohmann::json toJson(const VersusPaper& v) {
+  nlohmann::json j = toJson(v.test);
+  j["optimised_mean"] = jnum(v.optimised_mean);
+  j["paper_mean"] = jnum(v.paper_mean);
+  return j;
+}
+
+nlohmann::json toJson(const ParameterStatistics& p) {
+  return {{"rel_err", {{"mean", jnum(p.rel_err.mean)}, {"ci95_low", jnum(p.rel_err.low)}, {"ci95_high", jnum(p.rel_err.high)}}},
+          {"abs_rel_err_median", jnum(p.abs_rel_err_median)},
+          {"abs_rel_err_max", jnum(p.abs_rel_err_max)},
+          {"crb_std", jnum(p.crb_std)},
+          {"rms_error_over_crb", jnum(p.rms_error_over_crb)}};
+}
+
+// An object of each parameter's entry, keyed by its name.
+template <typename T>
+nlohmann::json byParameter(const std::array<T, kNumParams>& entries) {
+  nlohmann::json j;
+  for (int i = 0; i < kNumParams; ++i) j[std::string(ident::paramName(i))] = toJson(entries[static_cast<std::size_t>(i)]);
+  return j;
+}
+
+nlohmann::json toJson(const TrajectoryComparison& t) {
+  nlohmann::json j;
+  j["paper_cell"] = t.paper_cell;
+  for (const PaperPaired& p : kVersusPaper) j[metricName(p.metric)] = toJson(t.*p.field);
+  j["parameters"] = byParameter(t.parameters);
+  return j;
+}
+
+nlohmann::json toJson(const MethodSummary& m) {
+  nlohmann::json j;
+  j["n"] = m.n;
+  j["n_failed"] = m.n_failed;
+  for (const Metric& metric : kMetrics) j["metrics"][metric.name] = toJson(m.metric(metric.id));
+  if (m.vs_ls) {
+    for (const LsPaired& p : kVersusLs) j["vs_ls"][metricName(p.metric)] = toJson((*m.vs_ls).*p.field);
+  }
+  j["parameters"] = byParameter(m.parameters);
+  j["rms_error_over_crb_max"] = jnum(m.rms_error_over_crb_max);
+  if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = toJson(*m.vs_paper_trajectories);
+  return j;
+}
+
+nlohmann::json toJson(const CellSummary& c) {
+  nlohmann::json j;
+  j["cell"] = c.cell;
+  j["condition"] = toJson(c.condition);
+  for (const MethodSummary& m : c.methods) j["methods"][toString(m.method)] = toJson(m);
+  return j;
+}
+
+// ---- summary.csv and summary.md ----
+
+void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
+    out << "cell," << kConditionHeader << ",method,n,n_failed";
+    for (const Metric& m : kMetrics) {
+      for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << m.name << '_' << f;
+    }
+    for (const LsPaired& p : kVersusLs) {
+      const char* n = metricName(p.metric);
+      out << ",win_rate_vs_ls_" << n << ",p_wilcoxon_vs_ls_" << n << ",p_holm_vs_ls_" << n << ",mdd_vs_ls_" << n;
+    }
+    for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
+    out << ",rms_error_over_crb_max";
+    for (const PaperPaired& p : kVersusPaper) {
+      out << ",win_rate_vs_paper_trajectories_" << metricName(p.metric) << ",p_holm_vs_paper_trajectories_" << metricName(p.metric);
+    }
+    out << "\n";
+    for (const CellSummary& c : s.cells) {
+      for (const MethodSummary& m : c.methods) {
+        out << c.cell << ',' << conditionCsv(c.condition) << ',' << toString(m.method) << ',' << m.n << ',' << m.n_failed;
+        for (const stats::ConfidenceInterval& ci : m.metrics) {
+          out << ',' << num(ci.mean) << ',' << num(ci.std) << ',' << num(ci.low) << ',' << num(ci.high);
+        }
+        for (const LsPaired& p : kVersusLs) {
+          if (m.vs_ls) {
+            const PairedComparison& q = (*m.vs_ls).*p.field;
+            out << ',' << num(q.win_rate) << ',' << num(q.p_value) << ',' << num(q.p_holm) << ',' << num(q.mdd);
+          } else {
+            out << ",,,,";
+          }
+        }
+        for (const ParameterStatistics& p : m.parameters) out << ',' << num(p.rms_error_over_crb);
+        out << ',' << num(m.rms_error_over_crb_max);
+        for (const PaperPaired& p : kVersusPaper) {
+          if (m.vs_paper_trajectories) {
+            const PairedComparison& q = ((*m.vs_paper_trajectories).*p.field).test;
+            out << ',' << num(q.win_rate) << ',' << num(q.p_holm);
+          } else {
+            out << ",,";
+          }
+        }
+        out << '\n';
+      }
+    }
+  });
+}
+
+std::string ciText(const stats::ConfidenceInterval& ci, double scale, int decimals) {
+  if (!std::isfinite(ci.mean)) return "-";
+  std::string s = fixed(scale * ci.mean, decimals);
+  if (std::isfinite(ci.low)) s += " [" + fixed(scale * ci.low, decimals) + ", " + fixed(scale * ci.high, decimals) + "]";
+  return s;
+}
+
+// "P -> O (win rate, Holm p)" of one paired trajectory comparison, in % when scale is 100.
+std::string trajectoryPairText(const VersusPaper& p, double scale, int decimals) {
+  if (!std::isfinite(p.optimised_mean) || !std::isfinite(p.paper_mean)) return "-";
+  return fixed(scale * p.paper_mean, decimals) + " -> " + fixed(scale * p.optimised_mean, decimals) + " (" +
+         fixed(p.test.win_rate, 2) + ", p = " + fmt(p.test.p_holm, 2) + ")";
+}
+
+// A section's heading: the condition without the torque noise (the tables' columns).
+std::string sectionKey(const SweepCondition& k) {
+  return "cylinder mass scale " + fmt(k.cylinder_mass_scale) + ", vibration level " + fmt(k.vibration_level) + ", angle noise " +
+         fmt(k.angle_noise_deg) + " deg, quantisation " + fmt(k.quantisation_deg) + " deg";
+}
+
+using Section = std::pair<std::string, std::vector<const CellSummary*>>;  // heading, its cells
+
+// The cells grouped by heading, in the order the headings first appear.
+template <typename Key>
+std::vector<Section> sectionsOf(const std::vector<const CellSummary*>& cells, Key key) {
+  std::vector<Section> sections;
+  for (const CellSummary* c : cells) {
+    const std::string k = key(*c);
+    auto it = std::find_if(sections.begin(), sections.end(), [&](const Section& s) { return s.first == k; });
+    if (it == sections.end()) it = sections.insert(sections.end(), Section{k, {}});
+    it->second.push_back(c);
+  }
+  return sections;
+}
+
+// A table's header: `first`, then one column per cell by its torque noise.
+std::vector<std::string> noiseHeader(const std::string& first, const std::vector<const CellSummary*>& cs) {
+  std::vector<std::string> header{first};
+  for (const CellSummary* c : cs) header.push_back("tau noise " + fmt(c->condition.torque_noise_Nm) + " N m");
+  return header;
+}
+
+const char* kTrajectoryMetricTitles[] = {"Torque-space error (%)", "Median per-parameter |error| (%)", "Worst per-parameter |error| (%)"};
+
+// One trajectory-comparison section: methods x torque noise per metric, then per parameter for LS and RLS-PSO.
+void writeTrajectorySection(std::ostream& md, const std::vector<Variant>& methods, const Section& section) {
+  const std::vector<const CellSummary*>& cs = section.second;
+  const std::vector<std::string> header = noiseHeader("method", cs);
+  md << "\n## " << section.first << "\n";
+  for (int k = 0; k < 3; ++k) {
+    md << "\n" << kTrajectoryMetricTitles[k] << "\n\n";
+    TextTable t(header);
+    for (Variant v : methods) {
+      std::vector<std::string> row{toString(v)};
+      for (const CellSummary* c : cs) {
+        row.push_back(trajectoryPairText((*c->method(v).vs_paper_trajectories).*kVersusPaper[k].field, 100.0, 2));
+      }
+      t.addRow(row);
+    }
+    t.printMarkdown(md);
+  }
+  for (Variant method : {Variant::kLs, Variant::kRlsPso}) {
+    if (cs.front()->find(method) == nullptr) continue;
+    md << "\n" << toString(method) << ": per-parameter |error| (%)\n\n";
+    TextTable t(noiseHeader("param", cs));
+    for (int i = 0; i < kNumParams; ++i) {
+      std::vector<std::string> row{std::string(ident::paramName(i))};
+      for (const CellSummary* c : cs) {
+        row.push_back(trajectoryPairText(c->method(method).vs_paper_trajectories->parameters[static_cast<std::size_t>(i)], 100.0, 2));
+      }
+      t.addRow(row);
+    }
+    t.printMarkdown(md);
+  }
+}
+
+// The trajectory axis: each optimised cell against its paper twin, grouped like the sections.
+void writeTrajectoryComparisonMd(const SweepSummary& s, std::ostream& md) {
+  std::vector<const CellSummary*> compared;
+  for (const CellSummary& c : s.cells) {
+    if (!c.methods.empty() && c.methods.front().vs_paper_trajectories) compared.push_back(&c);
+  }
+  if (compared.empty()) return;
+  md << "\n# Optimised vs the paper's identification trajectories\n\nEach optimised cell against the paper cell with the "
+        "same condition and the same seeds (validation on trajectories 2 and 4 in both): paper -> optimised mean over seeds "
+        "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the compared cells per method "
+        "and metric).\n";
+  for (const Section& section : sectionsOf(compared, [](const CellSummary& c) { return sectionKey(c.condition); })) {
+    writeTrajectorySection(md, s.layout.methods, section);
+  }
+}
+
+enum class CellTable { kTorque, kParams, kCrb };
+
+// A method's entry in a cell of one of the section's first three tables.
+std::string cellText(const MethodSummary& m, CellTable what) {
+  if (what == CellTable::kTorque) return ciText(m.metric(SweepMetric::kTorqueErrMean), 100.0, 2);
+  if (what == CellTable::kParams) {
+    const double med = m.metric(SweepMetric::kMedianAbsRelErr).mean, worst = m.metric(SweepMetric::kMaxAbsRelErr).mean;
+    return std::isfinite(med) ? fixed(100.0 * med, 1) + " (" + fixed(100.0 * worst, 1) + ")" : "-";
+  }
+  const double r = m.rms_error_over_crb_max;
+  return std::isfinite(r) ? fmt(r, 3) : "-";
+}
+
+// Methods (rows) x torque noise (columns): the torque-space error, the median and worst
+// per-parameter error, the worst error in units of the method's CRB.
+void writeMethodTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+  for (const auto& [what, title] : {std::pair{CellTable::kTorque, "Torque-space error (%)"},
+                                    std::pair{CellTable::kParams, "Per-parameter |error| (%): median (worst)"},
+                                    std::pair{CellTable::kCrb, "Worst RMS error / CRB"}}) {
+    md << "\n" << title << "\n\n";
+    TextTable t(noiseHeader("method", cs));
+    for (Variant v : methods) {
+      std::vector<std::string> row{toString(v)};
+      for (const CellSummary* c : cs) row.push_back(cellText(c->method(v), what));
+      t.addRow(row);
+    }
+    t.printMarkdown(md);
+  }
+}
+
+// Every method against LS on the torque-space error: is it closer to the truth, significantly?
+void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+  TextTable t(noiseHeader("method", cs));
+  bool any = false;
+  for (Variant v : methods) {
+    std::vector<std::string> row{toString(v)};
+    bool have = false;
+    for (const CellSummary* c : cs) {
+      const MethodSummary& m = c->method(v);
+      if (!m.vs_ls) {
+        row.push_back("-");
+        continue;
+      }
+      have = true;
+      const PairedComparison& p = m.vs_ls->torque_err_mean;
+      row.push_back(fixed(p.win_rate, 2) + ", p = " + fmt(p.p_holm, 3) + ", n = " + core::toText(static_cast<long>(p.n)));
+    }
+    if (have) t.addRow(row);
+    any = any || have;
+  }
+  if (any) {
+    md << "\nVs LS on the torque-space error (share of seeds where the method is closer to the truth, Holm-adjusted p, "
+          "seeds where both were usable)\n\n";
+    t.printMarkdown(md);
+  }
+}
+
+// RLS-PSO vs LS on the paired metrics, when the sweep compared them in any of the section's cells.
+void writeRlsPsoTable(std::ostream& md, const std::vector<const CellSummary*>& cs) {
+  bool have_pair = false;
+  for (const CellSummary* c : cs) have_pair = have_pair || (c->find(Variant::kRlsPso) != nullptr && c->find(Variant::kRlsPso)->vs_ls);
+  if (!have_pair) return;
+  md << "\nRLS-PSO vs LS (win rate, Holm-adjusted p, MDD)\n\n";
+  TextTable t(noiseHeader("metric", cs));
+  for (const LsPaired& q : kVersusLs) {
+    std::vector<std::string> row{metricName(q.metric)};
+    for (const CellSummary* c : cs) {
+      const PairedComparison& p = (*c->method(Variant::kRlsPso).vs_ls).*q.field;
+      const double scale = q.metric == SweepMetric::kTorqueErrMean ? 100.0 : 1.0;
+      row.push_back(fixed(p.win_rate, 2) + ", p = " + fmt(p.p_holm, 3) + ", MDD " + fmt(scale * p.mdd, 3) +
+                    (scale == 100.0 ? " %" : " N m"));
+    }
+    t.addRow(row);
+  }
+  t.printMarkdown(md);
+}
+
+// One section per (trajectories, cylinder, vibration, angle noise, quantisation): methods (rows) x
+// torque noise (columns) for the torque-space error, the median and worst per-parameter error, the
+// worst error in units of the method's CRB, every method vs LS, and RLS-PSO vs LS.
+void writeSummaryMd(const SweepSummary& s, const std::string& path) {
+  core::writeFileAtomically(path, [&](std::ostream& md) {
+    md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
+          "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
+          "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
+          "noise-limited std). Paired comparison: Wilcoxon signed-rank vs LS over the same seeds, Holm-adjusted over the "
+          "sweep's cells; MDD = minimal detectable difference at 80 % power.\n";
+    std::vector<const CellSummary*> cells;
+    for (const CellSummary& c : s.cells) cells.push_back(&c);
+    const auto key = [](const CellSummary& c) {
+      return (c.condition.trajectories == "optimised" ? std::string("optimised trajectories, ") : std::string("paper's trajectories, ")) +
+             sectionKey(c.condition);
+    };
+    for (const auto& [heading, cs] : sectionsOf(cells, key)) {
+      md << "\n## " << heading << "\n";
+      writeMethodTables(md, s.layout.methods, cs);
+      writeVersusLsTable(md, s.layout.methods, cs);
+      writeRlsPsoTable(md, cs);
+    }
+    writeTrajectoryComparisonMd(s, md);
+  });
+}
+
 }  // namespace
+
+const char* metricName(SweepMetric m) { return kMetrics[static_cast<std::size_t>(m)].name; }
+
+const MethodSummary* CellSummary::find(Variant v) const {
+  for (const MethodSummary& m : methods) {
+    if (m.method == v) return &m;
+  }
+  return nullptr;
+}
+
+const MethodSummary& CellSummary::method(Variant v) const {
+  if (const MethodSummary* m = find(v)) return *m;
+  throw std::out_of_range(std::string("sweep summary: cell ") + core::toText(cell) + " has no method '" + toString(v) + "'");
+}
 
 SweepLayout layoutOf(const SweepConfig& c) { return {c.conditions(), c.methods, c.seeds, c.toJson()}; }
 
@@ -254,441 +804,29 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
   }
 }
 
-namespace {
-
-// Per parameter over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
-// mean noise std (CRB) and RMS of error / CRB.
-nlohmann::json parameterJson(const std::map<int, const Row*>& reps) {
-  nlohmann::json out;
-  for (int i = 0; i < kNumParams; ++i) {
-    std::vector<double> rel, abs_rel, crb;
-    double z2 = 0.0;
-    int zn = 0;
-    for (const auto& [rep, row] : reps) {
-      rel.push_back(row->rel_best_fit[i]);
-      abs_rel.push_back(std::abs(row->rel_best_fit[i]));
-      if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
-      if (std::isfinite(row->z[i])) {
-        z2 += row->z[i] * row->z[i];
-        ++zn;
-      }
-    }
-    const stats::ConfidenceInterval ci = stats::meanCi(rel);
-    out[std::string(ident::paramName(i))] = {
-        {"rel_err", {{"mean", jnum(ci.mean)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}}},
-        {"abs_rel_err_median", jnum(median(abs_rel))},
-        {"abs_rel_err_max", jnum(abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end()))},
-        {"crb_std", jnum(stats::mean(crb))},
-        {"rms_error_over_crb", jnum(zn ? std::sqrt(z2 / zn) : kNaN)}};
-  }
-  return out;
+SweepSummary summarizeSweep(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
+  return summarize(config, rowsOf(config, jobs));
 }
 
-const std::map<int, const Row*>& repsOf(const Cell& c, const std::string& method) {
-  static const std::map<int, const Row*> empty;
-  const auto it = c.by_method.find(method);
-  return it == c.by_method.end() ? empty : it->second;
-}
-
-// The paper cell with the same condition as an optimised cell (-1: none in this sweep).
-int paperTwin(const std::vector<SweepCondition>& conds, std::size_t k) {
-  const SweepCondition& o = conds[k];
-  for (std::size_t i = 0; i < conds.size(); ++i) {
-    const SweepCondition& p = conds[i];
-    if (p.trajectories == "paper" && p.torque_noise_Nm == o.torque_noise_Nm && p.angle_noise_deg == o.angle_noise_deg &&
-        p.quantisation_deg == o.quantisation_deg && p.vibration_level == o.vibration_level &&
-        p.cylinder_mass_scale == o.cylinder_mass_scale) {
-      return static_cast<int>(i);
-    }
-  }
-  return -1;
-}
-
-nlohmann::json pairedJson(const Paired& p, double optimised_mean, double paper_mean) {
-  return {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
-          {"optimised_mean", jnum(optimised_mean)}, {"paper_mean", jnum(paper_mean)},
-          {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}};
-}
-
-// Paired metrics of the trajectory comparison.
-const char* kTrajectoryPaired[] = {"torque_err_mean", "median_abs_rel_err", "max_abs_rel_err", "val_rms"};
-
-// Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
-// random numbers), per method: the paired metrics and each parameter's |relative error|, with
-// Holm over the compared cells per method and metric.
-void compareTrajectories(const std::vector<SweepCondition>& conds, const std::map<int, Cell>& cells,
-                         const std::vector<Variant>& methods, nlohmann::json& conditions) {
-  std::vector<std::pair<nlohmann::json*, int>> pairs;  // (optimised cell's json, paper twin)
-  for (nlohmann::json& cj : conditions) {
-    const auto k = cj.at("cell").get<std::size_t>();
-    if (conds[k].trajectories != "optimised") continue;
-    const int twin = paperTwin(conds, k);
-    if (twin >= 0 && cells.count(twin)) pairs.emplace_back(&cj, twin);
-  }
-  if (pairs.empty()) return;
-  for (Variant v : methods) {
-    const std::string name = toString(v);
-    for (auto& [cj, twin] : pairs) {
-      const std::map<int, const Row*>& opt = repsOf(cells.at(cj->at("cell").get<int>()), name);
-      const std::map<int, const Row*>& pap = repsOf(cells.at(twin), name);
-      nlohmann::json& mj = (*cj)["methods"][name];
-      mj["vs_paper_trajectories"]["paper_cell"] = twin;
-      const auto meanOf = [](const std::map<int, const Row*>& reps, auto get) {
-        std::vector<double> x;
-        for (const auto& [rep, row] : reps) {
-          if (std::isfinite(get(*row))) x.push_back(get(*row));
-        }
-        return stats::mean(x);
-      };
-      for (const char* metric : kTrajectoryPaired) {
-        const auto get = [&](const Row& r) { return metricOf(r, metric); };
-        mj["vs_paper_trajectories"][metric] = pairedJson(pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get));
-      }
-      for (int i = 0; i < kNumParams; ++i) {
-        const auto get = [i](const Row& r) { return std::abs(r.rel_best_fit[i]); };
-        mj["vs_paper_trajectories"]["parameters"][std::string(ident::paramName(i))] =
-            pairedJson(pairedBy(opt, pap, get), meanOf(opt, get), meanOf(pap, get));
-      }
-    }
-    // Holm per method and metric (each parameter's error is a metric) over the compared cells, as vs_ls.
-    const auto holm = [&](auto pick) {
-      std::vector<nlohmann::json*> tested;
-      for (auto& [cj, twin] : pairs) tested.push_back(&pick((*cj)["methods"][name]["vs_paper_trajectories"]));
-      std::vector<double> ps;
-      for (const nlohmann::json* j : tested) ps.push_back(j->at("p_value").is_null() ? kNaN : j->at("p_value").get<double>());
-      const std::vector<double> adj = stats::holmAdjust(ps);
-      for (std::size_t k = 0; k < tested.size(); ++k) (*tested[k])["p_holm"] = jnum(adj[k]);
-    };
-    for (const char* metric : kTrajectoryPaired) holm([&](nlohmann::json& t) -> nlohmann::json& { return t[metric]; });
-    for (int i = 0; i < kNumParams; ++i) {
-      const std::string pname(ident::paramName(i));
-      holm([&](nlohmann::json& t) -> nlohmann::json& { return t["parameters"][pname]; });
-    }
-  }
-}
-
-}  // namespace
-
-nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
-  const std::vector<Row> rows = rowsOf(config, jobs);
-  const std::vector<SweepCondition> conds = config.conditions();
-  std::map<int, Cell> cells;
-  for (const Row& r : rows) {
-    Cell& c = cells[r.cell];
-    if (r.ok) {
-      c.by_method[r.method][r.replicate] = &r;
-    } else {
-      ++c.failed[r.method];
-    }
-  }
+nlohmann::json toJson(const SweepSummary& s) {
   nlohmann::json out;
   out["tool"] = toolJson();
-  out["config"] = config.resolved;
-  out["statistics"] = {
-      {"confidence_interval", "95 % Student t interval of the mean over seeds: mean -+ t(0.975, n-1) std / sqrt(n)"},
-      {"paired_test", "Wilcoxon signed-rank vs ls over the same seeds, two-sided; exact for n <= 25 without ties, "
-                      "else normal approximation with tie and continuity corrections; zero differences dropped"},
-      {"p_holm", "Holm-Bonferroni adjusted over the sweep's cells, per method and metric"},
-      {"mdd", "minimal detectable mean paired difference (method - ls) at 80 % power, alpha 0.05, paired t: "
-              "(t(0.975, n-1) + t(0.8, n-1)) sd(diff) / sqrt(n)"},
-      {"win_rate", "fraction of seeds where the method's value < ls's (ties count 1/2)"},
-      {"vs_paper_trajectories", "an optimised-trajectories cell against its paper twin (same condition and seeds), per "
-                                "method: Wilcoxon signed-rank, win_rate = share of seeds where optimised < paper, Holm "
-                                "over the compared cells per method and metric (each parameter's error is a metric)"},
-      {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
-      {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
-                  "(experiments::noiseStd); mean over the cell's seeds"},
-      {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std of that seed"},
-      {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
+  out["config"] = s.layout.resolved;
+  out["statistics"] = statisticsJson();
   nlohmann::json conditions = nlohmann::json::array();
-  for (const auto& [cell, c] : cells) {
-    nlohmann::json cj;
-    cj["cell"] = cell;
-    cj["condition"] = toJson(conds[static_cast<std::size_t>(cell)]);
-    const std::map<int, const Row*>& ls = repsOf(c, "ls");
-    for (Variant v : config.methods) {
-      const std::string name = toString(v);
-      const std::map<int, const Row*>& reps = repsOf(c, name);
-      nlohmann::json mj;
-      mj["n"] = reps.size();
-      mj["n_failed"] = c.failed.count(name) ? c.failed.at(name) : 0;
-      for (const Metric& m : kMetrics) {
-        std::vector<double> x;
-        for (const auto& [rep, row] : reps) {
-          if (std::isfinite(m.get(*row))) x.push_back(m.get(*row));
-        }
-        const stats::ConfidenceInterval ci = stats::meanCi(x);
-        mj["metrics"][m.name] = {{"mean", jnum(ci.mean)}, {"std", jnum(ci.std)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}};
-      }
-      if (!ls.empty() && name != "ls") {
-        for (const char* metric : kPaired) {
-          const Paired p = paired(reps, ls, metric);
-          mj["vs_ls"][metric] = {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
-                                 {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}};
-        }
-      }
-      mj["parameters"] = parameterJson(reps);
-      double ratio_max = kNaN;
-      for (const auto& [pname, pj] : mj["parameters"].items()) {
-        if (!pj["rms_error_over_crb"].is_null()) {
-          const double r = pj["rms_error_over_crb"].get<double>();
-          ratio_max = std::isfinite(ratio_max) ? std::max(ratio_max, r) : r;
-        }
-      }
-      mj["rms_error_over_crb_max"] = jnum(ratio_max);
-      cj["methods"][name] = mj;
-    }
-    conditions.push_back(cj);
-  }
-  // Holm over the cells, per method and paired metric.
-  for (Variant v : config.methods) {
-    for (const char* metric : kPaired) {
-      std::vector<double> ps;
-      for (const nlohmann::json& cj : conditions) {
-        const nlohmann::json& mj = cj["methods"][toString(v)];
-        ps.push_back(mj.contains("vs_ls") && !mj["vs_ls"][metric]["p_value"].is_null() ? mj["vs_ls"][metric]["p_value"].get<double>() : kNaN);
-      }
-      const std::vector<double> adj = stats::holmAdjust(ps);
-      for (std::size_t k = 0; k < conditions.size(); ++k) {
-        nlohmann::json& mj = conditions[k]["methods"][toString(v)];
-        if (mj.contains("vs_ls")) mj["vs_ls"][metric]["p_holm"] = jnum(adj[k]);
-      }
-    }
-  }
-  compareTrajectories(conds, cells, config.methods, conditions);
+  for (const CellSummary& c : s.cells) conditions.push_back(toJson(c));
   out["conditions"] = conditions;
   return out;
 }
 
-namespace {
-
-double get(const nlohmann::json& j) { return j.is_null() ? kNaN : j.get<double>(); }
-
-void writeSummaryCsv(const SweepLayout& config, const nlohmann::json& s, const std::string& path) {
-  core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell," << kConditionHeader << ",method,n,n_failed";
-    for (const Metric& m : kMetrics) {
-      for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << m.name << '_' << f;
-    }
-    for (const char* p : kPaired) out << ",win_rate_vs_ls_" << p << ",p_wilcoxon_vs_ls_" << p << ",p_holm_vs_ls_" << p << ",mdd_vs_ls_" << p;
-    for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
-    out << ",rms_error_over_crb_max";
-    for (const char* p : kTrajectoryPaired) out << ",win_rate_vs_paper_trajectories_" << p << ",p_holm_vs_paper_trajectories_" << p;
-    out << "\n";
-    const std::vector<SweepCondition> conds = config.conditions();
-    for (const nlohmann::json& c : s.at("conditions")) {
-      for (Variant v : config.methods) {
-        const nlohmann::json& m = c.at("methods").at(toString(v));
-        out << c.at("cell").get<int>() << ',' << conditionCsv(conds[c.at("cell").get<std::size_t>()]) << ',' << toString(v) << ','
-            << m.at("n").get<int>() << ',' << m.at("n_failed").get<int>();
-        for (const Metric& mt : kMetrics) {
-          for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << num(get(m.at("metrics").at(mt.name).at(f)));
-        }
-        for (const char* p : kPaired) {
-          if (m.contains("vs_ls")) {
-            const nlohmann::json& q = m.at("vs_ls").at(p);
-            out << ',' << num(get(q.at("win_rate"))) << ',' << num(get(q.at("p_value"))) << ',' << num(get(q.at("p_holm"))) << ','
-                << num(get(q.at("mdd")));
-          } else {
-            out << ",,,,";
-          }
-        }
-        for (int i = 0; i < kNumParams; ++i) out << ',' << num(get(m.at("parameters").at(std::string(ident::paramName(i))).at("rms_error_over_crb")));
-        out << ',' << num(get(m.at("rms_error_over_crb_max")));
-        for (const char* p : kTrajectoryPaired) {
-          if (m.contains("vs_paper_trajectories")) {
-            const nlohmann::json& q = m.at("vs_paper_trajectories").at(p);
-            out << ',' << num(get(q.at("win_rate"))) << ',' << num(get(q.at("p_holm")));
-          } else {
-            out << ",,";
-          }
-        }
-        out << '\n';
-      }
-    }
-  });
-}
-
-std::string ciText(const nlohmann::json& m, double scale, int decimals) {
-  const double mean = get(m.at("mean")), lo = get(m.at("ci95_low")), hi = get(m.at("ci95_high"));
-  if (!std::isfinite(mean)) return "-";
-  std::string s = fixed(scale * mean, decimals);
-  if (std::isfinite(lo)) s += " [" + fixed(scale * lo, decimals) + ", " + fixed(scale * hi, decimals) + "]";
-  return s;
-}
-
-// "P -> O (win rate, Holm p)" of one paired trajectory comparison, in % when scale is 100.
-std::string trajectoryPairText(const nlohmann::json& p, double scale, int decimals) {
-  const double o = get(p.at("optimised_mean")), q = get(p.at("paper_mean"));
-  if (!std::isfinite(o) || !std::isfinite(q)) return "-";
-  return fixed(scale * q, decimals) + " -> " + fixed(scale * o, decimals) + " (" + fixed(get(p.at("win_rate")), 2) +
-         ", p = " + fmt(get(p.at("p_holm")), 2) + ")";
-}
-
-// The trajectory axis: each optimised cell against its paper twin, grouped like the sections.
-void writeTrajectoryComparisonMd(const SweepLayout& config, const nlohmann::json& s, std::ostream& md) {
-  std::map<std::string, std::vector<const nlohmann::json*>> groups;
-  std::vector<std::string> order;
-  for (const nlohmann::json& c : s.at("conditions")) {
-    if (c.at("methods").empty() || !c.at("methods").begin()->contains("vs_paper_trajectories")) continue;
-    const nlohmann::json& k = c.at("condition");
-    const std::string key = "cylinder mass scale " + fmt(k.at("cylinder_mass_scale").get<double>()) + ", vibration level " +
-                            fmt(k.at("vibration_level").get<double>()) + ", angle noise " + fmt(k.at("angle_noise_deg").get<double>()) +
-                            " deg, quantisation " + fmt(k.at("quantisation_deg").get<double>()) + " deg";
-    if (!groups.count(key)) order.push_back(key);
-    groups[key].push_back(&c);
-  }
-  if (order.empty()) return;
-  md << "\n# Optimised vs the paper's identification trajectories\n\nEach optimised cell against the paper cell with the "
-        "same condition and the same seeds (validation on trajectories 2 and 4 in both): paper -> optimised mean over seeds "
-        "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the compared cells per method "
-        "and metric).\n";
-  for (const std::string& key : order) {
-    const auto& cs = groups[key];
-    std::vector<std::string> header{"method"};
-    for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
-    md << "\n## " << key << "\n";
-    for (const char* metric : {"torque_err_mean", "median_abs_rel_err", "max_abs_rel_err"}) {
-      md << "\n" << (std::string(metric) == "torque_err_mean" ? "Torque-space error (%)"
-                     : std::string(metric) == "median_abs_rel_err" ? "Median per-parameter |error| (%)"
-                                                                    : "Worst per-parameter |error| (%)")
-         << "\n\n";
-      TextTable t(header);
-      for (Variant v : config.methods) {
-        std::vector<std::string> row{toString(v)};
-        for (const nlohmann::json* c : cs) row.push_back(trajectoryPairText(c->at("methods").at(toString(v)).at("vs_paper_trajectories").at(metric), 100.0, 2));
-        t.addRow(row);
-      }
-      t.printMarkdown(md);
-    }
-    for (const char* method : {"ls", "rls-pso"}) {
-      if (!cs.front()->at("methods").contains(method)) continue;
-      md << "\n" << method << ": per-parameter |error| (%)\n\n";
-      std::vector<std::string> ph{"param"};
-      for (std::size_t k = 1; k < header.size(); ++k) ph.push_back(header[k]);
-      TextTable t(ph);
-      for (int i = 0; i < kNumParams; ++i) {
-        const std::string pname(ident::paramName(i));
-        std::vector<std::string> row{pname};
-        for (const nlohmann::json* c : cs) {
-          row.push_back(trajectoryPairText(c->at("methods").at(method).at("vs_paper_trajectories").at("parameters").at(pname), 100.0, 2));
-        }
-        t.addRow(row);
-      }
-      t.printMarkdown(md);
-    }
-  }
-}
-
-// One section per (cylinder, vibration, angle noise, quantisation): methods (rows) x torque noise
-// (columns) for the torque-space error, the median and worst per-parameter error, the worst
-// error in units of the method's CRB, and RLS-PSO vs LS.
-void writeSummaryMd(const SweepLayout& config, const nlohmann::json& s, const std::string& path) {
-  core::writeFileAtomically(path, [&](std::ostream& md) {
-    md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
-          "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
-          "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
-          "noise-limited std). Paired comparison: Wilcoxon signed-rank vs LS over the same seeds, Holm-adjusted over the "
-          "sweep's cells; MDD = minimal detectable difference at 80 % power.\n";
-    std::map<std::string, std::vector<const nlohmann::json*>> groups;
-    std::vector<std::string> order;
-    for (const nlohmann::json& c : s.at("conditions")) {
-      const nlohmann::json& k = c.at("condition");
-      const std::string key = (k.value("trajectories", std::string("paper")) == "optimised" ? std::string("optimised trajectories, ")
-                                                                                             : std::string("paper's trajectories, ")) +
-                              "cylinder mass scale " + fmt(k.at("cylinder_mass_scale").get<double>()) + ", vibration level " +
-                              fmt(k.at("vibration_level").get<double>()) + ", angle noise " +
-                              fmt(k.at("angle_noise_deg").get<double>()) + " deg, quantisation " +
-                              fmt(k.at("quantisation_deg").get<double>()) + " deg";
-      if (!groups.count(key)) order.push_back(key);
-      groups[key].push_back(&c);
-    }
-    const auto cellText = [](const nlohmann::json& m, const char* what) -> std::string {
-      const nlohmann::json& mt = m.at("metrics");
-      if (std::string(what) == "torque") return ciText(mt.at("torque_err_mean"), 100.0, 2);
-      if (std::string(what) == "params") {
-        const double med = get(mt.at("median_abs_rel_err").at("mean")), worst = get(mt.at("max_abs_rel_err").at("mean"));
-        return std::isfinite(med) ? fixed(100.0 * med, 1) + " (" + fixed(100.0 * worst, 1) + ")" : "-";
-      }
-      const double r = get(m.at("rms_error_over_crb_max"));
-      return std::isfinite(r) ? fmt(r, 3) : "-";
-    };
-    for (const std::string& key : order) {
-      const auto& cs = groups[key];
-      md << "\n## " << key << "\n";
-      for (const char* what : {"torque", "params", "crb"}) {
-        md << "\n" << (std::string(what) == "torque" ? "Torque-space error (%)" : std::string(what) == "params" ? "Per-parameter |error| (%): median (worst)" : "Worst RMS error / CRB") << "\n\n";
-        std::vector<std::string> header{"method"};
-        for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
-        TextTable t(header);
-        for (Variant v : config.methods) {
-          std::vector<std::string> row{toString(v)};
-          for (const nlohmann::json* c : cs) row.push_back(cellText(c->at("methods").at(toString(v)), what));
-          t.addRow(row);
-        }
-        t.printMarkdown(md);
-      }
-      // Every method against LS on the torque-space error: is it closer to the truth, significantly?
-      {
-        std::vector<std::string> header{"method"};
-        for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
-        TextTable t(header);
-        bool any = false;
-        for (Variant v : config.methods) {
-          std::vector<std::string> row{toString(v)};
-          bool have = false;
-          for (const nlohmann::json* c : cs) {
-            const nlohmann::json& m = c->at("methods").at(toString(v));
-            if (!m.contains("vs_ls")) {
-              row.push_back("-");
-              continue;
-            }
-            have = true;
-            const nlohmann::json& p = m.at("vs_ls").at("torque_err_mean");
-            row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_holm")), 3) + ", n = " +
-                          core::toText(p.at("n").get<long>()));
-          }
-          if (have) t.addRow(row);
-          any = any || have;
-        }
-        if (any) {
-          md << "\nVs LS on the torque-space error (share of seeds where the method is closer to the truth, Holm-adjusted p, "
-                "seeds where both were usable)\n\n";
-          t.printMarkdown(md);
-        }
-      }
-      bool have_pair = false;
-      for (const nlohmann::json* c : cs) have_pair = have_pair || (c->at("methods").contains("rls-pso") && c->at("methods").at("rls-pso").contains("vs_ls"));
-      if (!have_pair) continue;
-      md << "\nRLS-PSO vs LS (win rate, Holm-adjusted p, MDD)\n\n";
-      std::vector<std::string> header{"metric"};
-      for (const nlohmann::json* c : cs) header.push_back("tau noise " + fmt(c->at("condition").at("torque_noise_Nm").get<double>()) + " N m");
-      TextTable t(header);
-      for (const char* metric : kPaired) {
-        std::vector<std::string> row{metric};
-        for (const nlohmann::json* c : cs) {
-          const nlohmann::json& p = c->at("methods").at("rls-pso").at("vs_ls").at(metric);
-          const double scale = std::string(metric) == "torque_err_mean" ? 100.0 : 1.0;
-          row.push_back(fixed(get(p.at("win_rate")), 2) + ", p = " + fmt(get(p.at("p_holm")), 3) + ", MDD " +
-                        fmt(scale * get(p.at("mdd")), 3) + (scale == 100.0 ? " %" : " N m"));
-        }
-        t.addRow(row);
-      }
-      t.printMarkdown(md);
-    }
-    writeTrajectoryComparisonMd(config, s, md);
-  });
-}
-
-}  // namespace
-
 void writeSweepTables(const SweepLayout& config, const std::vector<nlohmann::json>& jobs, const std::string& dir) {
-  writeRunsCsv(config, rowsOf(config, jobs), dir + "/runs.csv");
-  const nlohmann::json s = sweepSummaryJson(config, jobs);
-  writeJsonFile(dir + "/summary.json", s);
+  const std::vector<Row> rows = rowsOf(config, jobs);
+  writeRunsCsv(config, rows, dir + "/runs.csv");
+  const SweepSummary s = summarize(config, rows);
+  writeJsonFile(dir + "/summary.json", toJson(s));
   testKillPoint("sweep-tables");
-  writeSummaryCsv(config, s, dir + "/summary.csv");
-  writeSummaryMd(config, s, dir + "/summary.md");
+  writeSummaryCsv(s, dir + "/summary.csv");
+  writeSummaryMd(s, dir + "/summary.md");
 }
 
 }  // namespace exoid::experiments

@@ -4,10 +4,15 @@
 // CI; paired Wilcoxon comparison against LS; Cramer-Rao bound and RMS error relative to it).
 // Nothing here depends on wall time, thread count, shard split or resume history, except the
 // last column of runs.csv (wall_time_s).
+#include "exoid/experiments/report/stats.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
+#include "exoid/ident/leg/params.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <array>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,11 +31,105 @@ SweepLayout layoutOf(const SweepConfig& c);
 /// From a resolved configuration (config.json); throws std::runtime_error when malformed.
 SweepLayout layoutFromJson(const nlohmann::json& resolved);
 
+/// The per-run metrics the summary reports over seeds, in summary.csv's column order.
+enum class SweepMetric {
+  kTorqueErrHip,         ///< ||Y (x - x_bf)|| / ||Y x_bf|| on the validation states, hip
+  kTorqueErrKnee,        ///< the same, knee
+  kTorqueErrMean,        ///< mean of hip and knee
+  kMedianAbsRelErr,      ///< median over the parameters of |x_i - x_bf,i| / |x_bf,i|
+  kMaxAbsRelErr,         ///< the largest of them
+  kNormErrBestFit,       ///< ||x - x_bf|| / ||x_bf|| (Mxt-dominated, for comparison only)
+  kNormErrRigid,         ///< ||x - x_rigid|| / ||x_rigid|| (idem)
+  kGapBoxMax,            ///< worst stage's optimality gap against the L1 optimum over its box
+  kPlausibleRate,        ///< 1 when no physical condition is violated
+  kGapUnconstrainedMax,  ///< worst stage's gap against the unconstrained L1 optimum
+  kKneeValMeanAbs,       ///< knee validation (trajectory 2): mean |error|, N m
+  kKneeValRms,           ///< knee validation RMS error, N m
+  kHipValMeanAbs,        ///< hip validation (trajectory 4): mean |error|, N m
+  kHipValRms,            ///< hip validation RMS error, N m
+  kValRms,               ///< mean of the knee and hip validation RMS errors, N m
+};
+inline constexpr int kNumSweepMetrics = 15;
+/// Its name in summary.csv / summary.json ("torque_err_mean", ...).
+const char* metricName(SweepMetric m);
+
+/// A paired Wilcoxon signed-rank comparison of a method (or trajectory arm) against a reference
+/// over the seeds both have. NaN where undefined (no pairs; mdd needs n >= 2).
+struct PairedComparison {
+  int n = 0;                                                 ///< paired seeds
+  double win_rate = std::numeric_limits<double>::quiet_NaN();  ///< share of seeds with the lower value (ties 1/2)
+  double p_value = std::numeric_limits<double>::quiet_NaN();   ///< two-sided
+  double p_holm = std::numeric_limits<double>::quiet_NaN();    ///< Holm-adjusted over its family
+  double mdd = std::numeric_limits<double>::quiet_NaN();  ///< minimal detectable mean difference, 80 % power, alpha 0.05
+  bool exact = false;  ///< exact null distribution, else the normal approximation
+};
+
+/// A method against LS in the same cell; Holm's family: the sweep's cells, per method and metric.
+struct VersusLs {
+  PairedComparison torque_err_mean, val_rms;
+};
+
+/// One metric of an optimised cell against its paper twin, and both arms' means over seeds.
+struct VersusPaper {
+  PairedComparison test;
+  double optimised_mean = std::numeric_limits<double>::quiet_NaN();
+  double paper_mean = std::numeric_limits<double>::quiet_NaN();
+};
+/// An optimised-trajectories cell against the paper cell of the same condition and seeds; Holm's
+/// family: the compared cells, per method and metric (each parameter's |error| is a metric).
+struct TrajectoryComparison {
+  int paper_cell = -1;
+  VersusPaper torque_err_mean, median_abs_rel_err, max_abs_rel_err, val_rms;
+  std::array<VersusPaper, ident::kNumParams> parameters;  ///< |relative error| of each parameter
+};
+
+/// One parameter over a method's seeds.
+struct ParameterStatistics {
+  stats::ConfidenceInterval rel_err;  ///< signed relative error against the best fit (std unused)
+  double abs_rel_err_median = std::numeric_limits<double>::quiet_NaN();
+  double abs_rel_err_max = std::numeric_limits<double>::quiet_NaN();
+  double crb_std = std::numeric_limits<double>::quiet_NaN();             ///< mean noise-limited std
+  double rms_error_over_crb = std::numeric_limits<double>::quiet_NaN();  ///< RMS of error / that seed's CRB std
+};
+
+/// One method in one cell, over the seeds where it gave an estimate.
+struct MethodSummary {
+  Variant method = Variant::kLs;
+  int n = 0;         ///< seeds with an estimate
+  int n_failed = 0;  ///< seeds without
+  std::array<stats::ConfidenceInterval, kNumSweepMetrics> metrics;  ///< indexed by SweepMetric
+  std::array<ParameterStatistics, ident::kNumParams> parameters;
+  double rms_error_over_crb_max = std::numeric_limits<double>::quiet_NaN();  ///< worst parameter's
+  std::optional<VersusLs> vs_ls;  ///< not for LS itself, nor where LS has no estimate
+  std::optional<TrajectoryComparison> vs_paper_trajectories;  ///< optimised cells with a paper twin only
+  const stats::ConfidenceInterval& metric(SweepMetric m) const { return metrics[static_cast<std::size_t>(m)]; }
+};
+
+/// One grid cell that has at least one job.
+struct CellSummary {
+  int cell = 0;
+  SweepCondition condition;
+  std::vector<MethodSummary> methods;  ///< in the sweep's method order
+  /// nullptr when the sweep did not run `v`.
+  const MethodSummary* find(Variant v) const;
+  /// Throws std::out_of_range when the sweep did not run `v`.
+  const MethodSummary& method(Variant v) const;
+};
+
+/// The sweep summarised per cell and method: what summary.json, summary.csv and summary.md show.
+struct SweepSummary {
+  SweepLayout layout;
+  std::vector<CellSummary> cells;  ///< by cell index
+};
+
+/// `jobs` sorted by (cell, replicate).
+SweepSummary summarizeSweep(const SweepLayout& config, const std::vector<nlohmann::json>& jobs);
+/// What summary.json holds: the tool, the resolved configuration, how each statistic is computed,
+/// and the cells (NaN as null).
+nlohmann::json toJson(const SweepSummary& s);
+
 /// `jobs` sorted by (cell, replicate). Writes runs.csv, summary.csv, summary.json, summary.md
 /// into `dir` (atomically, file by file).
 void writeSweepTables(const SweepLayout& config, const std::vector<nlohmann::json>& jobs, const std::string& dir);
-
-/// The summary as JSON (what summary.json holds).
-nlohmann::json sweepSummaryJson(const SweepLayout& config, const std::vector<nlohmann::json>& jobs);
 
 }  // namespace exoid::experiments
