@@ -211,108 +211,153 @@ nlohmann::json SweepConfig::toJson() const {
   return j;
 }
 
-SweepConfig loadSweepConfig(const std::string& path) {
-  toml::table t;
+namespace {
+
+toml::table parseTomlFile(const std::string& path) {
   try {
-    t = toml::parse_file(path);
+    return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
     throw SweepConfigError(at(path, e.source()) + ": " + std::string(e.description()));
   }
-  SweepConfig c;
-  Reader r{path, c};
-  static const std::map<std::string, std::set<std::string>> kKnown = {
-      {"sweep", {"seeds", "master_seed", "methods"}},
-      {"grid", {"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}},
-      {"simulation", {"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}},
-      {"identification", {"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}}};
-  for (const auto& [section, node] : t) {
-    const std::string s(section.str());
-    const auto known = kKnown.find(s);
-    if (known == kKnown.end()) {
-      throw SweepConfigError("unknown section '" + s + "' (" + at(path, node.source()) +
-                             "); expected [sweep], [grid], [simulation] or [identification]");
-    }
-    const toml::table* tab = node.as_table();
-    if (!tab) throw SweepConfigError("'" + s + "' (" + at(path, node.source()) + "): expected a table [" + s + "]");
-    for (const auto& [k, v] : *tab) {
-      const std::string key(k.str());
-      if (!known->second.count(key)) {
-        std::string list;
-        for (const std::string& n : known->second) list += (list.empty() ? "" : ", ") + n;
-        throw SweepConfigError("unknown key '" + s + "." + key + "' (" + at(path, v.source()) + "); [" + s + "] keys: " + list);
-      }
-      const std::string full = s + "." + key;
-      if (full == "sweep.seeds") {
-        const std::int64_t n = r.integer(v, full);
-        if (n < 1 || n > 1000000) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be in [1, 1e6], got " + core::toText(n));
-        c.seeds = static_cast<int>(n);
-      } else if (full == "sweep.master_seed") {
-        const std::int64_t n = r.integer(v, full);
-        if (n < 0) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 0");
-        c.master_seed = static_cast<std::uint64_t>(n);
-      } else if (full == "sweep.methods") {
-        c.methods.clear();
-        for (const std::string& m : r.strings(v, full)) {
-          try {
-            c.methods.push_back(parseVariant(m));
-          } catch (const std::invalid_argument& e) {
-            throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
-          }
-        }
-      } else if (full == "grid.torque_noise_Nm") {
-        c.torque_noise_Nm = r.numbers(v, full);
-      } else if (full == "grid.angle_noise_deg") {
-        c.angle_noise_deg = r.numbers(v, full);
-      } else if (full == "grid.quantisation_deg") {
-        c.quantisation_deg = r.numbers(v, full);
-      } else if (full == "grid.vibration_level") {
-        c.vibration_level = r.numbers(v, full);
-      } else if (full == "grid.cylinder_mass_scale") {
-        c.cylinder_mass_scale = r.numbers(v, full);
-      } else if (full == "grid.trajectories") {
-        c.trajectories = r.strings(v, full);
-      } else if (full == "simulation.duration_s") {
-        c.base.sim.duration_s = r.number(v, full);
-        if (!(c.base.sim.duration_s > 0)) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be > 0");
-      } else if (full == "simulation.ramp_s") {
-        c.base.sim.ramp_s = r.number(v, full);
-      } else if (full == "simulation.dt_s") {
-        c.base.sim.dt_s = r.number(v, full);
-      } else if (full == "simulation.feedforward") {
-        c.base.sim.feedforward = r.boolean(v, full);
-      } else if (full == "simulation.excitation_knee" || full == "simulation.excitation_both") {
-        // A design file of `exoid excite`, relative to the config file's folder unless absolute.
-        const std::optional<std::string> file = v.value<std::string>();
-        if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
-        const std::filesystem::path fp(*file);
-        const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(path).parent_path() / fp).string();
-        try {
-          const sim::FourierSpec spec = toFourierSpec(readExcitationFile(resolved));
-          (full == "simulation.excitation_knee" ? c.optimised_knee : c.optimised_both) = spec;
-        } catch (const std::invalid_argument& e) {
-          throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
-        }
-      } else if (full == "identification.pso_iterations") {
-        const std::int64_t n = r.integer(v, full);
-        if (n < 1) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 1");
-        c.base.methods.rls_pso.pso.max_iterations = static_cast<long>(n);
-      } else if (full == "identification.swarm") {
-        const std::int64_t n = r.integer(v, full);
-        if (n < 2) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 2");
-        c.base.methods.rls_pso.pso.swarm_size = static_cast<int>(n);
-      } else if (full == "identification.pso_tolerance") {
-        c.base.methods.rls_pso.pso.cost_tolerance = r.number(v, full);
-      } else if (full == "identification.optimality_gap") {
-        c.base.methods.report_optimality_gap = r.boolean(v, full);
-      } else if (full == "identification.wide_box") {
-        c.base.methods.wide_box_half_width = r.number(v, full);
-      } else if (full == "identification.cutoff_hz") {
-        c.base.signals.cutoff_hz = r.number(v, full);
-      } else if (full == "identification.filter") {
-        c.base.signals.filter = r.boolean(v, full);
+}
+
+void readSweepKey(Reader& r, const std::string& full, const toml::node& v) {
+  SweepConfig& c = r.c;
+  if (full == "sweep.seeds") {
+    const std::int64_t n = r.integer(v, full);
+    if (n < 1 || n > 1000000) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be in [1, 1e6], got " + core::toText(n));
+    c.seeds = static_cast<int>(n);
+  } else if (full == "sweep.master_seed") {
+    const std::int64_t n = r.integer(v, full);
+    if (n < 0) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 0");
+    c.master_seed = static_cast<std::uint64_t>(n);
+  } else if (full == "sweep.methods") {
+    c.methods.clear();
+    for (const std::string& m : r.strings(v, full)) {
+      try {
+        c.methods.push_back(parseVariant(m));
+      } catch (const std::invalid_argument& e) {
+        throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
       }
     }
   }
+}
+
+void readGridKey(Reader& r, const std::string& full, const toml::node& v) {
+  SweepConfig& c = r.c;
+  if (full == "grid.torque_noise_Nm") {
+    c.torque_noise_Nm = r.numbers(v, full);
+  } else if (full == "grid.angle_noise_deg") {
+    c.angle_noise_deg = r.numbers(v, full);
+  } else if (full == "grid.quantisation_deg") {
+    c.quantisation_deg = r.numbers(v, full);
+  } else if (full == "grid.vibration_level") {
+    c.vibration_level = r.numbers(v, full);
+  } else if (full == "grid.cylinder_mass_scale") {
+    c.cylinder_mass_scale = r.numbers(v, full);
+  } else if (full == "grid.trajectories") {
+    c.trajectories = r.strings(v, full);
+  }
+}
+
+// A design file of `exoid excite`, relative to the config file's folder unless absolute.
+sim::FourierSpec readExcitationKey(const Reader& r, const std::string& full, const toml::node& v) {
+  const std::optional<std::string> file = v.value<std::string>();
+  if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
+  const std::filesystem::path fp(*file);
+  const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(r.file).parent_path() / fp).string();
+  try {
+    return toFourierSpec(readExcitationFile(resolved));
+  } catch (const std::invalid_argument& e) {
+    throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+  }
+}
+
+void readSimulationKey(Reader& r, const std::string& full, const toml::node& v) {
+  SweepConfig& c = r.c;
+  if (full == "simulation.duration_s") {
+    c.base.sim.duration_s = r.number(v, full);
+    if (!(c.base.sim.duration_s > 0)) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be > 0");
+  } else if (full == "simulation.ramp_s") {
+    c.base.sim.ramp_s = r.number(v, full);
+  } else if (full == "simulation.dt_s") {
+    c.base.sim.dt_s = r.number(v, full);
+  } else if (full == "simulation.feedforward") {
+    c.base.sim.feedforward = r.boolean(v, full);
+  } else if (full == "simulation.excitation_knee") {
+    c.optimised_knee = readExcitationKey(r, full, v);
+  } else if (full == "simulation.excitation_both") {
+    c.optimised_both = readExcitationKey(r, full, v);
+  }
+}
+
+void readIdentificationKey(Reader& r, const std::string& full, const toml::node& v) {
+  SweepConfig& c = r.c;
+  if (full == "identification.pso_iterations") {
+    const std::int64_t n = r.integer(v, full);
+    if (n < 1) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 1");
+    c.base.methods.rls_pso.pso.max_iterations = static_cast<long>(n);
+  } else if (full == "identification.swarm") {
+    const std::int64_t n = r.integer(v, full);
+    if (n < 2) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 2");
+    c.base.methods.rls_pso.pso.swarm_size = static_cast<int>(n);
+  } else if (full == "identification.pso_tolerance") {
+    c.base.methods.rls_pso.pso.cost_tolerance = r.number(v, full);
+  } else if (full == "identification.optimality_gap") {
+    c.base.methods.report_optimality_gap = r.boolean(v, full);
+  } else if (full == "identification.wide_box") {
+    c.base.methods.wide_box_half_width = r.number(v, full);
+  } else if (full == "identification.cutoff_hz") {
+    c.base.signals.cutoff_hz = r.number(v, full);
+  } else if (full == "identification.filter") {
+    c.base.signals.filter = r.boolean(v, full);
+  }
+}
+
+// A section of the file: its known keys and how to read one ("section.key").
+struct SectionReader {
+  std::set<std::string> keys;
+  void (*read)(Reader&, const std::string&, const toml::node&);
+};
+
+const std::map<std::string, SectionReader>& sectionReaders() {
+  static const std::map<std::string, SectionReader> kSections = {
+      {"sweep", {{"seeds", "master_seed", "methods"}, readSweepKey}},
+      {"grid",
+       {{"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}, readGridKey}},
+      {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}, readSimulationKey}},
+      {"identification",
+       {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}, readIdentificationKey}}};
+  return kSections;
+}
+
+// One [section]: unknown sections and keys are refused, naming the known ones.
+void readSection(Reader& r, const std::string& s, const toml::node& node) {
+  const auto known = sectionReaders().find(s);
+  if (known == sectionReaders().end()) {
+    throw SweepConfigError("unknown section '" + s + "' (" + at(r.file, node.source()) +
+                           "); expected [sweep], [grid], [simulation] or [identification]");
+  }
+  const toml::table* tab = node.as_table();
+  if (!tab) throw SweepConfigError("'" + s + "' (" + at(r.file, node.source()) + "): expected a table [" + s + "]");
+  for (const auto& [k, v] : *tab) {
+    const std::string key(k.str());
+    if (!known->second.keys.count(key)) {
+      std::string list;
+      for (const std::string& n : known->second.keys) list += (list.empty() ? "" : ", ") + n;
+      throw SweepConfigError("unknown key '" + s + "." + key + "' (" + at(r.file, v.source()) + "); [" + s + "] keys: " + list);
+    }
+    known->second.read(r, s + "." + key, v);
+  }
+}
+
+}  // namespace
+
+SweepConfig loadSweepConfig(const std::string& path) {
+  const toml::table t = parseTomlFile(path);
+  SweepConfig c;
+  Reader r{path, c};
+  for (const auto& [section, node] : t) readSection(r, std::string(section.str()), node);
   c.validate();
   return c;
 }

@@ -224,49 +224,45 @@ std::vector<JobId> shardJobs(const SweepConfig& c, ShardSpec shard) {
   return out;
 }
 
-SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std::ostream& log) {
-  config.validate();
-  ident::Stopwatch clock;
-  const fs::path dir(o.out);
-  const SweepLayout layout = layoutOf(config);
-  core::prepareOutputFolder((dir / "runs").string());
-  const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
-  claimFolder(dir, layout.resolved);
-  const nlohmann::json shard_json = {{"index", o.shard.index}, {"count", o.shard.count}};
+namespace {
+
+// shard.json must match (resume); written when absent.
+void claimShard(const fs::path& dir, ShardSpec shard) {
+  const nlohmann::json shard_json = {{"index", shard.index}, {"count", shard.count}};
   const fs::path shard_file = dir / "shard.json";
   if (fs::exists(shard_file) && readJson(shard_file).dump() != shard_json.dump()) {
     throw std::invalid_argument("refusing to resume into " + dir.string() + ": it holds shard " +
                                 readJson(shard_file)["index"].dump() + "/" + readJson(shard_file)["count"].dump() +
-                                ", this run is shard " + o.shard.text());
+                                ", this run is shard " + shard.text());
   }
   writeJsonFile(shard_file.string(), shard_json);
+}
 
-  const std::vector<JobId> jobs = shardJobs(config, o.shard);
-  const auto done = finishedJobs(dir, &log);
-  std::vector<JobId> pending;
-  for (const JobId& j : jobs) {
-    if (!done.count({j.cell, j.replicate})) pending.push_back(j);
-  }
-  SweepRunReport rep;
-  rep.jobs = static_cast<long>(jobs.size());
-  rep.skipped = rep.jobs - static_cast<long>(pending.size());
+// A rerun of a finished shard whose outputs are complete: says so (and still fails when runs did).
+bool finishedBefore(const fs::path& dir, const SweepRunOptions& o, const SweepRunReport& rep, bool pending, std::ostream& log) {
   const nlohmann::json marker = completionRecord(dir);
-  if (pending.empty() && marker.is_object() && marker.value("runs", -1L) == rep.jobs &&
-      (marker.value("plots", false) || !o.plots) && checkFinishedOutputs(dir, marker, o.keep_edits, log).empty()) {
-    rep.nothing_to_do = true;
-    log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
-        << " are finished and its outputs complete; nothing to do.\n";
-    throwIfRunsFailed({marker.value("failed_runs", 0L), rep.jobs, marker.value("failure_example", std::string())}, dir);
-    return rep;
+  if (pending || !marker.is_object() || marker.value("runs", -1L) != rep.jobs || (!marker.value("plots", false) && o.plots) ||
+      !checkFinishedOutputs(dir, marker, o.keep_edits, log).empty()) {
+    return false;
   }
-  const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
+  log << "exoid sweep: all " << rep.jobs << " runs of shard " << o.shard.text() << " in " << dir.string()
+      << " are finished and its outputs complete; nothing to do.\n";
+  throwIfRunsFailed({marker.value("failed_runs", 0L), rep.jobs, marker.value("failure_example", std::string())}, dir);
+  return true;
+}
+
+void announceSweep(const SweepConfig& config, const SweepRunOptions& o, const SweepRunReport& rep, bool pending, int threads,
+                   const fs::path& dir, std::ostream& log) {
   log << "exoid sweep: " << config.numCells() << " cells x " << config.seeds << " seeds x " << config.methods.size()
       << " methods; shard " << o.shard.text() << ": " << rep.jobs << " runs";
   if (rep.skipped) log << " (" << rep.skipped << " already finished, resuming)";
-  if (pending.empty()) log << "; writing the missing outputs";
+  if (!pending) log << "; writing the missing outputs";
   log << ", " << threads << " threads -> " << dir.string() << '\n' << std::flush;
+}
 
-  Progress progress(rep.jobs, rep.skipped, "runs", stderr, o.progress_tty);
+// Runs `pending` on `threads` workers, each job's record written to DIR/runs as it finishes; the
+// first error stops the workers (after their current job) and is rethrown.
+void runJobs(const SweepConfig& config, const std::vector<JobId>& pending, const fs::path& dir, int threads, Progress& progress) {
   std::atomic<std::size_t> next{0};
   std::mutex error_mutex;
   std::exception_ptr error;
@@ -294,26 +290,70 @@ SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std
   for (std::thread& t : pool) t.join();
   progress.finish();
   if (error) std::rethrow_exception(error);
-  rep.ran = static_cast<long>(pending.size());
+}
 
-  // This shard's runs: those validated at the start and those just written (no second folder scan).
+// This shard's runs: those validated at the start and those just written (no second folder scan).
+std::vector<nlohmann::json> shardRecords(const std::vector<JobId>& jobs, const std::map<std::pair<int, int>, fs::path>& done,
+                                         const fs::path& dir) {
   std::map<std::pair<int, int>, fs::path> mine;
   for (const JobId& j : jobs) {
     const auto it = done.find({j.cell, j.replicate});
     mine[{j.cell, j.replicate}] = it != done.end() ? it->second : dir / "runs" / jobFileName(j);
   }
-  const std::vector<nlohmann::json> records = readJobs(mine);
-  rep.wall_time_s = clock.seconds();
+  return readJobs(mine);
+}
+
+double runsPerMinute(const SweepRunReport& rep) {
+  return rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0;
+}
+
+nlohmann::json timingJson(const SweepConfig& config, const SweepRunOptions& o, const SweepRunReport& rep, int threads,
+                          const std::vector<nlohmann::json>& records) {
   double job_time = 0.0;
   for (const nlohmann::json& j : records) job_time += j.at("wall_time_s").get<double>();
-  const double per_minute = rep.ran > 0 ? 60.0 * static_cast<double>(rep.ran) / rep.wall_time_s : 0.0;
-  const nlohmann::json timing = {
-      {"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
-      {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s}, {"runs_per_minute", per_minute},
-      {"identifications_per_minute", per_minute * static_cast<double>(config.methods.size())},
-      {"sum_of_run_wall_times_s", job_time}};
+  const double per_minute = runsPerMinute(rep);
+  return {{"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
+          {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s}, {"runs_per_minute", per_minute},
+          {"identifications_per_minute", per_minute * static_cast<double>(config.methods.size())},
+          {"sum_of_run_wall_times_s", job_time}};
+}
+
+}  // namespace
+
+SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std::ostream& log) {
+  config.validate();
+  ident::Stopwatch clock;
+  const fs::path dir(o.out);
+  const SweepLayout layout = layoutOf(config);
+  core::prepareOutputFolder((dir / "runs").string());
+  const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
+  claimFolder(dir, layout.resolved);
+  claimShard(dir, o.shard);
+
+  const std::vector<JobId> jobs = shardJobs(config, o.shard);
+  const auto done = finishedJobs(dir, &log);
+  std::vector<JobId> pending;
+  for (const JobId& j : jobs) {
+    if (!done.count({j.cell, j.replicate})) pending.push_back(j);
+  }
+  SweepRunReport rep;
+  rep.jobs = static_cast<long>(jobs.size());
+  rep.skipped = rep.jobs - static_cast<long>(pending.size());
+  if (finishedBefore(dir, o, rep, !pending.empty(), log)) {
+    rep.nothing_to_do = true;
+    return rep;
+  }
+  const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
+  announceSweep(config, o, rep, !pending.empty(), threads, dir, log);
+  Progress progress(rep.jobs, rep.skipped, "runs", stderr, o.progress_tty);
+  runJobs(config, pending, dir, threads, progress);
+  rep.ran = static_cast<long>(pending.size());
+
+  const std::vector<nlohmann::json> records = shardRecords(jobs, done, dir);
+  rep.wall_time_s = clock.seconds();
+  const nlohmann::json timing = timingJson(config, o, rep, threads, records);
   const RunFailures failures = writeOutputs(layout, records, dir, o.plots, timing, log);
-  log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s (" << fmt(per_minute, 4)
+  log << "exoid sweep: " << rep.ran << " runs in " << fmt(rep.wall_time_s, 4) << " s (" << fmt(runsPerMinute(rep), 4)
       << " runs/min); summary: " << (dir / "summary.md").string() << '\n';
   throwIfRunsFailed(failures, dir);
   return rep;
