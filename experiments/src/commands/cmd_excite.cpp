@@ -71,34 +71,32 @@ void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double 
   limit << v[0] * scale, v[1] * scale;
 }
 
-void runExcite(const ExciteArgs& args) {
-  if (!isApalLegModel(args.model)) {
-    for (const char* apal_only : {"--knee-only", "--hip-locked-at-deg", "--limits", "--urdf", "--duration", "--noise-tau"}) {
-      if (args.cmd->count(apal_only) > 0) {
-        throw CLI::ValidationError(apal_only, "is an option of the APAL leg's design; '" + args.model + "' is designed as a chain (its own limits)");
-      }
+// A chain model (not the APAL leg) is designed as a chain, with its own limits.
+void exciteChainModel(const ExciteArgs& args) {
+  for (const char* apal_only : {"--knee-only", "--hip-locked-at-deg", "--limits", "--urdf", "--duration", "--noise-tau"}) {
+    if (args.cmd->count(apal_only) > 0) {
+      throw CLI::ValidationError(apal_only, "is an option of the APAL leg's design; '" + args.model + "' is designed as a chain (its own limits)");
     }
-    ChainExciteArgs c;
-    c.model = args.model;
-    c.out = args.out;
-    c.options = args.options;
-    c.q_min_deg = args.q_min_deg;
-    c.q_max_deg = args.q_max_deg;
-    c.qd_max = args.qd_max;
-    c.qdd_max = args.qdd_max;
-    c.tau_max = args.tau_max;
-    c.armature = args.armature;
-    return exciteChain(c);
   }
-  ExciteArgs a = args;
-  a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
-  a.options.validate();
-  // The output checked before the design's seconds of work: its folder made, a file writable in it.
-  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
-  core::checkOutputWritable(a.out);
-  const sim::Truth truth = sim::truthFromModel(a.model);
-  const ident::ParamVector nominal = toParamVector(truth.x);
-  const ident::LegConstants c = constantsOf(truth);
+  ChainExciteArgs c;
+  c.model = args.model;
+  c.out = args.out;
+  c.options = args.options;
+  c.q_min_deg = args.q_min_deg;
+  c.q_max_deg = args.q_max_deg;
+  c.qd_max = args.qd_max;
+  c.qdd_max = args.qdd_max;
+  c.tau_max = args.tau_max;
+  c.armature = args.armature;
+  exciteChain(c);
+}
+
+bool limitsOverridden(const ExciteArgs& a) {
+  return !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
+}
+
+// The design's limits: the paper's envelope or the URDF's, then the command line's overrides.
+ident::ExcitationLimits designLimits(const ExciteArgs& a, const ident::LegConstants& c, const ident::ParamVector& nominal) {
   ident::ExcitationLimits limits = paperEnvelope(c, nominal);
   if (a.limits == "urdf") {
     // The rig's own limits: joint range, speed and motor effort from the URDF; acceleration is
@@ -113,40 +111,60 @@ void runExcite(const ExciteArgs& args) {
       limits.qdd_max_radps2[j] = 1e6;
     }
   }
-  const bool overridden = !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
   overrideLimit(limits.q_min_rad, a.q_min_deg, M_PI / 180.0, "--q-min-deg");
   overrideLimit(limits.q_max_rad, a.q_max_deg, M_PI / 180.0, "--q-max-deg");
   overrideLimit(limits.qd_max_radps, a.qd_max, 1.0, "--qd-max");
   overrideLimit(limits.qdd_max_radps2, a.qdd_max, 1.0, "--qdd-max");
   overrideLimit(limits.tau_max_Nm, a.tau_max, 1.0, "--tau-max");
   limits.validate();
-  const ident::ExcitationDesign d = ident::designExcitation(a.options, c, nominal, limits);
-  // The paper's counterpart: trajectory 1 for a knee-only design, 3 for both joints.
-  const int paper_id = a.options.hip_locked ? 1 : 3;
-  const ident::FourierTrajectory paper = toFourierTrajectory(sim::paperTrajectory(paper_id));
-  const ident::ExcitationScore paper_score = ident::scoreExcitation(paper, c, nominal, limits, 1000);
-  const Eigen::VectorXd crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
-  const Eigen::VectorXd crb_paper = excitationCrb(paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);
-  const Eigen::VectorXd floor = ident::crbFloor(limits, c, a.options.hip_locked, a.options.hip_locked_at_rad,
-                                                a.duration_s * a.rate_hz, a.sigma_Nm);
-  std::vector<int> indices;
-  for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) indices.push_back(i);
+  return limits;
+}
 
+// The design against the paper's counterpart on the same footing: Cramer-Rao stds of both, and
+// the floor no trajectory inside the limits can beat, over the parameters the design identifies.
+struct ExciteComparison {
+  int paper_id = 0;  ///< trajectory 1 for a knee-only design, 3 for both joints
+  ident::FourierTrajectory paper;
+  ident::ExcitationScore paper_score;
+  Eigen::VectorXd crb, crb_paper, floor;
+  std::vector<int> indices;
+};
+
+ExciteComparison compareWithPaper(const ExciteArgs& a, const ident::ExcitationDesign& d, const ident::LegConstants& c,
+                                  const ident::ParamVector& nominal, const ident::ExcitationLimits& limits) {
+  ExciteComparison k;
+  k.paper_id = a.options.hip_locked ? 1 : 3;
+  k.paper = toFourierTrajectory(sim::paperTrajectory(k.paper_id));
+  k.paper_score = ident::scoreExcitation(k.paper, c, nominal, limits, 1000);
+  k.crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
+  k.crb_paper = excitationCrb(k.paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);
+  k.floor = ident::crbFloor(limits, c, a.options.hip_locked, a.options.hip_locked_at_rad, a.duration_s * a.rate_hz, a.sigma_Nm);
+  for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) k.indices.push_back(i);
+  return k;
+}
+
+nlohmann::json limitsJson(const ExciteArgs& a, const ident::ExcitationLimits& limits) {
   const std::string source = a.limits == "urdf" ? "the URDF's joint limits (" + a.urdf + "), acceleration bounded by the effort"
                                                 : "envelope of the paper's trajectories 1-4 on the nominal model";
-  nlohmann::json lim = {{"source", overridden ? source + ", with overrides" : source},
-                        {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
-                        {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
-                        {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
-                        {"qdd_max_radps2", {limits.qdd_max_radps2[0], limits.qdd_max_radps2[1]}},
-                        {"tau_max_Nm", {limits.tau_max_Nm[0], limits.tau_max_Nm[1]}}};
-  const auto reached = [](const ident::ExcitationScore& s) {
-    return nlohmann::json{{"q_min_rad", {s.q_min_rad[0], s.q_min_rad[1]}},
-                          {"q_max_rad", {s.q_max_rad[0], s.q_max_rad[1]}},
-                          {"qd_max_radps", {s.qd_max_radps[0], s.qd_max_radps[1]}},
-                          {"qdd_max_radps2", {s.qdd_max_radps2[0], s.qdd_max_radps2[1]}},
-                          {"tau_max_Nm", {s.tau_max_Nm[0], s.tau_max_Nm[1]}}};
-  };
+  return {{"source", limitsOverridden(a) ? source + ", with overrides" : source},
+          {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
+          {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
+          {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
+          {"qdd_max_radps2", {limits.qdd_max_radps2[0], limits.qdd_max_radps2[1]}},
+          {"tau_max_Nm", {limits.tau_max_Nm[0], limits.tau_max_Nm[1]}}};
+}
+
+nlohmann::json reachedJson(const ident::ExcitationScore& s) {
+  return {{"q_min_rad", {s.q_min_rad[0], s.q_min_rad[1]}},
+          {"q_max_rad", {s.q_max_rad[0], s.q_max_rad[1]}},
+          {"qd_max_radps", {s.qd_max_radps[0], s.qd_max_radps[1]}},
+          {"qdd_max_radps2", {s.qdd_max_radps2[0], s.qdd_max_radps2[1]}},
+          {"tau_max_Nm", {s.tau_max_Nm[0], s.tau_max_Nm[1]}}};
+}
+
+// The design file (what `exoid simulate --excitation` reads), with its limits and comparison.
+nlohmann::json designJson(const ExciteArgs& a, const ident::ExcitationDesign& d, const ident::ExcitationLimits& limits,
+                          const ExciteComparison& k) {
   nlohmann::json j;
   j["tool"] = toolJson();
   j["command"] = "excite";
@@ -161,39 +179,35 @@ void runExcite(const ExciteArgs& args) {
                         "correlations), minimised"
                       : "log condition number of the column-scaled regressor, minimised") +
       " over one period (both equations, 10 columns; knee-only: the knee equation's 5 shank columns)";
-  j["limits"] = lim;
+  j["limits"] = limitsJson(a, limits);
   j["trajectory"] = toJson(d.trajectory);
-  j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reached(d.score)},
+  j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reachedJson(d.score)},
                 {"evaluations", d.evaluations}, {"feasible_restarts", d.feasible_restarts}};  // no wall time: same seed, same bytes
   j["comparison"] = {{"footing", {{"duration_s", a.duration_s}, {"rate_hz", a.rate_hz}, {"sigma_Nm", a.sigma_Nm},
                                   {"note", "LS on raw torques, white noise on each joint"}}},
-                     {"paper_trajectory", paper_id},
-                     {"paper_condition_number", paper_score.condition_number},
-                     {"crb_std", paramsJson(crb, indices)},
-                     {"paper_crb_std", paramsJson(crb_paper, indices)},
-                     {"crb_floor_std", paramsJson(floor, indices)},
+                     {"paper_trajectory", k.paper_id},
+                     {"paper_condition_number", k.paper_score.condition_number},
+                     {"crb_std", paramsJson(k.crb, k.indices)},
+                     {"paper_crb_std", paramsJson(k.crb_paper, k.indices)},
+                     {"crb_floor_std", paramsJson(k.floor, k.indices)},
                      {"crb_floor_note", "no trajectory inside the limits can do better (single-parameter Cauchy-Schwarz "
                                         "bound from the joint ranges, |qd| and |qdd| limits)"}};
-  writeJsonFile(a.out, j);
-  std::string figure;
-  if (a.plot) {
-    const std::string stem = a.out.size() > 5 && a.out.substr(a.out.size() - 5) == ".json" ? a.out.substr(0, a.out.size() - 5) : a.out;
-    writeSeriesCsv(stem + "_series.csv", d.trajectory, paper, c, nominal);
-    figure = stem + ".png";
-    runPlotScript("excitation_plot.py", {stem + "_series.csv", a.out, figure});
-  }
+  return j;
+}
 
+void printDesign(const ExciteArgs& a, const ident::ExcitationDesign& d, const ident::ExcitationLimits& limits, const ExciteComparison& k,
+                 const std::string& figure) {
   std::cout << "excitation design (" << (a.options.hip_locked ? "knee only, hip locked" : "both joints") << ", N = "
             << a.options.harmonics << ", f0 = " << fmt(a.options.f0_hz) << " Hz, seed " << a.options.seed << "): "
             << d.evaluations << " evaluations, " << d.feasible_restarts << "/" << a.options.restarts
             << " restarts feasible, " << fmt(d.wall_time_s, 3) << " s\n"
             << "criterion " << ident::toString(a.options.criterion) << "; condition number " << fmt(d.score.condition_number, 4)
-            << " (paper's trajectory " << paper_id << ": " << fmt(paper_score.condition_number, 4) << ")\n";
-  TextTable t({"param", "CRB std, design", "CRB std, paper's " + core::toText(paper_id), "gain", "floor", "max gain"});
-  for (std::size_t k = 0; k < indices.size(); ++k) {
-    const auto K = static_cast<Eigen::Index>(k);
-    t.addRow({std::string(ident::paramName(indices[k])), fmt(crb[K], 3), fmt(crb_paper[K], 3), fmt(crb_paper[K] / crb[K], 3),
-              fmt(floor[K], 3), fmt(crb_paper[K] / floor[K], 3)});
+            << " (paper's trajectory " << k.paper_id << ": " << fmt(k.paper_score.condition_number, 4) << ")\n";
+  TextTable t({"param", "CRB std, design", "CRB std, paper's " + core::toText(k.paper_id), "gain", "floor", "max gain"});
+  for (std::size_t i = 0; i < k.indices.size(); ++i) {
+    const auto K = static_cast<Eigen::Index>(i);
+    t.addRow({std::string(ident::paramName(k.indices[i])), fmt(k.crb[K], 3), fmt(k.crb_paper[K], 3), fmt(k.crb_paper[K] / k.crb[K], 3),
+              fmt(k.floor[K], 3), fmt(k.crb_paper[K] / k.floor[K], 3)});
   }
   t.print(std::cout);
   std::cout << "(" << fmt(a.duration_s) << " s at " << fmt(a.rate_hz) << " Hz, " << fmt(a.sigma_Nm)
@@ -204,6 +218,31 @@ void runExcite(const ExciteArgs& args) {
                     : "")
             << "wrote "
             << a.out << (figure.empty() ? "" : " and " + figure) << "\n";
+}
+
+void runExcite(const ExciteArgs& args) {
+  if (!isApalLegModel(args.model)) return exciteChainModel(args);
+  ExciteArgs a = args;
+  a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
+  a.options.validate();
+  // The output checked before the design's seconds of work: its folder made, a file writable in it.
+  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
+  core::checkOutputWritable(a.out);
+  const sim::Truth truth = sim::truthFromModel(a.model);
+  const ident::ParamVector nominal = toParamVector(truth.x);
+  const ident::LegConstants c = constantsOf(truth);
+  const ident::ExcitationLimits limits = designLimits(a, c, nominal);
+  const ident::ExcitationDesign d = ident::designExcitation(a.options, c, nominal, limits);
+  const ExciteComparison k = compareWithPaper(a, d, c, nominal, limits);
+  writeJsonFile(a.out, designJson(a, d, limits, k));
+  std::string figure;
+  if (a.plot) {
+    const std::string stem = a.out.size() > 5 && a.out.substr(a.out.size() - 5) == ".json" ? a.out.substr(0, a.out.size() - 5) : a.out;
+    writeSeriesCsv(stem + "_series.csv", d.trajectory, k.paper, c, nominal);
+    figure = stem + ".png";
+    runPlotScript("excitation_plot.py", {stem + "_series.csv", a.out, figure});
+  }
+  printDesign(a, d, limits, k, figure);
 }
 
 }  // namespace
