@@ -103,6 +103,265 @@ void ChainSimConfig::validate() const {
   if (trajectory.dof() > 0) trajectory.validate();
 }
 
+namespace {
+
+// The chain's driven joints in the model: names, Coulomb friction, addresses and motors.
+struct DrivenJoints {
+  std::vector<int> ids;
+  std::vector<std::string> names;
+  std::vector<double> coulomb;
+  std::vector<int> dofadr, qposadr, actuator;
+  int dof() const { return static_cast<int>(ids.size()); }
+  int dofAdr(int i) const { return dofadr[static_cast<std::size_t>(i)]; }
+  int qposAdr(int i) const { return qposadr[static_cast<std::size_t>(i)]; }
+};
+
+DrivenJoints drivenJoints(const mjModel* m, const std::string& path) {
+  DrivenJoints j;
+  j.ids = drivenHinges(m, path);
+  const int dof = j.dof();
+  if (m->nv != dof) {
+    throw std::invalid_argument("chain simulation: '" + path + "' has " + std::to_string(m->nv) + " degrees of freedom but its motors drive " +
+                                std::to_string(dof) +
+                                " hinges: every joint must be driven (a passive joint or a free base is not a serial chain exoid simulates)");
+  }
+  const auto n = static_cast<std::size_t>(dof);
+  j.coulomb.resize(n);
+  j.names.resize(n);
+  j.dofadr.resize(n);
+  j.qposadr.resize(n);
+  j.actuator.assign(n, -1);
+  for (std::size_t u = 0; u < n; ++u) {
+    j.names[u] = jointName(m, j.ids[u]);
+    j.coulomb[u] = numericOr(m, "exoid_fc_" + j.names[u], 0.0);
+    j.dofadr[u] = m->jnt_dofadr[j.ids[u]];
+    j.qposadr[u] = m->jnt_qposadr[j.ids[u]];
+    for (int a = 0; a < m->nu; ++a) {
+      if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == j.ids[u]) j.actuator[u] = a;
+    }
+  }
+  return j;
+}
+
+// Locked joints: no excitation, and a rotor inertia that lets the lock carry their load.
+void lockJoints(ChainSimConfig& config, const DrivenJoints& joints, mjModel* m) {
+  for (const std::string& name : config.locked) {
+    const auto it = std::find(joints.names.begin(), joints.names.end(), name);
+    if (it == joints.names.end()) {
+      std::string all;
+      for (const std::string& n : joints.names) all += (all.empty() ? "" : ", ") + n;
+      throw std::invalid_argument("chain simulation: cannot lock joint '" + name + "': '" + config.model_path + "' drives " + all);
+    }
+    const auto i = static_cast<Eigen::Index>(it - joints.names.begin());
+    config.trajectory.sin_rad.row(i).setZero();
+    config.trajectory.cos_rad.row(i).setZero();
+    m->dof_armature[joints.dofAdr(static_cast<int>(i))] += kLockInertia_kgm2;
+  }
+}
+
+// The reference inside every joint's range: a limit's constraint force is no motor torque.
+void checkReferenceInRange(const ChainSimConfig& config, const SerialChain& chain) {
+  Eigen::VectorXd q, qd, qdd;
+  const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
+  for (Eigen::Index k = 0; k < n; ++k) {
+    config.trajectory.reference(static_cast<double>(k) * config.dt_s, q, qd, qdd);
+    for (int i = 0; i < config.trajectory.dof(); ++i) {
+      const ChainLinkBody& l = chain.links[static_cast<std::size_t>(i)];
+      if (q[i] < l.q_min_rad || q[i] > l.q_max_rad) {
+        throw std::invalid_argument("chain simulation: the trajectory takes joint '" + l.joint + "' to " + std::to_string(q[i]) +
+                                    " rad at t = " + std::to_string(static_cast<double>(k) * config.dt_s) + " s, outside its range [" +
+                                    std::to_string(l.q_min_rad) + ", " + std::to_string(l.q_max_rad) + "] rad in '" + config.model_path + "'");
+      }
+    }
+  }
+}
+
+// Integration substeps: the smoothed Coulomb term is a damper of fc / v0 near zero velocity,
+// with time constant I / (fc / v0) (0.2 ms on leg3's ankle); explicit RK4 at 1 ms would ring
+// there (its stability ends at h |lambda| ~ 2.8), chattering at every velocity reversal. So the
+// plant advances in substeps with h |lambda| <= 1; control and recording stay at 1 / dt.
+// `M` is the joint-space inertia at the start.
+int integrationSubsteps(const ChainSimConfig& config, const DrivenJoints& joints, const std::vector<mjtNum>& M, int nv, double v0) {
+  int substeps = 1;
+  for (int i = 0; i < joints.dof() && v0 > 0.0; ++i) {
+    const int a = joints.dofAdr(i);
+    const double lambda = joints.coulomb[static_cast<std::size_t>(i)] / v0 / M[static_cast<std::size_t>(a * nv + a)];
+    substeps = std::max(substeps, static_cast<int>(std::ceil(lambda * config.dt_s)));
+  }
+  // The motor's first-order lag is resolved too: 2 pi f_a h <= 0.25 per substep.
+  substeps = std::max(substeps, static_cast<int>(std::ceil(kTwoPi * config.actuator_bandwidth_hz * config.dt_s / 0.25)));
+  return std::min(substeps, 50);
+}
+
+// The table's columns (see ChainSimResult::table).
+std::vector<std::string> chainColumns(const std::vector<std::string>& names, bool record_derivatives) {
+  std::vector<std::string> columns{"t"};
+  for (const char* prefix : {"q_", "tau_"}) {
+    for (const std::string& j : names) columns.push_back(prefix + j);
+  }
+  if (record_derivatives) {
+    for (const char* prefix : {"qd_", "qdd_"}) {
+      for (const std::string& j : names) columns.push_back(prefix + j);
+    }
+  }
+  for (const char* prefix : {"q_", "qd_", "qdd_", "tau_"}) {
+    for (const std::string& j : names) columns.push_back(prefix + j + "_true");
+  }
+  for (const std::string& j : names) columns.push_back("q_" + j + "_ref");
+  return columns;
+}
+
+// The rig running: the plant (d), the controller's inverse dynamics (dr), the sensors and the
+// motors' lag. One call of sample() per row of the table.
+class ChainRig {
+ public:
+  ChainRig(mjModel* m, const DrivenJoints& joints, const ChainSimConfig& config)
+      : m_(m), joints_(joints), config_(config), dof_(joints.dof()), data_(makeData(m)), ref_data_(makeData(m)), d_(data_.get()),
+        dr_(ref_data_.get()), v0_(config.coulomb_v0_radps), encoder_(streamSeed(config.seed, kStreamEncoder)),
+        torque_sensor_(streamSeed(config.seed, kStreamTorque)), motor_(dof_), command_(dof_) {}
+
+  // At rest on the reference at t = 0; PD gains from the joint-space inertia there, each joint a
+  // second-order loop at bandwidth_hz, damping ratio 0.7; the substeps per sample. Returns them.
+  int start() {
+    config_.trajectory.reference(0.0, q_ref_, qd_ref_, qdd_ref_);
+    for (int i = 0; i < dof_; ++i) {
+      d_->qpos[joints_.qposAdr(i)] = q_ref_[i];
+      d_->qvel[joints_.dofAdr(i)] = qd_ref_[i];
+    }
+    mj_forward(m_, d_);
+    std::vector<mjtNum> M(static_cast<std::size_t>(m_->nv) * static_cast<std::size_t>(m_->nv));
+    mj_fullM(m_, M.data(), d_->qM);
+    substeps_ = integrationSubsteps(config_, joints_, M, m_->nv, v0_);
+    m_->opt.timestep = config_.dt_s / substeps_;
+    kp_.resize(dof_);
+    kd_.resize(dof_);
+    const double wn = kTwoPi * config_.bandwidth_hz;
+    for (int i = 0; i < dof_; ++i) {
+      const int a = joints_.dofAdr(i);
+      const double inertia = M[static_cast<std::size_t>(a * m_->nv + a)];
+      kp_[i] = inertia * wn * wn;
+      kd_[i] = 2.0 * 0.7 * wn * inertia;
+    }
+    // The motor torque: a first-order lag behind the command (actuator_bandwidth_hz; 0 = the
+    // command at once, a staircase), so the torque is continuous in time like a real drive's and
+    // row k's torque is the one acting at t_k.
+    const double h = config_.dt_s / substeps_;
+    lag_ = config_.actuator_bandwidth_hz > 0.0 ? 1.0 - std::exp(-kTwoPi * config_.actuator_bandwidth_hz * h) : 1.0;
+    return substeps_;
+  }
+
+  // Row k of the table: readings, command, the state and torque at t_k; then the plant advanced to t_k+1.
+  void sample(Eigen::Index k, Table& table) {
+    const double t = static_cast<double>(k) * config_.dt_s;
+    config_.trajectory.reference(t, q_ref_, qd_ref_, qdd_ref_);
+    read();
+    control();
+    if (k == 0 || config_.actuator_bandwidth_hz <= 0.0) motor_ = command_;  // at rest on the reference at t = 0: no start transient
+    // 3.-4. the row: state, acceleration and joint torque at t_k
+    applyTorque();
+    mj_forward(m_, d_);
+    checkStepHealth(m_, d_, t, "mj_forward");
+    record(k, t, table);
+    tracking_ss_ += (q_ - q_ref_).squaredNorm();
+    advance(t);
+  }
+
+  double trackingRms(Eigen::Index n) const { return std::sqrt(tracking_ss_ / static_cast<double>(std::max<Eigen::Index>(1, n * dof_))); }
+
+ private:
+  double friction(int i, double qd) const {
+    const double fc = joints_.coulomb[static_cast<std::size_t>(i)];
+    return v0_ > 0.0 ? fc * std::tanh(qd / v0_) : fc * static_cast<double>((qd > 0.0) - (qd < 0.0));
+  }
+
+  // 1. readings: the exact state, and the encoder's angles (noise, quantisation)
+  void read() {
+    q_.resize(dof_);
+    qd_.resize(dof_);
+    q_read_.resize(dof_);
+    for (int i = 0; i < dof_; ++i) {
+      q_[i] = d_->qpos[joints_.qposAdr(i)];
+      qd_[i] = d_->qvel[joints_.dofAdr(i)];
+      double reading = q_[i] + config_.encoder_noise_rad * encoder_.normal();
+      if (config_.encoder_resolution_rad > 0.0) reading = config_.encoder_resolution_rad * std::round(reading / config_.encoder_resolution_rad);
+      q_read_[i] = reading;
+    }
+  }
+
+  // 2. controller: inverse dynamics at the reference, Coulomb, PD on the readings
+  void control() {
+    for (int i = 0; i < dof_; ++i) {
+      dr_->qpos[joints_.qposAdr(i)] = q_ref_[i];
+      dr_->qvel[joints_.dofAdr(i)] = qd_ref_[i];
+      dr_->qacc[joints_.dofAdr(i)] = qdd_ref_[i];
+    }
+    mj_inverse(m_, dr_);
+    for (int i = 0; i < dof_; ++i) {
+      command_[i] = dr_->qfrc_inverse[joints_.dofAdr(i)] + friction(i, qd_ref_[i]) + kp_[i] * (q_ref_[i] - q_read_[i]) +
+                    kd_[i] * (qd_ref_[i] - qd_[i]);
+    }
+  }
+
+  void applyTorque() {
+    for (int i = 0; i < dof_; ++i) {
+      const int a = joints_.actuator[static_cast<std::size_t>(i)];
+      d_->ctrl[a] = motor_[i] / m_->actuator_gear[6 * a];
+      d_->qfrc_applied[joints_.dofAdr(i)] = -friction(i, d_->qvel[joints_.dofAdr(i)]);  // the plant's Coulomb friction
+    }
+  }
+
+  void record(Eigen::Index k, double t, Table& table) {
+    Eigen::Index c = 0;
+    table.values(k, c++) = t;
+    for (int i = 0; i < dof_; ++i) table.values(k, c++) = q_read_[i];
+    Eigen::VectorXd tau(dof_), qdd(dof_);
+    for (int i = 0; i < dof_; ++i) {
+      tau[i] = d_->qfrc_actuator[joints_.dofAdr(i)];
+      qdd[i] = d_->qacc[joints_.dofAdr(i)];
+    }
+    for (int i = 0; i < dof_; ++i) table.values(k, c++) = tau[i] + config_.torque_noise_Nm * torque_sensor_.normal();
+    if (config_.record_derivatives) {
+      for (int i = 0; i < dof_; ++i) table.values(k, c++) = qd_[i];
+      for (int i = 0; i < dof_; ++i) table.values(k, c++) = qdd[i];
+    }
+    for (const Eigen::VectorXd* v : {&q_, &qd_, &qdd, &tau}) {
+      for (int i = 0; i < dof_; ++i) table.values(k, c++) = (*v)[i];
+    }
+    for (int i = 0; i < dof_; ++i) table.values(k, c++) = q_ref_[i];
+  }
+
+  // Advance to t_k+1 in substeps: friction follows the velocity, the motor the command.
+  void advance(double t) {
+    for (int sub = 0; sub < substeps_; ++sub) {
+      if (sub > 0) {
+        applyTorque();
+        mj_forward(m_, d_);
+      }
+      integrate(m_, d_);
+      checkStepHealth(m_, d_, t, "integration");
+      motor_ += lag_ * (command_ - motor_);
+    }
+  }
+
+  mjModel* m_;
+  const DrivenJoints& joints_;
+  const ChainSimConfig& config_;
+  int dof_;
+  DataPtr data_, ref_data_;
+  mjData* d_;
+  mjData* dr_;
+  double v0_;
+  Rng encoder_, torque_sensor_;
+  int substeps_ = 1;
+  Eigen::VectorXd kp_, kd_;
+  double lag_ = 1.0;
+  Eigen::VectorXd motor_, command_;
+  Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_, qd_, q_read_;
+  double tracking_ss_ = 0.0;
+};
+
+}  // namespace
+
 ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   config_in.validate();
   ChainSimResult r;
@@ -115,200 +374,26 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   // constraints they would push back (a force no motor applied, missing from every recorded
   // torque) whenever the tracked state grazes a range the reference touches: off.
   m->opt.disableflags |= mjDSBL_LIMIT;
-  const std::vector<int> joints = drivenHinges(m, config.model_path);
-  const int dof = static_cast<int>(joints.size());
-  if (m->nv != dof) {
-    throw std::invalid_argument("chain simulation: '" + config.model_path + "' has " + std::to_string(m->nv) +
-                                " degrees of freedom but its motors drive " + std::to_string(dof) +
-                                " hinges: every joint must be driven (a passive joint or a free base is not a serial chain exoid simulates)");
-  }
-  std::vector<double> coulomb(static_cast<std::size_t>(dof));
-  std::vector<std::string> names(static_cast<std::size_t>(dof));
-  std::vector<int> dofadr(static_cast<std::size_t>(dof)), qposadr(static_cast<std::size_t>(dof)), actuator(static_cast<std::size_t>(dof), -1);
-  for (int i = 0; i < dof; ++i) {
-    const auto u = static_cast<std::size_t>(i);
-    names[u] = jointName(m, joints[u]);
-    coulomb[u] = numericOr(m, "exoid_fc_" + names[u], 0.0);
-    dofadr[u] = m->jnt_dofadr[joints[u]];
-    qposadr[u] = m->jnt_qposadr[joints[u]];
-    for (int a = 0; a < m->nu; ++a) {
-      if (m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_trnid[2 * a] == joints[u]) actuator[u] = a;
-    }
-  }
-  r.chain = serialChainFromMjcf(m, joints, coulomb, config.model_path);
+  const DrivenJoints joints = drivenJoints(m, config.model_path);
+  r.chain = serialChainFromMjcf(m, joints.ids, joints.coulomb, config.model_path);
   r.chain.name = m->nnames > 0 && m->names[0] ? m->names : config.model_path;
   if (config.trajectory.dof() == 0) config.trajectory = defaultChainTrajectory(r.chain, config.seed);
-  if (config.trajectory.dof() != dof) {
+  if (config.trajectory.dof() != joints.dof()) {
     throw std::invalid_argument("chain simulation: the trajectory has " + std::to_string(config.trajectory.dof()) + " joints, '" +
-                                config.model_path + "' drives " + std::to_string(dof));
+                                config.model_path + "' drives " + std::to_string(joints.dof()));
   }
-  for (const std::string& name : config.locked) {  // after r.chain: the truth keeps the real rotor inertia
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end()) {
-      std::string all;
-      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
-      throw std::invalid_argument("chain simulation: cannot lock joint '" + name + "': '" + config.model_path + "' drives " + all);
-    }
-    const auto i = static_cast<Eigen::Index>(it - names.begin());
-    config.trajectory.sin_rad.row(i).setZero();
-    config.trajectory.cos_rad.row(i).setZero();
-    m->dof_armature[dofadr[static_cast<std::size_t>(i)]] += kLockInertia_kgm2;
-  }
-  {  // The reference inside every joint's range: a limit's constraint force is no motor torque.
-    Eigen::VectorXd q, qd, qdd;
-    const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
-    for (Eigen::Index k = 0; k < n; ++k) {
-      config.trajectory.reference(static_cast<double>(k) * config.dt_s, q, qd, qdd);
-      for (int i = 0; i < dof; ++i) {
-        const ChainLinkBody& l = r.chain.links[static_cast<std::size_t>(i)];
-        if (q[i] < l.q_min_rad || q[i] > l.q_max_rad) {
-          throw std::invalid_argument("chain simulation: the trajectory takes joint '" + l.joint + "' to " + std::to_string(q[i]) +
-                                      " rad at t = " + std::to_string(static_cast<double>(k) * config.dt_s) + " s, outside its range [" +
-                                      std::to_string(l.q_min_rad) + ", " + std::to_string(l.q_max_rad) + "] rad in '" + config.model_path + "'");
-        }
-      }
-    }
-  }
-  const double v0 = config.coulomb_v0_radps < 0.0 ? numericOr(m, "exoid_coulomb_v0", 2e-3) : config.coulomb_v0_radps;
-  config.coulomb_v0_radps = v0;
-  const auto friction = [&](int i, double qd) {
-    const double fc = coulomb[static_cast<std::size_t>(i)];
-    return v0 > 0.0 ? fc * std::tanh(qd / v0) : fc * static_cast<double>((qd > 0.0) - (qd < 0.0));
-  };
+  lockJoints(config, joints, m);  // after r.chain: the truth keeps the real rotor inertia
+  checkReferenceInRange(config, r.chain);
+  if (config.coulomb_v0_radps < 0.0) config.coulomb_v0_radps = numericOr(m, "exoid_coulomb_v0", 2e-3);
   r.mujoco_version = mj_versionString();
 
-  DataPtr data = makeData(m), ref_data = makeData(m);
-  mjData* d = data.get();
-  mjData* dr = ref_data.get();
-  Eigen::VectorXd q_ref, qd_ref, qdd_ref;
-  config.trajectory.reference(0.0, q_ref, qd_ref, qdd_ref);
-  for (int i = 0; i < dof; ++i) {
-    d->qpos[qposadr[static_cast<std::size_t>(i)]] = q_ref[i];
-    d->qvel[dofadr[static_cast<std::size_t>(i)]] = qd_ref[i];
-  }
-  mj_forward(m, d);
-  // PD gains from the joint-space inertia at the start: each joint a second-order loop at
-  // bandwidth_hz, damping ratio 0.7.
-  std::vector<mjtNum> M(static_cast<std::size_t>(m->nv) * static_cast<std::size_t>(m->nv));
-  mj_fullM(m, M.data(), d->qM);
-  // Integration substeps: the smoothed Coulomb term is a damper of fc / v0 near zero velocity,
-  // with time constant I / (fc / v0) (0.2 ms on leg3's ankle); explicit RK4 at 1 ms would ring
-  // there (its stability ends at h |lambda| ~ 2.8), chattering at every velocity reversal. So the
-  // plant advances in substeps with h |lambda| <= 1; control and recording stay at 1 / dt.
-  int substeps = 1;
-  for (int i = 0; i < dof && v0 > 0.0; ++i) {
-    const int a = dofadr[static_cast<std::size_t>(i)];
-    const double lambda = coulomb[static_cast<std::size_t>(i)] / v0 / M[static_cast<std::size_t>(a * m->nv + a)];
-    substeps = std::max(substeps, static_cast<int>(std::ceil(lambda * config.dt_s)));
-  }
-  // The motor's first-order lag is resolved too: 2 pi f_a h <= 0.25 per substep.
-  substeps = std::max(substeps, static_cast<int>(std::ceil(kTwoPi * config.actuator_bandwidth_hz * config.dt_s / 0.25)));
-  substeps = std::min(substeps, 50);
-  r.substeps = substeps;
-  m->opt.timestep = config.dt_s / substeps;
-  Eigen::VectorXd kp(dof), kd(dof);
-  const double wn = kTwoPi * config.bandwidth_hz;
-  for (int i = 0; i < dof; ++i) {
-    const int a = dofadr[static_cast<std::size_t>(i)];
-    const double inertia = M[static_cast<std::size_t>(a * m->nv + a)];
-    kp[i] = inertia * wn * wn;
-    kd[i] = 2.0 * 0.7 * wn * inertia;
-  }
-
+  ChainRig rig(m, joints, config);
+  r.substeps = rig.start();
   const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
-  r.table.names.push_back("t");
-  const std::vector<std::pair<const char*, const char*>> groups = {{"q_", ""}, {"tau_", ""}};
-  for (const auto& [prefix, suffix] : groups) {
-    for (const std::string& j : names) r.table.names.push_back(prefix + j + suffix);
-  }
-  if (config.record_derivatives) {
-    for (const char* prefix : {"qd_", "qdd_"}) {
-      for (const std::string& j : names) r.table.names.push_back(prefix + j);
-    }
-  }
-  for (const char* prefix : {"q_", "qd_", "qdd_", "tau_"}) {
-    for (const std::string& j : names) r.table.names.push_back(prefix + j + "_true");
-  }
-  for (const std::string& j : names) r.table.names.push_back("q_" + j + "_ref");
+  r.table.names = chainColumns(joints.names, config.record_derivatives);
   r.table.values.resize(n, static_cast<Eigen::Index>(r.table.names.size()));
-
-  Rng encoder(streamSeed(config.seed, kStreamEncoder)), torque_sensor(streamSeed(config.seed, kStreamTorque));
-  // The motor torque: a first-order lag behind the command (actuator_bandwidth_hz; 0 = the
-  // command at once, a staircase), so the torque is continuous in time like a real drive's and
-  // row k's torque is the one acting at t_k.
-  const double h = config.dt_s / substeps;
-  const double lag = config.actuator_bandwidth_hz > 0.0 ? 1.0 - std::exp(-kTwoPi * config.actuator_bandwidth_hz * h) : 1.0;
-  Eigen::VectorXd motor(dof), command(dof);
-  bool first = true;
-  double tracking_ss = 0.0;
-  const auto applyTorque = [&](const Eigen::VectorXd& torque) {
-    for (int i = 0; i < dof; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      const int a = actuator[u];
-      d->ctrl[a] = torque[i] / m->actuator_gear[6 * a];
-      d->qfrc_applied[dofadr[u]] = -friction(i, d->qvel[dofadr[u]]);  // the plant's Coulomb friction
-    }
-  };
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const double t = static_cast<double>(k) * config.dt_s;
-    config.trajectory.reference(t, q_ref, qd_ref, qdd_ref);
-    // 1. readings
-    Eigen::VectorXd q(dof), qd(dof), q_read(dof);
-    for (int i = 0; i < dof; ++i) {
-      q[i] = d->qpos[qposadr[static_cast<std::size_t>(i)]];
-      qd[i] = d->qvel[dofadr[static_cast<std::size_t>(i)]];
-      double reading = q[i] + config.encoder_noise_rad * encoder.normal();
-      if (config.encoder_resolution_rad > 0.0) reading = config.encoder_resolution_rad * std::round(reading / config.encoder_resolution_rad);
-      q_read[i] = reading;
-    }
-    // 2. controller: inverse dynamics at the reference, Coulomb, PD on the readings
-    for (int i = 0; i < dof; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      dr->qpos[qposadr[u]] = q_ref[i];
-      dr->qvel[dofadr[u]] = qd_ref[i];
-      dr->qacc[dofadr[u]] = qdd_ref[i];
-    }
-    mj_inverse(m, dr);
-    for (int i = 0; i < dof; ++i) {
-      const auto u = static_cast<std::size_t>(i);
-      command[i] = dr->qfrc_inverse[dofadr[u]] + friction(i, qd_ref[i]) + kp[i] * (q_ref[i] - q_read[i]) + kd[i] * (qd_ref[i] - qd[i]);
-    }
-    if (first || config.actuator_bandwidth_hz <= 0.0) motor = command;  // at rest on the reference at t = 0: no start transient
-    first = false;
-    // 3.-4. the row: state, acceleration and joint torque at t_k
-    applyTorque(motor);
-    mj_forward(m, d);
-    checkStepHealth(m, d, t, "mj_forward");
-    Eigen::Index c = 0;
-    r.table.values(k, c++) = t;
-    for (int i = 0; i < dof; ++i) r.table.values(k, c++) = q_read[i];
-    Eigen::VectorXd tau(dof), qdd(dof);
-    for (int i = 0; i < dof; ++i) {
-      tau[i] = d->qfrc_actuator[dofadr[static_cast<std::size_t>(i)]];
-      qdd[i] = d->qacc[dofadr[static_cast<std::size_t>(i)]];
-    }
-    for (int i = 0; i < dof; ++i) r.table.values(k, c++) = tau[i] + config.torque_noise_Nm * torque_sensor.normal();
-    if (config.record_derivatives) {
-      for (int i = 0; i < dof; ++i) r.table.values(k, c++) = qd[i];
-      for (int i = 0; i < dof; ++i) r.table.values(k, c++) = qdd[i];
-    }
-    for (const Eigen::VectorXd* v : {&q, &qd, &qdd, &tau}) {
-      for (int i = 0; i < dof; ++i) r.table.values(k, c++) = (*v)[i];
-    }
-    for (int i = 0; i < dof; ++i) r.table.values(k, c++) = q_ref[i];
-    tracking_ss += (q - q_ref).squaredNorm();
-    // Advance to t_k+1 in substeps: friction follows the velocity, the motor the command.
-    for (int sub = 0; sub < substeps; ++sub) {
-      if (sub > 0) {
-        applyTorque(motor);
-        mj_forward(m, d);
-      }
-      integrate(m, d);
-      checkStepHealth(m, d, t, "integration");
-      motor += lag * (command - motor);
-    }
-  }
-  r.tracking_rms_rad = std::sqrt(tracking_ss / static_cast<double>(std::max<Eigen::Index>(1, n * dof)));
+  for (Eigen::Index k = 0; k < n; ++k) rig.sample(k, r.table);
+  r.tracking_rms_rad = rig.trackingRms(n);
   r.table.metadata = {{"exoid", "chain simulation"},
                       {"model", r.chain.name},
                       {"model_path", config.model_path},
