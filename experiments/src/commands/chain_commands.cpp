@@ -270,56 +270,63 @@ Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParamet
   return v;
 }
 
-int identifyChain(const ChainIdentifyArgs& a) {
-  if (!a.stages.empty()) return identifyChainStages(a);
-  if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
-  prepareOutput(a.json_out);
-  const LoadedChain loaded = loadChain(a.model, a.armature);
-  // Named references, not a structured binding: a lambda below captures the model (C++17 forbids
-  // capturing a binding; gcc accepts it, clang does not).
-  const std::string& path = loaded.path;
-  const sim::SerialChain& chain = loaded.chain;
-  const ident::ChainModel& model = loaded.model;
-  const Eigen::VectorXd& nominal = loaded.phi;
-  const ident::BaseParameters& base = loaded.base;
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
-  std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
-  prepareOutput(a.plot);
+void throwIfUnusable(const std::vector<std::string>& problems) {
+  if (problems.empty()) return;
+  std::string all;
+  for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
+  throw UnusableResult(all);
+}
+
+namespace {
+
+// The fit records, each processed in its own band (unless the flags fix it).
+struct ChainFitRecords {
   std::vector<ident::ChainRecord> records;
-  nlohmann::json records_json = nlohmann::json::array();
-  std::optional<ident::SignalOptions> fit_signals;  // the first record's, for the validation records
+  nlohmann::json json = nlohmann::json::array();
+  std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
+  std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
+};
+
+ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
+  const ident::ChainModel& model = loaded.model;
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
-  std::vector<ident::BandIvRows> iv_rows;  // iv-band's rows and instruments, record by record
+  ChainFitRecords fit;
   for (const std::string& file : a.data) {
     const ident::Dataset d = readLog(file, log);
     std::optional<ident::BandChoice> band;
-    records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    fit.records.push_back(ident::processChainRecord(d, model, a.signals, &band));
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
-      iv_rows.push_back(ident::chainBandIvRows(d, model, base, band ? ident::withBand(a.signals, *band) : a.signals, fm));
+      fit.iv_rows.push_back(ident::chainBandIvRows(d, model, loaded.base, band ? ident::withBand(a.signals, *band) : a.signals, fm));
     }
-    if (!fit_signals) fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", records.back().y.size()}};
+    if (!fit.fit_signals) fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}};
     if (band) {
       std::cout << file << ": " << band->describe() << "\n";
       rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
                     {"limited_by", band->limited_by}, {"reason", band->describe()}};
     }
-    records_json.push_back(rj);
+    fit.json.push_back(rj);
   }
-  ident::ChainEstimateOptions eo;
-  eo.ls.max_condition = a.max_condition;
-  eo.consistent = a.consistency;
-  const ident::ChainRecord stacked = ident::stackChainRecords(records);
-  const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, nominal, eo);
+  return fit;
+}
 
-  // The paper's methods over the same rows, in base parameters (LS above is the reference).
-  const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
+using MethodEstimates = std::vector<std::pair<ident::Method, ident::Estimate>>;
+
+// The other methods' options: the PSO box from the data (10 x the largest |LS estimate|) unless given.
+ident::MethodOptions chainMethodOptions(const ChainIdentifyArgs& a, const ident::ChainEstimate& est) {
   ident::MethodOptions mo = a.method_options;
   mo.ls.max_condition = a.max_condition;
   if (!a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
-  std::vector<std::pair<ident::Method, ident::Estimate>> others;
+  return mo;
+}
+
+// The paper's methods over the same rows, in base parameters (LS, the reference, is not among them).
+MethodEstimates otherMethods(const ChainIdentifyArgs& a, const ident::BaseParameters& base, const ident::ChainRecord& stacked,
+                             const std::vector<ident::BandIvRows>& iv_rows, const ident::MethodOptions& mo) {
+  const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
+  MethodEstimates others;
   for (ident::Method m : a.methods) {
     if (m == ident::Method::kLs) continue;
     if (m == ident::Method::kIvBand) {
@@ -328,98 +335,131 @@ int identifyChain(const ChainIdentifyArgs& a) {
     }
     others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
   }
+  return others;
+}
 
-  // Validation: each record processed as the fit's first, its torque predicted by the LS estimate.
-  nlohmann::json validation = nlohmann::json::array();
-  std::optional<ident::ChainRecord> shown;
+// One validation record: the LS estimate's torque error per joint (printed), every other
+// method's RMS error per joint.
+nlohmann::json validationJson(const std::string& file, const ident::ChainRecord& v, const LoadedChain& loaded,
+                              const ident::ChainEstimate& est, const MethodEstimates& others) {
+  const ident::ChainModel& model = loaded.model;
+  const Eigen::VectorXd predicted = loaded.base.baseRegressor(v.W) * est.beta;
+  nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
+  std::cout << "validation " << file << ": torque error RMS";
+  for (int j = 0; j < model.dof(); ++j) {
+    double err = 0.0, meas = 0.0;
+    for (Eigen::Index k = 0; k < v.samples(); ++k) {
+      const Eigen::Index row = k * model.dof() + j;
+      err += (v.y[row] - predicted[row]) * (v.y[row] - predicted[row]);
+      meas += v.y[row] * v.y[row];
+    }
+    err = std::sqrt(err / static_cast<double>(v.samples()));
+    meas = std::sqrt(meas / static_cast<double>(v.samples()));
+    std::cout << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
+              << " % of the measured)";
+    vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
+  }
+  std::cout << "\n";
+  // Every other method's estimate on the same record: RMS torque error per joint, N m.
+  const Eigen::MatrixXd Wv = loaded.base.baseRegressor(v.W);
+  for (const auto& [m, e] : others) {
+    const Eigen::VectorXd r = v.y - Wv * e.x;
+    std::vector<double> rms(static_cast<std::size_t>(model.dof()), 0.0);
+    for (Eigen::Index k = 0; k < v.samples(); ++k) {
+      for (int j = 0; j < model.dof(); ++j) rms[static_cast<std::size_t>(j)] += r[k * model.dof() + j] * r[k * model.dof() + j];
+    }
+    for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
+    vj["methods_rms_error_Nm"][ident::toString(m)] = rms;
+  }
+  return vj;
+}
+
+// Validation: each record processed as the fit's first, its torque predicted by the estimates.
+struct ChainValidation {
+  nlohmann::json json = nlohmann::json::array();
+  std::optional<ident::ChainRecord> first;  ///< the first validation record (what the figure shows)
+};
+
+ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log,
+                              const ident::SignalOptions& fit_signals, const ident::ChainEstimate& est, const MethodEstimates& others) {
+  ChainValidation out;
   for (const std::string& file : a.validate) {
-    ident::ChainRecord v = ident::processChainRecord(readLog(file, log), model, *fit_signals);
-    const Eigen::VectorXd predicted = base.baseRegressor(v.W) * est.beta;
-    nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
-    std::cout << "validation " << file << ": torque error RMS";
-    for (int j = 0; j < model.dof(); ++j) {
-      double err = 0.0, meas = 0.0;
-      for (Eigen::Index k = 0; k < v.samples(); ++k) {
+    ident::ChainRecord v = ident::processChainRecord(readLog(file, log), loaded.model, fit_signals);
+    out.json.push_back(validationJson(file, v, loaded, est, others));
+    if (!out.first) out.first = std::move(v);
+  }
+  return out;
+}
+
+// t_s and each joint's measured and predicted torque, %.9g.
+void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::ChainRecord& shown,
+                       const Eigen::VectorXd& predicted) {
+  core::writeFileAtomically(path, [&](std::ostream& out) {
+    out << "t_s";
+    for (const std::string& j : model.jointNames()) out << ",tau_" << j << ",tau_" << j << "_predicted";
+    out << "\n";
+    char buf[32];
+    for (Eigen::Index k = 0; k < shown.samples(); ++k) {
+      std::snprintf(buf, sizeof buf, "%.9g", shown.t_s[k]);
+      out << buf;
+      for (int j = 0; j < model.dof(); ++j) {
         const Eigen::Index row = k * model.dof() + j;
-        err += (v.y[row] - predicted[row]) * (v.y[row] - predicted[row]);
-        meas += v.y[row] * v.y[row];
-      }
-      err = std::sqrt(err / static_cast<double>(v.samples()));
-      meas = std::sqrt(meas / static_cast<double>(v.samples()));
-      std::cout << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
-                << " % of the measured)";
-      vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
-    }
-    std::cout << "\n";
-    // Every other method's estimate on the same record: RMS torque error per joint, N m.
-    const Eigen::MatrixXd Wv = base.baseRegressor(v.W);
-    for (const auto& [m, e] : others) {
-      const Eigen::VectorXd r = v.y - Wv * e.x;
-      std::vector<double> rms(static_cast<std::size_t>(model.dof()), 0.0);
-      for (Eigen::Index k = 0; k < v.samples(); ++k) {
-        for (int j = 0; j < model.dof(); ++j) rms[static_cast<std::size_t>(j)] += r[k * model.dof() + j] * r[k * model.dof() + j];
-      }
-      for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
-      vj["methods_rms_error_Nm"][ident::toString(m)] = rms;
-    }
-    validation.push_back(vj);
-    if (!shown) shown = std::move(v);
-  }
-  if (!a.plot.empty()) {
-    if (!shown) shown = records.front();
-    const Eigen::VectorXd predicted = base.baseRegressor(shown->W) * est.beta;
-    const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
-    core::writeFileAtomically(series, [&](std::ostream& out) {
-      out << "t_s";
-      for (const std::string& j : model.jointNames()) out << ",tau_" << j << ",tau_" << j << "_predicted";
-      out << "\n";
-      char buf[32];
-      for (Eigen::Index k = 0; k < shown->samples(); ++k) {
-        std::snprintf(buf, sizeof buf, "%.9g", shown->t_s[k]);
+        std::snprintf(buf, sizeof buf, ",%.9g", shown.y[row]);
         out << buf;
-        for (int j = 0; j < model.dof(); ++j) {
-          const Eigen::Index row = k * model.dof() + j;
-          std::snprintf(buf, sizeof buf, ",%.9g", shown->y[row]);
-          out << buf;
-          std::snprintf(buf, sizeof buf, ",%.9g", predicted[row]);
-          out << buf;
-        }
-        out << "\n";
+        std::snprintf(buf, sizeof buf, ",%.9g", predicted[row]);
+        out << buf;
       }
-    });
-    runPlotScript("chain_validation_plot.py",
-                  {series, a.plot, chain.name + ": " + (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
-    std::cout << "wrote " << a.plot << " and " << series << "\n";
-  }
+      out << "\n";
+    }
+  });
+}
 
-  std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+// --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
+void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::ChainRecord& shown) {
+  const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
+  writeTorqueSeries(series, loaded.model, shown, loaded.base.baseRegressor(shown.W) * est.beta);
+  runPlotScript("chain_validation_plot.py", {series, a.plot,
+                                             loaded.chain.name + ": " +
+                                                 (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
+  std::cout << "wrote " << a.plot << " and " << series << "\n";
+}
 
-  const bool usable_ls = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+// Why the result must not be used (none: usable), and how far the consistent estimate is from LS.
+struct ChainVerdict {
   std::vector<std::string> problems;
-  if (est.ls.rank < base.rank) problems.push_back("the records do not identify every base parameter (rank " + core::toText(est.ls.rank) + " of " + core::toText(base.rank) + ")");
-  if (est.ls.rank == base.rank && !usable_ls) problems.push_back(est.ls.summary.message);
-  double mahalanobis = 0.0;
+  double mahalanobis = 0.0;  ///< standard errors from LS to the consistent estimate (0 when LS is consistent)
+};
+
+ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& base, const ident::ChainEstimate& est,
+                       const MethodEstimates& others) {
+  ChainVerdict v;
+  const bool usable_ls = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+  if (est.ls.rank < base.rank) {
+    v.problems.push_back("the records do not identify every base parameter (rank " + core::toText(est.ls.rank) + " of " +
+                         core::toText(base.rank) + ")");
+  }
+  if (est.ls.rank == base.rank && !usable_ls) v.problems.push_back(est.ls.summary.message);
   if (est.consistent && usable_ls && est.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
     // The distance from LS to the consistent estimate in standard errors (the metric of the fit's
     // own covariance): beyond --significance, no physical body explains the data.
     const Eigen::VectorXd d = est.consistent->beta - est.beta;
-    mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
-    if (mahalanobis > a.significance_sigmas) {
-      problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(mahalanobis, 3) +
-                         " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+    v.mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
+    if (v.mahalanobis > a.significance_sigmas) {
+      v.problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(v.mahalanobis, 3) +
+                           " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
     }
   }
-
   for (const auto& [m, e] : others) {
-    if (!ident::usable(e.summary.status)) problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
+    if (!ident::usable(e.summary.status)) v.problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
     for (Eigen::Index i : boxBoundIndices(e)) {
-      problems.push_back(std::string(ident::toString(m)) + ": " + boxBoundMessage(base.names[static_cast<std::size_t>(i)], e, i));
+      v.problems.push_back(std::string(ident::toString(m)) + ": " + boxBoundMessage(base.names[static_cast<std::size_t>(i)], e, i));
     }
   }
-  if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
-    std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
-  }
+  return v;
+}
+
+void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others,
+                         const std::optional<Eigen::VectorXd>& truth, double mahalanobis) {
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
   if (est.consistent) header.push_back("consistent");
   for (const auto& [m, e] : others) header.push_back(ident::toString(m));
@@ -441,42 +481,74 @@ int identifyChain(const ChainIdentifyArgs& a) {
   std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
             << fmt(est.ls.residual_rms, 4) << " N m\n";
   if (est.consistent) std::cout << "consistent estimate: " << est.consistent->message << " (" << fmt(mahalanobis, 3) << " standard errors from LS)\n";
+}
 
-  if (!a.json_out.empty()) {
-    nlohmann::json j;
-    j["tool"] = toolJson();
-    j["model"] = {{"name", chain.name}, {"path", path}, {"joints", model.jointNames()}};
-    j["records"] = records_json;
-    j["base_parameters"] = {{"names", base.names},
-                            {"ls", toVector(est.beta)},
-                            {"std_error", toVector(est.std_error)},
-                            {"condition_number", est.ls.condition_number},
-                            {"residual_rms_Nm", est.ls.residual_rms},
-                            {"rows", est.rows}};
-    if (est.consistent) {
-      j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
-      j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
-                         {"status", ident::toString(est.consistent->status)},
-                         {"standard_errors_from_ls", mahalanobis},
-                         {"message", est.consistent->message}};
-    }
-    if (truth) j["base_parameters"]["truth"] = toVector(*truth);
-    j["validation"] = validation;
-    j["methods"] = nlohmann::json::object();
-    for (const auto& [m, e] : others) {
-      nlohmann::json mj = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
-                           {"l1_cost", e.l1_cost}};
-      if (truth) mj["error_rel"] = toVector(((e.x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
-      j["methods"][ident::toString(m)] = mj;
-    }
-    j["problems"] = problems;
-    writeJsonFile(a.json_out, j);
+nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
+                                 const MethodEstimates& others, const std::optional<Eigen::VectorXd>& truth,
+                                 const nlohmann::json& validation, const ChainVerdict& verdict) {
+  const ident::ChainModel& model = loaded.model;
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", model.jointNames()}};
+  j["records"] = records_json;
+  j["base_parameters"] = {{"names", loaded.base.names},
+                          {"ls", toVector(est.beta)},
+                          {"std_error", toVector(est.std_error)},
+                          {"condition_number", est.ls.condition_number},
+                          {"residual_rms_Nm", est.ls.residual_rms},
+                          {"rows", est.rows}};
+  if (est.consistent) {
+    j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
+    j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
+                       {"status", ident::toString(est.consistent->status)},
+                       {"standard_errors_from_ls", verdict.mahalanobis},
+                       {"message", est.consistent->message}};
   }
-  if (!problems.empty()) {
-    std::string all;
-    for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
-    throw UnusableResult(all);
+  if (truth) j["base_parameters"]["truth"] = toVector(*truth);
+  j["validation"] = validation;
+  j["methods"] = nlohmann::json::object();
+  for (const auto& [m, e] : others) {
+    nlohmann::json mj = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
+                         {"l1_cost", e.l1_cost}};
+    if (truth) mj["error_rel"] = toVector(((e.x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
+    j["methods"][ident::toString(m)] = mj;
   }
+  j["problems"] = verdict.problems;
+  return j;
+}
+
+}  // namespace
+
+int identifyChain(const ChainIdentifyArgs& a) {
+  if (!a.stages.empty()) return identifyChainStages(a);
+  if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
+  prepareOutput(a.json_out);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const ident::ChainModel& model = loaded.model;
+  const ident::BaseParameters& base = loaded.base;
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
+  std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
+  prepareOutput(a.plot);
+  const ChainFitRecords fit = readFitRecords(a, loaded, log);
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = a.max_condition;
+  eo.consistent = a.consistency;
+  const ident::ChainRecord stacked = ident::stackChainRecords(fit.records);
+  const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, loaded.phi, eo);
+  const ident::MethodOptions mo = chainMethodOptions(a, est);
+  const MethodEstimates others = otherMethods(a, base, stacked, fit.iv_rows, mo);
+  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others);
+  if (!a.plot.empty()) plotChainFit(a, loaded, est, validation.first ? *validation.first : fit.records.front());
+
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+  const ChainVerdict verdict = verdictOf(a, base, est, others);
+  if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
+    std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
+  }
+  printChainEstimates(base, est, others, truth, verdict.mahalanobis);
+  if (!a.json_out.empty()) writeJsonFile(a.json_out, chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict));
+  throwIfUnusable(verdict.problems);
   return 0;
 }
 

@@ -53,22 +53,15 @@ std::string lockedJoints(const ident::ChainModel& model, Eigen::Index first) {
   return s;
 }
 
-}  // namespace
-
-int identifyChainStages(const ChainIdentifyArgs& a) {
-  if (!a.validate.empty() || !a.plot.empty()) {
-    throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
-  }
-  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
-  const LoadedChain loaded = loadChain(a.model, a.armature);
-  const auto& [path, chain, model, nominal, base] = loaded;
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
-  std::cout << "model " << chain.name << " (" << path << "): " << model.dof() << " joints, " << base.rank
-            << " base parameters; segmental strategy, distal joints first\n";
-  const std::vector<StageInput> inputs = stageInputs(a, model);
+// Each stage's records, processed with the stage's joints above its first moving one locked.
+struct StageRecords {
   std::vector<ident::ChainStage> stages;
-  nlohmann::json stages_json = nlohmann::json::array();
-  for (const StageInput& in : inputs) {
+  nlohmann::json json = nlohmann::json::array();
+};
+
+StageRecords readStages(const ChainIdentifyArgs& a, const ident::ChainModel& model, const LogInput& log) {
+  StageRecords out;
+  for (const StageInput& in : stageInputs(a, model)) {
     ident::BandRule rule;
     rule.first_moving_joint = in.first_joint;
     std::vector<ident::ChainRecord> records;
@@ -79,70 +72,91 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
       if (band) std::cout << file << ": " << band->describe() << "\n";
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
     }
-    stages.push_back({in.first_joint, ident::stackChainRecords(records)});
-    stages_json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
-                           {"locked", lockedJoints(model, in.first_joint)},
-                           {"records", files}});
+    out.stages.push_back({in.first_joint, ident::stackChainRecords(records)});
+    out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
+                        {"locked", lockedJoints(model, in.first_joint)},
+                        {"records", files}});
   }
+  return out;
+}
 
-  ident::MethodOptions mo = a.method_options;
-  mo.ls.max_condition = a.max_condition;
+// LS first, then the other methods.
+std::vector<ident::Method> stageMethods(const ChainIdentifyArgs& a) {
   std::vector<ident::Method> methods = {ident::Method::kLs};
   for (ident::Method m : a.methods) {
     if (m != ident::Method::kLs) methods.push_back(m);
   }
+  return methods;
+}
+
+// Every method down the stages, in `methods`' order.
+std::vector<ident::ChainSegmentalResult> identifyStages(const ChainIdentifyArgs& a, const LoadedChain& loaded,
+                                                        const std::vector<ident::ChainStage>& stages,
+                                                        const std::vector<ident::Method>& methods) {
+  ident::MethodOptions mo = a.method_options;
+  mo.ls.max_condition = a.max_condition;
   std::vector<ident::ChainSegmentalResult> results;
   for (ident::Method m : methods) {
-    results.push_back(ident::identifyChainSegmental(model, base, stages, m, mo));
+    results.push_back(ident::identifyChainSegmental(loaded.model, loaded.base, stages, m, mo));
     // The PSO box from the data: 10 x the largest |LS estimate| (as identify --model without stages).
     if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(results.front().beta.cwiseAbs().maxCoeff(), 1e-6);
   }
+  return results;
+}
 
-  std::vector<std::string> problems;
-  std::vector<int> stage_of(static_cast<std::size_t>(base.rank), 0);
-  Eigen::VectorXd known_share = Eigen::VectorXd::Zero(base.rank);
-  const ident::ChainSegmentalResult& ls = results.front();
+// Stage s: what it identifies and each method's result there (printed, into its JSON `sj`), and
+// why a method's result there must not be used (appended to `problems`).
+void reportStage(std::size_t s, const ident::ChainModel& model, const std::vector<ident::Method>& methods,
+                 const std::vector<ident::ChainSegmentalResult>& results, nlohmann::json& sj, std::vector<std::string>& problems) {
+  const ident::ChainStageResult& st = results.front().stages[s];
+  const std::string joint = model.joints[static_cast<std::size_t>(st.first_joint)].name;
+  std::cout << "stage " << s + 1 << ": " << (st.first_joint == 0 ? "every joint moves" : "joints from " + joint + " down move, " +
+                                                                                             lockedJoints(model, st.first_joint) + " locked")
+            << "; " << st.rows << " equations; identifies " << st.directions.cols() << ":";
+  for (const std::string& n : st.names) std::cout << " " << n << ";";
+  std::cout << "\n";
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    const ident::Estimate& e = results[k].stages[s].estimate;
+    std::cout << "  " << ident::toString(methods[k]) << ": " << e.summary.message;
+    if (e.condition_number) std::cout << ", condition number " << fmt(*e.condition_number, 4);
+    std::cout << "\n";
+    if (!ident::usable(e.summary.status)) {
+      problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " + e.summary.message);
+    }
+    for (Eigen::Index i : boxBoundIndices(e)) {
+      problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " +
+                         boxBoundMessage(st.names[static_cast<std::size_t>(i)], e, i));
+    }
+  }
+  sj["equations"] = st.rows;
+  sj["identifies"] = st.names;
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    const ident::Estimate& e = results[k].stages[s].estimate;
+    sj["methods"][ident::toString(methods[k])] = {{"status", ident::toString(e.summary.status)},
+                                                  {"message", e.summary.message},
+                                                  {"values", std::vector<double>(e.x.data(), e.x.data() + e.x.size())}};
+    if (e.condition_number) sj["methods"][ident::toString(methods[k])]["condition_number"] = *e.condition_number;
+  }
+}
+
+// The stage (1-based; 0: none) after which each base parameter is determined: it then lies in
+// the span of the combinations identified so far (the directions are orthonormal, across stages too).
+std::vector<int> knownAfterStage(const ident::ChainSegmentalResult& ls, int rank) {
+  std::vector<int> stage_of(static_cast<std::size_t>(rank), 0);
+  Eigen::VectorXd known_share = Eigen::VectorXd::Zero(rank);
   for (std::size_t s = 0; s < ls.stages.size(); ++s) {
     const ident::ChainStageResult& st = ls.stages[s];
-    const std::string joint = model.joints[static_cast<std::size_t>(st.first_joint)].name;
-    std::cout << "stage " << s + 1 << ": " << (st.first_joint == 0 ? "every joint moves" : "joints from " + joint + " down move, " +
-                                                                                               lockedJoints(model, st.first_joint) + " locked")
-              << "; " << st.rows << " equations; identifies " << st.directions.cols() << ":";
-    for (const std::string& n : st.names) std::cout << " " << n << ";";
-    std::cout << "\n";
-    for (std::size_t k = 0; k < methods.size(); ++k) {
-      const ident::Estimate& e = results[k].stages[s].estimate;
-      std::cout << "  " << ident::toString(methods[k]) << ": " << e.summary.message;
-      if (e.condition_number) std::cout << ", condition number " << fmt(*e.condition_number, 4);
-      std::cout << "\n";
-      if (!ident::usable(e.summary.status)) {
-        problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " + e.summary.message);
-      }
-      for (Eigen::Index i : boxBoundIndices(e)) {
-        problems.push_back("stage " + core::toText(s + 1) + ", " + ident::toString(methods[k]) + ": " +
-                           boxBoundMessage(st.names[static_cast<std::size_t>(i)], e, i));
-      }
-    }
-    nlohmann::json& sj = stages_json[s];
-    sj["equations"] = st.rows;
-    sj["identifies"] = st.names;
-    for (std::size_t k = 0; k < methods.size(); ++k) {
-      const ident::Estimate& e = results[k].stages[s].estimate;
-      sj["methods"][ident::toString(methods[k])] = {{"status", ident::toString(e.summary.status)},
-                                                    {"message", e.summary.message},
-                                                    {"values", std::vector<double>(e.x.data(), e.x.data() + e.x.size())}};
-      if (e.condition_number) sj["methods"][ident::toString(methods[k])]["condition_number"] = *e.condition_number;
-    }
-    // A base parameter is determined by the stage after which it lies in the span of the
-    // combinations identified so far (the directions are orthonormal, across stages too).
-    for (Eigen::Index i = 0; i < base.rank; ++i) {
+    for (Eigen::Index i = 0; i < rank; ++i) {
       known_share[i] += st.directions.row(i).squaredNorm();
       if (known_share[i] > 1.0 - 1e-9 && stage_of[static_cast<std::size_t>(i)] == 0) stage_of[static_cast<std::size_t>(i)] = static_cast<int>(s + 1);
     }
   }
+  return stage_of;
+}
 
-  std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+void printStageEstimates(const ident::BaseParameters& base, const std::vector<ident::Method>& methods,
+                         const std::vector<ident::ChainSegmentalResult>& results, const std::vector<int>& stage_of,
+                         const std::optional<Eigen::VectorXd>& truth) {
   std::vector<std::string> header = {"base parameter", "known after stage"};
   for (ident::Method m : methods) header.push_back(ident::toString(m));
   if (truth) header.insert(header.end(), {"truth", "ls err %"});
@@ -151,34 +165,57 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], core::toText(stage_of[static_cast<std::size_t>(i)])};
     for (const ident::ChainSegmentalResult& r : results) row.push_back(fmt(r.beta[i], 6));
     if (truth) {
+      const double ls = results.front().beta[i];
       row.push_back(fmt((*truth)[i], 6));
-      row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * (ls.beta[i] - (*truth)[i]) / std::abs((*truth)[i]), 3) : "-");
+      row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * (ls - (*truth)[i]) / std::abs((*truth)[i]), 3) : "-");
     }
     table.addRow(row);
   }
   table.print(std::cout);
+}
 
-  if (!a.json_out.empty()) {
-    nlohmann::json j;
-    j["tool"] = toolJson();
-    j["model"] = {{"name", chain.name}, {"path", path}, {"joints", model.jointNames()}};
-    j["strategy"] = "segmental_down_the_chain";
-    j["stages"] = stages_json;
-    j["base_parameters"] = {{"names", base.names}};
-    for (std::size_t k = 0; k < methods.size(); ++k) {
-      j["base_parameters"]["methods"][ident::toString(methods[k])] =
-          std::vector<double>(results[k].beta.data(), results[k].beta.data() + results[k].beta.size());
-    }
-    if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
-    j["status"] = problems.empty() ? "usable" : "not usable";
-    j["problems"] = problems;
-    writeJsonFile(a.json_out, j);
+nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
+                          const std::vector<ident::ChainSegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
+                          const std::vector<std::string>& problems) {
+  nlohmann::json j;
+  j["tool"] = toolJson();
+  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
+  j["strategy"] = "segmental_down_the_chain";
+  j["stages"] = stages_json;
+  j["base_parameters"] = {{"names", loaded.base.names}};
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    j["base_parameters"]["methods"][ident::toString(methods[k])] =
+        std::vector<double>(results[k].beta.data(), results[k].beta.data() + results[k].beta.size());
   }
-  if (!problems.empty()) {
-    std::string all;
-    for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
-    throw UnusableResult(all);  // exit 3, naming why
+  if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
+  j["status"] = problems.empty() ? "usable" : "not usable";
+  j["problems"] = problems;
+  return j;
+}
+
+}  // namespace
+
+int identifyChainStages(const ChainIdentifyArgs& a) {
+  if (!a.validate.empty() || !a.plot.empty()) {
+    throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
   }
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const ident::ChainModel& model = loaded.model;
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
+  std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << loaded.base.rank
+            << " base parameters; segmental strategy, distal joints first\n";
+  StageRecords records = readStages(a, model, log);
+  const std::vector<ident::Method> methods = stageMethods(a);
+  const std::vector<ident::ChainSegmentalResult> results = identifyStages(a, loaded, records.stages, methods);
+  std::vector<std::string> problems;
+  for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, model, methods, results, records.json[s], problems);
+
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) truth = readChainTruth(a.truth, loaded.base);
+  printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth);
+  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, problems));
+  throwIfUnusable(problems);  // exit 3, naming why
   return 0;
 }
 

@@ -85,6 +85,8 @@ struct ChainIdentifyArgs {
 int identifyChain(const ChainIdentifyArgs& args);
 /// identifyChain with stages: ident::identifyChainSegmental, every method stage by stage.
 int identifyChainStages(const ChainIdentifyArgs& args);
+/// Throws UnusableResult (exit 3) naming every problem ("; "-separated) when there are any.
+void throwIfUnusable(const std::vector<std::string>& problems);
 /// A chain simulation's sidecar's base parameters, in base's order. Throws std::invalid_argument
 /// naming the file and what is missing.
 Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParameters& base);
