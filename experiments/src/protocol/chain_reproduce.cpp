@@ -49,45 +49,55 @@ double medianAbsError(const std::vector<double>& estimate, const std::vector<dou
   return e[e.size() / 2];
 }
 
-}  // namespace
-
-int reproduceChain(const ChainReproduceArgs& a) {
-  core::prepareOutputFolder(a.out);
-  startFolderRun(a.out, a.keep_edits, std::cout);
-  const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
-  const std::string dir = a.out + "/";
-  const std::string model = a.sim.model_path;
-  std::cout << "exoid reproduce --model " << model << ": design, " << a.sim.duration_s << " s records, identification by every method, "
-            << "one fit and the segmental strategy\n" << std::flush;
-  // 1. The design (exoid excite --model).
+// 1. The design (exoid excite --model); returns its file.
+std::string designFitRecord(const ChainReproduceArgs& a, const std::string& dir) {
   ChainExciteArgs ex;
-  ex.model = model;
+  ex.model = a.sim.model_path;
   ex.out = dir + "design.json";
   ex.options.seed = core::deriveSeed(a.seed, 0);
   exciteChain(ex);
-  // 2. The records: the design (fit; the last stage), another motion (validation), and one record
-  // per segmental stage, the joints above its first moving joint locked.
+  return ex.out;
+}
+
+// 2. The records: the design (fit; the last stage), another motion (validation), and one record
+// per segmental stage, the joints above its first moving joint locked.
+struct ChainRecords {
+  nlohmann::json fit_sidecar;                                 ///< the fit record's: its joints and name
+  std::vector<std::string> joints;
+  std::vector<std::pair<std::string, std::string>> stages;  ///< (first moving joint, file), distal first
+};
+
+ChainRecords simulateRecords(const ChainReproduceArgs& a, const std::string& dir, const std::string& design) {
   sim::ChainSimConfig c = a.sim;
-  c.trajectory = readChainExcitation(ex.out);
+  c.trajectory = readChainExcitation(design);
   c.seed = core::deriveSeed(a.seed, 1);
   simulateChainToFiles(c, dir + "fit.csv");
   sim::ChainSimConfig check = a.sim;
   check.seed = core::deriveSeed(a.seed, 2);  // the default trajectory of this seed: another motion
   simulateChainToFiles(check, dir + "check.csv");
-  const nlohmann::json side = readJsonFile(dir + "fit.json");  // the fit record's sidecar: its joints and name
-  const std::vector<std::string> joints = side["model"]["joints"].get<std::vector<std::string>>();
-  std::vector<std::pair<std::string, std::string>> stages;
-  for (std::size_t j = joints.size() - 1; j >= 1; --j) {
+  ChainRecords r;
+  r.fit_sidecar = readJsonFile(dir + "fit.json");
+  r.joints = r.fit_sidecar["model"]["joints"].get<std::vector<std::string>>();
+  for (std::size_t j = r.joints.size() - 1; j >= 1; --j) {
     sim::ChainSimConfig st = a.sim;
     st.seed = core::deriveSeed(a.seed, 10 + j);
-    st.locked.assign(joints.begin(), joints.begin() + static_cast<std::ptrdiff_t>(j));
-    const std::string file = dir + "stage_" + joints[j] + ".csv";
+    st.locked.assign(r.joints.begin(), r.joints.begin() + static_cast<std::ptrdiff_t>(j));
+    const std::string file = dir + "stage_" + r.joints[j] + ".csv";
     simulateChainToFiles(st, file);
-    stages.emplace_back(joints[j], file);
+    r.stages.emplace_back(r.joints[j], file);
   }
-  // 3. Identification: one fit of the designed record, and the segmental strategy.
+  return r;
+}
+
+// 3. Identification: one fit of the designed record (identify.json), and the segmental strategy
+// (segmental.json); each one's exit-3 verdict, empty when usable.
+struct ChainIdentifications {
+  std::string one_fit_note, segmental_note;
+};
+
+ChainIdentifications identifyRecords(const ChainReproduceArgs& a, const std::string& dir, const ChainRecords& records) {
   ChainIdentifyArgs id;
-  id.model = model;
+  id.model = a.sim.model_path;
   id.data = {dir + "fit.csv"};
   id.validate = {dir + "check.csv"};
   id.truth = dir + "fit.json";
@@ -95,37 +105,23 @@ int reproduceChain(const ChainReproduceArgs& a) {
   if (a.plots) id.plot = dir + "fit.png";
   id.signals = defaultIdentifySignals();
   id.methods = a.methods;
-  const std::string one_fit_note = identifyNoting(id);
+  ChainIdentifications notes;
+  notes.one_fit_note = identifyNoting(id);
   ChainIdentifyArgs seg = id;
   seg.validate.clear();
   seg.plot.clear();
-  seg.stages = stages;
+  seg.stages = records.stages;
   seg.json_out = dir + "segmental.json";
   seg.methods.erase(std::remove(seg.methods.begin(), seg.methods.end(), ident::Method::kIvBand), seg.methods.end());
-  const std::string segmental_note = identifyNoting(seg);
+  notes.segmental_note = identifyNoting(seg);
+  return notes;
+}
 
-  // 4. The report.
-  const nlohmann::json one = readJsonFile(id.json_out), sg = readJsonFile(seg.json_out);
-  const std::vector<std::string> names = one["base_parameters"]["names"];
-  const std::vector<double> truth = one["base_parameters"]["truth"];
-  std::vector<std::pair<std::string, std::vector<double>>> fits = {{"ls", one["base_parameters"]["ls"]}};
-  for (auto it = one["methods"].begin(); it != one["methods"].end(); ++it) fits.emplace_back(it.key(), it.value()["beta"].get<std::vector<double>>());
-  std::vector<std::pair<std::string, std::vector<double>>> staged;
-  for (auto it = sg["base_parameters"]["methods"].begin(); it != sg["base_parameters"]["methods"].end(); ++it) {
-    staged.emplace_back(it.key(), it.value().get<std::vector<double>>());
-  }
-  std::ostringstream md;
-  md << "# exoid reproduce --model " << side["model"]["name"].get<std::string>() << "\n\n"
-     << "Model `" << std::filesystem::path(model).filename().string() << "` (" << joints.size() << " joints, " << names.size() << " base parameters), seed " << a.seed << ", "
-     << toolJson().dump() << ".\n\n"
-     << "Records (" << fmt(a.sim.duration_s, 4) << " s at " << fmt(1.0 / a.sim.dt_s, 4) << " Hz; encoder noise "
-     << fmt(a.sim.encoder_noise_rad, 3) << " rad, resolution " << fmt(a.sim.encoder_resolution_rad, 3) << " rad, torque noise "
-     << fmt(a.sim.torque_noise_Nm, 3) << " N m): `fit.csv` the design `design.json` (condition number "
-     << fmt(readJsonFile(ex.out)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
-  for (const auto& [joint, file] : stages) md << "`stage_" << joint << ".csv` (joints above " << joint << " locked), ";
-  md << "each with its sidecar (settings, seed, truth). The stage records follow the simulator's default motion of "
-        "their seed, not a design (exoid excite designs with every joint free), as the paper's knee-only record was not one: "
-        "a stage's error reflects its record's excitation as much as the strategy.\n\n## Every base parameter, error against the truth (%)\n\n";
+using NamedEstimates = std::vector<std::pair<std::string, std::vector<double>>>;
+
+// Every base parameter: its truth and each estimate's error (%).
+void writeErrorTable(std::ostream& md, const std::vector<std::string>& names, const std::vector<double>& truth, const NamedEstimates& fits,
+                     const NamedEstimates& staged) {
   md << "| base parameter | truth |";
   for (const auto& f : fits) md << " " << f.first << " |";
   for (const auto& f : staged) md << " segmental " << f.first << " |";
@@ -138,9 +134,12 @@ int reproduceChain(const ChainReproduceArgs& a) {
     for (const auto& f : staged) md << " " << percent(f.second[i], truth[i]) << " |";
     md << "\n";
   }
+}
+
+// Each method's median |error| and validation RMS per joint, into the report and the printed table.
+void writeSummaryTable(std::ostream& md, TextTable& t, const std::vector<double>& truth, const NamedEstimates& fits,
+                       const NamedEstimates& staged, const nlohmann::json& val) {
   md << "\n## Summary\n\n| method | median abs error (%) | validation RMS per joint (N m) |\n|---|---|---|\n";
-  TextTable t({"method", "median |err| %", "validation RMS (N m), per joint"});
-  const nlohmann::json& val = one["validation"].front();
   for (const auto& f : fits) {
     std::string rms;
     if (f.first == "ls") {
@@ -158,13 +157,58 @@ int reproduceChain(const ChainReproduceArgs& a) {
     t.addRow({"segmental " + f.first, med, "-"});
   }
   md << "\n";
-  if (!one_fit_note.empty()) md << "One fit, not usable (exit 3 of identify): " << one_fit_note << "\n\n";
-  if (!segmental_note.empty()) md << "Segmental strategy, not usable (exit 3 of identify): " << segmental_note << "\n\n";
+}
+
+// 4. The report (report.md) from identify.json and segmental.json; the summary printed.
+void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const std::string& design, const ChainRecords& records,
+                      const ChainIdentifications& notes) {
+  const nlohmann::json one = readJsonFile(dir + "identify.json"), sg = readJsonFile(dir + "segmental.json");
+  const std::vector<std::string> names = one["base_parameters"]["names"];
+  const std::vector<double> truth = one["base_parameters"]["truth"];
+  NamedEstimates fits = {{"ls", one["base_parameters"]["ls"]}};
+  for (auto it = one["methods"].begin(); it != one["methods"].end(); ++it) fits.emplace_back(it.key(), it.value()["beta"].get<std::vector<double>>());
+  NamedEstimates staged;
+  for (auto it = sg["base_parameters"]["methods"].begin(); it != sg["base_parameters"]["methods"].end(); ++it) {
+    staged.emplace_back(it.key(), it.value().get<std::vector<double>>());
+  }
+  std::ostringstream md;
+  md << "# exoid reproduce --model " << records.fit_sidecar["model"]["name"].get<std::string>() << "\n\n"
+     << "Model `" << std::filesystem::path(a.sim.model_path).filename().string() << "` (" << records.joints.size() << " joints, " << names.size()
+     << " base parameters), seed " << a.seed << ", " << toolJson().dump() << ".\n\n"
+     << "Records (" << fmt(a.sim.duration_s, 4) << " s at " << fmt(1.0 / a.sim.dt_s, 4) << " Hz; encoder noise "
+     << fmt(a.sim.encoder_noise_rad, 3) << " rad, resolution " << fmt(a.sim.encoder_resolution_rad, 3) << " rad, torque noise "
+     << fmt(a.sim.torque_noise_Nm, 3) << " N m): `fit.csv` the design `design.json` (condition number "
+     << fmt(readJsonFile(design)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
+  for (const auto& [joint, file] : records.stages) md << "`stage_" << joint << ".csv` (joints above " << joint << " locked), ";
+  md << "each with its sidecar (settings, seed, truth). The stage records follow the simulator's default motion of "
+        "their seed, not a design (exoid excite designs with every joint free), as the paper's knee-only record was not one: "
+        "a stage's error reflects its record's excitation as much as the strategy.\n\n## Every base parameter, error against the truth (%)\n\n";
+  writeErrorTable(md, names, truth, fits, staged);
+  TextTable t({"method", "median |err| %", "validation RMS (N m), per joint"});
+  writeSummaryTable(md, t, truth, fits, staged, one["validation"].front());
+  if (!notes.one_fit_note.empty()) md << "One fit, not usable (exit 3 of identify): " << notes.one_fit_note << "\n\n";
+  if (!notes.segmental_note.empty()) md << "Segmental strategy, not usable (exit 3 of identify): " << notes.segmental_note << "\n\n";
   md << "Files: `identify.json`, `segmental.json` (every estimate, status and condition number)"
      << (a.plots ? ", `fit.png` (measured and predicted torques of the validation record)" : "") << ".\n";
   core::writeFileAtomically(dir + "report.md", [&](std::ostream& o) { o << md.str(); });
   std::cout << "\n";
   t.print(std::cout);
+}
+
+}  // namespace
+
+int reproduceChain(const ChainReproduceArgs& a) {
+  core::prepareOutputFolder(a.out);
+  startFolderRun(a.out, a.keep_edits, std::cout);
+  const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
+  const std::string dir = a.out + "/";
+  std::cout << "exoid reproduce --model " << a.sim.model_path << ": design, " << a.sim.duration_s
+            << " s records, identification by every method, one fit and the segmental strategy\n"
+            << std::flush;
+  const std::string design = designFitRecord(a, dir);
+  const ChainRecords records = simulateRecords(a, dir, design);
+  const ChainIdentifications notes = identifyRecords(a, dir, records);
+  writeChainReport(a, dir, design, records, notes);
   finishFolderRun(a.out, started, {{"command", "reproduce --model"}, {"seed", a.seed}, {"tool", toolJson()}});
   std::cout << "\nreport: " << dir << "report.md\n";
   return 0;
