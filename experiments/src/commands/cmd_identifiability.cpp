@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace exoid::experiments {
 
@@ -85,105 +86,146 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
   return out;
 }
 
-void run(const Args& a) {
-  if (!a.model.empty()) {
-    if (!a.data.empty()) {
-      throw std::invalid_argument("--model with --data: a record's identifiability is reported for the built-in APAL leg "
-                                  "only so far; give --model alone for what the model lets anyone identify");
-    }
+// --model: what the model lets any record identify.
+void reportModelOnly(const Args& a) {
+  if (!a.data.empty()) {
+    throw std::invalid_argument("--model with --data: a record's identifiability is reported for the built-in APAL leg "
+                                "only so far; give --model alone for what the model lets anyone identify");
+  }
 #ifdef EXOID_WITH_MUJOCO
-    reportModel(a.model, a.json_out, std::cout, a.armature);
-    return;
+  reportModel(a.model, a.json_out, std::cout, a.armature);
 #else
-    throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
+  throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
 #endif
-  }
-  if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
-  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
-  const ident::Dataset d = readLog(a.data, log);
-  const ident::LegConstants c = resolveConstants(a.constants, d, nullptr, log.thigh_length_m, log.gravity_mps2);
-  ident::ProcessedRecord s;
-  ident::SignalOptions signals = a.signals;  // with the band chosen from this record, as identify does
+}
+
+// The record, processed as identify would: in the band chosen from it unless the flags fix it.
+struct ProcessedInput {
+  ident::Dataset d;
+  ident::LegConstants c;
+  ident::SignalOptions signals;
   std::optional<ident::BandChoice> band;
+  ident::ProcessedRecord s;
+};
+
+ProcessedInput processInput(const Args& a) {
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
+  ProcessedInput in;
+  in.d = readLog(a.data, log);
+  in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);
+  in.signals = a.signals;
   try {
-    signals = ident::resolveSignalOptions(d, c, signals, false, &band);
-    if (band) std::cout << "band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-    s = ident::processRecord(d, c, signals);
+    in.signals = ident::resolveSignalOptions(in.d, in.c, in.signals, false, &in.band);
+    if (in.band) std::cout << "band: " << in.band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
+    in.s = ident::processRecord(in.d, in.c, in.signals);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(d));
+    throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(in.d));
   }
+  return in;
+}
+
+// Both equations with all 10 parameters, the hip's with the thigh's 5, the knee's with the shank's 5.
+std::vector<Block> blocksOf(const ProcessedInput& in, double noise_tau_Nm) {
   const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
+  const ident::ProcessedRecord& s = in.s;
   const Eigen::MatrixXd& Hh = s.hip;
   const Eigen::MatrixXd& Hk = s.knee;
   // White torque noise of std noise_tau reaches the fit through this record's processing.
-  const ident::TorqueNoisePath path = ident::torqueNoisePath(signals, 1.0 / d.sampleInterval_s(), d.size());
-  const double sg = a.noise_tau_Nm;
+  const ident::TorqueNoisePath path = ident::torqueNoisePath(in.signals, 1.0 / in.d.sampleInterval_s(), in.d.size());
+  const double sg = noise_tau_Nm;
   Eigen::VectorXd y_all(2 * s.size());
   y_all << s.tau_Nm.col(0), s.tau_Nm.col(1);
-  std::vector<Block> blocks = {
+  return {
       {"both equations, all 10", all, {{Hh, path, sg}, {Hk, path, sg}}, y_all},
       {"hip equation, params 1-5", thigh, {{pick(Hh, thigh), path, sg}}, s.tau_Nm.col(0)},
       {"knee equation, params 6-10", shank, {{pick(Hk, shank), path, sg}}, s.tau_Nm.col(1)},
   };
-  const Reference ref = resolveReference(a);
+}
+
+nlohmann::json reportJson(const Args& a, const ProcessedInput& in, const Reference& ref) {
   nlohmann::json j;
   j["tool"] = toolJson();
   j["command"] = "identifiability";
   j["data"] = a.data;
   j["noise_tau_Nm"] = a.noise_tau_Nm;
-  j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}};
-  j["signal_options"] = toJson(signals);
-  if (band) j["band"] = {{"motion_bandwidth_hz", band->motion_bandwidth_hz}, {"limited_by", band->limited_by}, {"reason", band->describe()}};
+  j["constants"] = {{"thigh_length_m", in.c.thigh_length_m}, {"gravity_mps2", in.c.gravity_mps2}};
+  j["signal_options"] = toJson(in.signals);
+  if (in.band) {
+    j["band"] = {{"motion_bandwidth_hz", in.band->motion_bandwidth_hz}, {"limited_by", in.band->limited_by}, {"reason", in.band->describe()}};
+  }
   j["reference"] = ref.origin.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"origin", ref.origin}, {"parameters", paramsJson(ref.x)}};
-  std::cout << "Record " << a.data << ": " << s.size() << " samples; torque noise " << a.noise_tau_Nm
+  return j;
+}
+
+// The block's rows of every channel, stacked (its columns already).
+Eigen::MatrixXd stackedRows(const Block& b) {
+  Eigen::Index rows = 0;
+  for (const ident::NoiseChannel& ch : b.channels) rows += ch.H.rows();
+  Eigen::MatrixXd H(rows, static_cast<Eigen::Index>(b.columns.size()));
+  rows = 0;
+  for (const ident::NoiseChannel& ch : b.channels) {
+    H.middleRows(rows, ch.H.rows()) = ch.H;
+    rows += ch.H.rows();
+  }
+  return H;
+}
+
+// Per parameter of the block: CRB std (absolute, relative) and collinearity, printed and into bj.
+void reportParameters(const Block& b, const ident::IdentifiabilityReport& r, nlohmann::json& bj) {
+  TextTable t({"param", "CRB std", "CRB rel std", "R^2 on others"});
+  for (std::size_t k = 0; k < b.columns.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    const std::string n(ident::paramName(b.columns[k]));
+    const bool finite = std::isfinite(r.crb_rel_std[i]);
+    t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
+              std::isnan(r.crb_rel_std[i]) ? "-" : finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf",
+              fixed(r.collinearity_r2[i], 5)});
+    bj["crb_std"][n] = std::isfinite(r.crb_std[i]) ? nlohmann::json(r.crb_std[i]) : nlohmann::json(nullptr);
+    bj["crb_rel_std"][n] = finite ? nlohmann::json(r.crb_rel_std[i]) : nlohmann::json(nullptr);
+    bj["collinearity_r2"][n] = r.collinearity_r2[i];
+  }
+  t.print(std::cout);
+}
+
+// One block: rank, condition, what it cannot identify, each parameter's bound, and the same in
+// words (what is missing and what motion would supply it); printed and returned as JSON.
+nlohmann::json reportBlock(const Block& b, const Reference& ref) {
+  const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, ref.x(b.columns));
+  std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
+            << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
+  nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};
+  bj["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number) : nlohmann::json(nullptr);
+  nlohmann::json unid = nlohmann::json::array();
+  std::string names;
+  for (Eigen::Index k : r.unidentifiable) {
+    const std::string n(ident::paramName(b.columns[static_cast<std::size_t>(k)]));
+    unid.push_back(n);
+    names += (names.empty() ? "" : ", ") + n;
+  }
+  bj["unidentifiable"] = unid;
+  if (!names.empty()) std::cout << "; NOT identifiable: " << names;
+  std::cout << '\n';
+  reportParameters(b, r, bj);
+  bj["advice"] = ident::identifiabilityAdvice(stackedRows(b), r, b.columns);
+  for (const std::string& line : bj["advice"].get<std::vector<std::string>>()) std::cout << "- " << line << '\n';
+  return bj;
+}
+
+void run(const Args& a) {
+  if (!a.model.empty()) return reportModelOnly(a);
+  if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
+  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
+  const ProcessedInput in = processInput(a);
+  const std::vector<Block> blocks = blocksOf(in, a.noise_tau_Nm);
+  const Reference ref = resolveReference(a);
+  nlohmann::json j = reportJson(a, in, ref);
+  std::cout << "Record " << a.data << ": " << in.s.size() << " samples; torque noise " << a.noise_tau_Nm
             << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit).\n"
             << (ref.origin.empty() ? "Relative stds: not shown, no reference (--reference FILE: the truth or your leg's "
                                      "nominal parameters); the advice judges by collinearity."
                                    : "Relative stds: relative to " + ref.origin + ".")
             << '\n';
-  for (Block& b : blocks) {
-    const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, ref.x(b.columns));
-    std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
-              << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
-    nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};
-    bj["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number) : nlohmann::json(nullptr);
-    nlohmann::json unid = nlohmann::json::array();
-    std::string names;
-    for (Eigen::Index k : r.unidentifiable) {
-      const std::string n(ident::paramName(b.columns[static_cast<std::size_t>(k)]));
-      unid.push_back(n);
-      names += (names.empty() ? "" : ", ") + n;
-    }
-    bj["unidentifiable"] = unid;
-    if (!names.empty()) std::cout << "; NOT identifiable: " << names;
-    std::cout << '\n';
-    TextTable t({"param", "CRB std", "CRB rel std", "R^2 on others"});
-    for (std::size_t k = 0; k < b.columns.size(); ++k) {
-      const auto i = static_cast<Eigen::Index>(k);
-      const std::string n(ident::paramName(b.columns[k]));
-      const bool finite = std::isfinite(r.crb_rel_std[i]);
-      t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
-                std::isnan(r.crb_rel_std[i]) ? "-" : finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf",
-                fixed(r.collinearity_r2[i], 5)});
-      bj["crb_std"][n] = std::isfinite(r.crb_std[i]) ? nlohmann::json(r.crb_std[i]) : nlohmann::json(nullptr);
-      bj["crb_rel_std"][n] = finite ? nlohmann::json(r.crb_rel_std[i]) : nlohmann::json(nullptr);
-      bj["collinearity_r2"][n] = r.collinearity_r2[i];
-    }
-    t.print(std::cout);
-    // The same in words: what is missing and what motion would supply it.
-    Eigen::Index rows = 0;
-    for (const ident::NoiseChannel& ch : b.channels) rows += ch.H.rows();
-    Eigen::MatrixXd H(rows, static_cast<Eigen::Index>(b.columns.size()));
-    rows = 0;
-    for (const ident::NoiseChannel& ch : b.channels) {
-      H.middleRows(rows, ch.H.rows()) = ch.H;  // the block's columns already
-      rows += ch.H.rows();
-    }
-    bj["advice"] = ident::identifiabilityAdvice(H, r, b.columns);
-    for (const std::string& line : bj["advice"].get<std::vector<std::string>>()) std::cout << "- " << line << '\n';
-    j["blocks"].push_back(bj);
-  }
+  for (const Block& b : blocks) j["blocks"].push_back(reportBlock(b, ref));
   if (!a.json_out.empty()) writeJsonFile(a.json_out, j);
 }
 
