@@ -6,9 +6,12 @@
 //   build/bench/long_log_bench --benchmark_filter=Ingest
 //   build/bench/long_log_bench --benchmark_filter=LsEndToEnd    (one per process: peak_rss_MB is
 //   build/bench/long_log_bench --benchmark_filter=LadEndToEnd    the process's high-water mark)
+//   build/bench/long_log_bench --benchmark_filter=CliIdentify    (`exoid identify --method ls` as a
+//                                                                 user runs it, and the library path
+//                                                                 in the same run: their ratio)
 //
 // Targets: ingest >= 200 MB/s; LS end to end <= 0.5 s with peak memory <= 2.5x the numeric
-// payload (1e6 x 5 doubles = 40 MB); LAD end to end <= 2 s.
+// payload (1e6 x 5 doubles = 40 MB), through the library and through the CLI; LAD end to end <= 2 s.
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/estimators/lad.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
@@ -19,7 +22,11 @@
 #include <benchmark/benchmark.h>
 #include <malloc.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -101,6 +108,61 @@ void BM_LsEndToEnd(benchmark::State& state) { endToEnd<false>(state); }
 void BM_LadEndToEnd(benchmark::State& state) { endToEnd<true>(state); }
 BENCHMARK(BM_LsEndToEnd)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LadEndToEnd)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+#ifdef EXOID_BINARY
+// One `exoid identify` as a user runs it (its own process: start, read, process, fit, report to
+// /dev/null); returns the wall time and the child's peak resident memory.
+struct ChildRun {
+  double wall_s = 0, peak_rss_MB = 0;
+};
+ChildRun runExoidIdentify(const std::string& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    execl(EXOID_BINARY, EXOID_BINARY, "identify", "--data", log.c_str(), "--method", "ls", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  rusage u{};
+  wait4(pid, &status, 0, &u);
+  ChildRun r;
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.peak_rss_MB = static_cast<double>(u.ru_maxrss) * 1024.0 / 1e6;
+  // Exit 3 (a result flagged unusable) still measured the whole run; anything else is a failure.
+  if (!WIFEXITED(status) || (WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != 3)) r.wall_s = -1;
+  return r;
+}
+
+// The CLI against the library path, alternated in one run so both see the same machine.
+void BM_CliIdentify(benchmark::State& state) {
+  const std::string& path = bigLog();
+  const exoid::ident::LegConstants c{0.45, 9.81};
+  double cli_s = 0, library_s = 0, peak_MB = 0;
+  for (auto _ : state) {
+    const ChildRun run = runExoidIdentify(path);
+    if (run.wall_s < 0) {
+      state.SkipWithError("exoid identify failed");
+      return;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const exoid::ident::SegmentalProblem p =
+        exoid::ident::bothEquations(exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults()));
+    benchmark::DoNotOptimize(exoid::ident::solveLeastSquares(p.H, p.y).x.data());
+    library_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cli_s += run.wall_s;
+    peak_MB = std::max(peak_MB, run.peak_rss_MB);
+    state.SetIterationTime(run.wall_s);
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["cli_s"] = cli_s / n;
+  state.counters["library_s"] = library_s / n;
+  state.counters["cli_over_library"] = cli_s / library_s;
+  state.counters["cli_peak_rss_MB"] = peak_MB;
+  state.counters["cli_peak_over_payload"] = peak_MB / (kRows * 5 * 8 / 1e6);
+}
+BENCHMARK(BM_CliIdentify)->Unit(benchmark::kMillisecond)->UseManualTime()->Iterations(5);
+#endif
 
 }  // namespace
 

@@ -103,7 +103,7 @@ ChainRecord processChainRecord(const Dataset& d, const ChainModel& model, const 
   const int r = o.decimationFactor(fs);
   checkRecordLength(d.size(), trim, r);
   Eigen::MatrixXd all = sideBySide(model, differentiatedStates(d, o));
-  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  if (o.filter) filtfiltInPlace(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   return stackRows(all, d.t_s, model.dof(), model.standardParameterCount(), trim, d.size() - 1 - trim, r);
 }
 

@@ -241,7 +241,7 @@ Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const
   jointRegressors(s, c, all.leftCols(kNumParams), all.middleCols(kNumParams, kNumParams));
   all.middleCols(2 * kNumParams, 2) = s.tau_Nm;
   all.col(2 * kNumParams + 2) = s.qdd_radps2.col(1);
-  if (o.filter) all = filtfilt(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  if (o.filter) filtfiltInPlace(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
   return all;
 }
 

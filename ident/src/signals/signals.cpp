@@ -287,7 +287,7 @@ Eigen::MatrixXd sosfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
   return y;
 }
 
-Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
+void filtfiltInPlace(const SosFilter& f, Eigen::Ref<Eigen::MatrixXd> x) {
   validateSos(f);
   const Eigen::Index pad = padLength(f);
   const Eigen::Index n = x.rows();
@@ -299,7 +299,8 @@ Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
   const std::vector<double> zi = steadyStateZi(f);
   const Eigen::Index sections = f.sections();
   const Eigen::Index m = n + 2 * pad;  // odd extension on both ends
-  Eigen::MatrixXd y(n, x.cols());
+  // In place: each group of columns is read whole into buf (edges included) before it is written.
+  Eigen::Ref<Eigen::MatrixXd>& y = x;
   // Columns are filtered independently, so an all-zero column's output is zero and a repeated
   // column's is its first copy's, bit for bit: only the distinct non-zero ones are filtered (a
   // regressor's structural zeros and repeats are a third of the leg's columns).
@@ -355,6 +356,11 @@ Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
     if (src == -2) y.col(c).setZero();
     if (src >= 0) y.col(c) = y.col(src);
   }
+}
+
+Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x) {
+  Eigen::MatrixXd y = x;
+  filtfiltInPlace(f, y);
   return y;
 }
 

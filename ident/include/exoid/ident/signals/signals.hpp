@@ -50,5 +50,8 @@ Eigen::MatrixXd sosfilt(const SosFilter& f, const Eigen::MatrixXd& x);
 /// Throws std::invalid_argument unless x.rows() > padlen, f is valid for sosfilt and no
 /// section has a pole at z = 1.
 Eigen::MatrixXd filtfilt(const SosFilter& f, const Eigen::MatrixXd& x);
+/// filtfilt into x itself, bit for bit the same values: no second matrix of x's size (a long
+/// record's block filters its regressor columns where they are).
+void filtfiltInPlace(const SosFilter& f, Eigen::Ref<Eigen::MatrixXd> x);
 
 }  // namespace exoid::ident
