@@ -187,6 +187,9 @@ Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
 
 // The command line's combinations: one kind of input, what each method needs of it.
 void checkArguments(const IdentifyArgs& a, const std::vector<ident::Method>& methods) {
+  if (std::find(a.methods.begin(), a.methods.end(), "ls-parallel") != a.methods.end() && a.signals.processing != ident::Processing::kParallel) {
+    throw CLI::ValidationError("--method ls-parallel", "is LS with the parallel processing; --processing paper contradicts it (use --method ls)");
+  }
   const bool single = !a.data.empty();
   const bool segmental = !a.knee_data.empty() || !a.both_data.empty();
   if (single == segmental) {
@@ -413,6 +416,73 @@ void eraseWallTimes(nlohmann::json& j) {
   }
 }
 
+// Each record's sampling as read and used, by file.
+nlohmann::json samplingJson(const Role& primary, const Role& knee) {
+  nlohmann::json sampling = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      const ident::SamplingReport& sr = role->data[k].sampling;
+      sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
+                                  {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
+                                  {"rows_used", role->data[k].size()}};
+    }
+  }
+  return sampling;
+}
+
+// A band chosen from a record: what limited it, the pilot and the consistency scan.
+void addBandChoice(const ident::BandChoice& band, nlohmann::json& b) {
+  b["motion_bandwidth_hz"] = band.motion_bandwidth_hz;
+  b["joint_motion_bandwidth_hz"] =
+      std::vector<double>(band.joint_motion_bandwidth_hz.data(), band.joint_motion_bandwidth_hz.data() + band.joint_motion_bandwidth_hz.size());
+  b["limited_by"] = band.limited_by;
+  b["reason"] = band.describe();
+  b["pilot_cutoff_hz"] = band.pilot_cutoff_hz;
+  b["pilot_samples"] = band.pilot_samples;  // the pilot's central window (all samples when shorter)
+  nlohmann::json scan = nlohmann::json::array();
+  for (const ident::BandScan& r : band.scan) {
+    scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm}, {"measured_rms_Nm", r.measured_rms_Nm}});
+  }
+  b["consistency_scan"] = scan;
+}
+
+// Each record's processing as used, by file.
+nlohmann::json processingJson(const Role& primary, const Role& knee) {
+  nlohmann::json bands = nlohmann::json::object();
+  for (const Role* role : {&knee, &primary}) {
+    for (std::size_t k = 0; k < role->files.size() && k < role->signals.size(); ++k) {
+      const ident::SignalOptions& o = role->signals[k];
+      nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
+                          {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
+                          {"chosen_from_data", role->bands[k].has_value()}};
+      if (const auto& band = role->bands[k]) addBandChoice(*band, b);
+      bands[role->files[k]] = b;
+    }
+  }
+  return bands;
+}
+
+// Each method's outcome, problems, validation and parameter errors, by method.
+nlohmann::json methodsJson(const IdentifyArgs& a, const std::vector<MethodOutcome>& outcomes,
+                           const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
+                           const std::map<std::string, ident::ParamVector>& truths) {
+  nlohmann::json methods = nlohmann::json::object();
+  for (std::size_t k = 0; k < outcomes.size(); ++k) {
+    nlohmann::json mj = toJson(outcomes[k], a.history);
+    mj["problems"] = problemsOf(outcomes[k]);
+    for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
+    for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
+    methods[ident::toString(outcomes[k].method)] = mj;
+  }
+  return methods;
+}
+
+nlohmann::json sensitivityJson(const BandSensitivity& s) {
+  nlohmann::json sh = nlohmann::json::object();
+  for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) sh[std::string(ident::paramName(static_cast<int>(i)))] = s.shift_se[i];
+  return {{"cutoff_factor", s.factor}, {"shift_standard_errors", sh}, {"over_one_standard_error", s.over_one}};
+}
+
 void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
                        const Role& primary, const Role& knee, const ident::MethodOptions& mo,
                        const std::vector<MethodOutcome>& outcomes,
@@ -427,41 +497,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["inputs"] = single ? nlohmann::json{{"data", a.data}}
                        : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
   if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
-  nlohmann::json sampling = nlohmann::json::object();
-  for (const Role* role : {&knee, &primary}) {
-    for (std::size_t k = 0; k < role->files.size(); ++k) {
-      const ident::SamplingReport& sr = role->data[k].sampling;
-      sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
-                                  {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
-                                  {"rows_used", role->data[k].size()}};
-    }
-  }
-  j["inputs"]["sampling"] = sampling;
-  nlohmann::json bands = nlohmann::json::object();
-  for (const Role* role : {&knee, &primary}) {
-    for (std::size_t k = 0; k < role->files.size() && k < role->signals.size(); ++k) {
-      const ident::SignalOptions& o = role->signals[k];
-      nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
-                          {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
-                          {"chosen_from_data", role->bands[k].has_value()}};
-      if (const auto& band = role->bands[k]) {
-        b["motion_bandwidth_hz"] = band->motion_bandwidth_hz;
-        b["joint_motion_bandwidth_hz"] = std::vector<double>(band->joint_motion_bandwidth_hz.data(), band->joint_motion_bandwidth_hz.data() + band->joint_motion_bandwidth_hz.size());
-        b["limited_by"] = band->limited_by;
-        b["reason"] = band->describe();
-        b["pilot_cutoff_hz"] = band->pilot_cutoff_hz;
-        b["pilot_samples"] = band->pilot_samples;  // the pilot's central window (all samples when shorter)
-        nlohmann::json scan = nlohmann::json::array();
-        for (const ident::BandScan& r : band->scan) {
-          scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm},
-                          {"measured_rms_Nm", r.measured_rms_Nm}});
-        }
-        b["consistency_scan"] = scan;
-      }
-      bands[role->files[k]] = b;
-    }
-  }
-  j["processing_per_record"] = bands;
+  j["inputs"]["sampling"] = samplingJson(primary, knee);
+  j["processing_per_record"] = processingJson(primary, knee);
   // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
   j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
                          (a.signals.base_terms == ident::BaseTerms::kOn ||
@@ -470,24 +507,12 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["signal_options"] = toJson(a.signals);
   j["method_options"] = toJson(mo);
   j["seed"] = a.methods_options.rls_pso.pso.seed;
-  j["methods"] = nlohmann::json::object();
-  for (std::size_t k = 0; k < outcomes.size(); ++k) {
-    nlohmann::json mj = toJson(outcomes[k], a.history);
-    mj["problems"] = problemsOf(outcomes[k]);
-    for (const auto& [file, vals] : validations) mj["validation"][file] = toJson(vals[k]);
-    for (const auto& [name, x] : truths) mj["parameter_error"][name] = toJson(ident::paramError(outcomes[k].x, x));
-    j["methods"][ident::toString(outcomes[k].method)] = mj;
-  }
+  j["methods"] = methodsJson(a, outcomes, validations, truths);
   // The first method's estimate at top level, for tools that expect one answer.
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
   j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
-  if (sensitivity) {
-    nlohmann::json sh = nlohmann::json::object();
-    for (Eigen::Index i = 0; i < sensitivity->shift_se.size(); ++i) sh[std::string(ident::paramName(static_cast<int>(i)))] = sensitivity->shift_se[i];
-    j["band_sensitivity"] = {{"cutoff_factor", sensitivity->factor}, {"shift_standard_errors", sh},
-                             {"over_one_standard_error", sensitivity->over_one}};
-  }
+  if (sensitivity) j["band_sensitivity"] = sensitivityJson(*sensitivity);
   if (!a.timing) eraseWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
@@ -548,19 +573,101 @@ bool runChainModel(const IdentifyArgs& a) {
 }
 #endif
 
-void run(const IdentifyArgs& a) {
+// What a chain model's identify takes and the APAL leg's does not.
+void checkLegArguments(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
-  if (runChainModel(a)) return;
   if (!a.armature.empty()) throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
   if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
 #endif
   if (!a.stages.empty()) {
     throw CLI::ValidationError("--stage", "is the segmental strategy of a chain model (--model leg3|FILE); the APAL leg's is --knee-data and --both-data");
   }
-  const std::vector<ident::Method> methods = resolveMethods(a.methods);
-  if (std::find(a.methods.begin(), a.methods.end(), "ls-parallel") != a.methods.end() && a.signals.processing != ident::Processing::kParallel) {
-    throw CLI::ValidationError("--method ls-parallel", "is LS with the parallel processing; --processing paper contradicts it (use --method ls)");
+}
+
+// The records of both roles read, the leg's constants resolved, each record processed.
+struct LegRecords {
+  Role primary, knee;  ///< --data or --both-data; --knee-data
+  ident::LegConstants c;
+  std::string constants_origin;
+};
+
+LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {
+  const bool single = !a.data.empty();
+  LegRecords r;
+  r.primary.files = single ? a.data : a.both_data;
+  r.knee.files = a.knee_data;
+  for (Role* role : {&r.primary, &r.knee}) {
+    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
   }
+  r.c = resolveConstants(a.constants, r.primary.data.front(), &r.constants_origin, log.thigh_length_m, log.gravity_mps2);
+  checkThighLengths(a, log, r.c, r.primary, r.knee);
+  std::cout << "constants: Lt " << fmt(r.c.thigh_length_m) << " m, g " << fmt(r.c.gravity_mps2) << " m/s^2 (" << r.constants_origin << ")\n";
+  processRoles(a, log, r.c, !single, r.primary, r.knee);
+  return r;
+}
+
+// IDIM-IV's closed-loop descriptions of the records (the knee role's when segmental).
+struct ClosedLoopRecords {
+  ident::ClosedLoopRecord primary, knee;
+};
+
+ClosedLoopRecords closedLoopRecords(const IdentifyArgs& a, const LegRecords& r) {
+  const bool segmental = a.data.empty();
+  ClosedLoopRecords cl;
+  cl.primary = closedLoopRecord(r.primary.data.front(), r.primary.files.front(), r.primary.rows, a.controller, false);
+  if (segmental) cl.knee = closedLoopRecord(r.knee.data.front(), r.knee.files.front(), r.knee.rows, a.controller, true);
+  cl.primary.signals = r.primary.signals.front();
+  if (segmental) cl.knee.signals = r.knee.signals.front();
+  return cl;
+}
+
+MethodOutcome identifyBy(ident::Method m, const IdentifyArgs& a, const LegRecords& r, const ClosedLoopRecords& cl,
+                         const ident::MethodOptions& mo) {
+  const bool single = !a.data.empty();
+  const Role& primary = r.primary;
+  if (m == ident::Method::kIvBand) {
+    // Instruments from each record's angles low-passed at its motion's bandwidth, processed in its band.
+    std::vector<ident::BandIvRows> rows;
+    for (std::size_t k = 0; k < primary.data.size(); ++k) {
+      const double fm = primary.bands[k] ? primary.bands[k]->motion_bandwidth_hz : ident::motionBandwidth(primary.data[k]);
+      rows.push_back(ident::bandIvRows(primary.data[k], r.c, primary.signals[k], fm, a.knee_armature));
+    }
+    return identifyAll(ident::solveBandIv(rows, mo.ls), a.knee_armature);
+  }
+  if (m == ident::Method::kIdimIv) {
+    // Each record's instruments are processed as its measured rows were (its band).
+    return single ? identifyAllIdimIv(cl.primary, r.c, primary.signals.front(), a.iv, a.knee_armature)
+                  : identifySegmentedIdimIv(cl.knee, cl.primary, r.c, primary.signals.front(), a.iv);
+  }
+  return single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, r.knee.rows, primary.rows, mo);
+}
+
+// Every --validate record, processed in the band the fit used (its first record's, so the errors
+// are the fit's yardstick), against every method's estimate.
+std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(const IdentifyArgs& a, const LogInput& log,
+                                                                              const LegRecords& r,
+                                                                              const std::vector<MethodOutcome>& outcomes) {
+  std::vector<std::pair<std::string, std::vector<Validation>>> validations;
+  for (const std::string& file : a.validate) {
+    ident::ProcessedRecord rv;
+    try {
+      rv = ident::processRecord(readLog(file, log), r.c, r.primary.signals.front());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(file + ": " + e.what());
+    }
+    std::vector<Validation> v;
+    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
+    validations.emplace_back(file, std::move(v));
+  }
+  return validations;
+}
+
+void run(const IdentifyArgs& a) {
+#ifdef EXOID_WITH_MUJOCO
+  if (runChainModel(a)) return;
+#endif
+  checkLegArguments(a);
+  const std::vector<ident::Method> methods = resolveMethods(a.methods);
   checkArguments(a, methods);
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const bool single = !a.data.empty(), segmental = !single;
@@ -569,74 +676,128 @@ void run(const IdentifyArgs& a) {
   if (!a.truth.empty()) truths = readTruthFile(a.truth);
 
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
-  Role primary, knee;
-  primary.files = single ? a.data : a.both_data;
-  knee.files = a.knee_data;
-  for (Role* role : {&primary, &knee}) {
-    for (const std::string& f : role->files) role->data.push_back(readLog(f, log));
-  }
-  std::string constants_origin;
-  const ident::LegConstants c =
-      resolveConstants(a.constants, primary.data.front(), &constants_origin, log.thigh_length_m, log.gravity_mps2);
-  checkThighLengths(a, log, c, primary, knee);
-  std::cout << "constants: Lt " << fmt(c.thigh_length_m) << " m, g " << fmt(c.gravity_mps2) << " m/s^2 (" << constants_origin << ")\n";
-  processRoles(a, log, c, segmental, primary, knee);
+  const LegRecords r = readLegRecords(a, log);
   // IDIM-IV's closed-loop descriptions, read before any work so a missing one fails fast.
-  ident::ClosedLoopRecord cl_primary, cl_knee;
-  if (iv) {
-    cl_primary = closedLoopRecord(primary.data.front(), primary.files.front(), primary.rows, a.controller, false);
-    if (segmental) cl_knee = closedLoopRecord(knee.data.front(), knee.files.front(), knee.rows, a.controller, true);
-    cl_primary.signals = primary.signals.front();
-    if (segmental) cl_knee.signals = knee.signals.front();
-  }
+  const ClosedLoopRecords cl = iv ? closedLoopRecords(a, r) : ClosedLoopRecords{};
   ident::MethodOptions mo = a.methods_options;
-  sizePsoBox(a, methods, segmental, primary, knee, mo);
+  sizePsoBox(a, methods, segmental, r.primary, r.knee, mo);
 
   std::vector<MethodOutcome> outcomes;
-  for (ident::Method m : methods) {
-    if (m == ident::Method::kIvBand) {
-      // Instruments from each record's angles low-passed at its motion's bandwidth, processed in its band.
-      std::vector<ident::BandIvRows> rows;
-      for (std::size_t k = 0; k < primary.data.size(); ++k) {
-        const double fm = primary.bands[k] ? primary.bands[k]->motion_bandwidth_hz : ident::motionBandwidth(primary.data[k]);
-        rows.push_back(ident::bandIvRows(primary.data[k], c, primary.signals[k], fm, a.knee_armature));
-      }
-      outcomes.push_back(identifyAll(ident::solveBandIv(rows, mo.ls), a.knee_armature));
-    } else if (m == ident::Method::kIdimIv) {
-      // Each record's instruments are processed as its measured rows were (its band).
-      outcomes.push_back(single ? identifyAllIdimIv(cl_primary, c, primary.signals.front(), a.iv, a.knee_armature)
-                                : identifySegmentedIdimIv(cl_knee, cl_primary, c, primary.signals.front(), a.iv));
-    } else {
-      outcomes.push_back(single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, knee.rows, primary.rows, mo));
-    }
-  }
+  for (ident::Method m : methods) outcomes.push_back(identifyBy(m, a, r, cl, mo));
   if (single && a.consistency) {
     for (MethodOutcome& m : outcomes) {
-      if (m.method == ident::Method::kLs) applyConsistency(m, primary.rows, c, a.consistency_options);
+      if (m.method == ident::Method::kLs) applyConsistency(m, r.primary.rows, r.c, a.consistency_options);
     }
   }
-  const std::optional<BandSensitivity> sensitivity =
-      single ? bandSensitivity(a, primary, c, outcomes) : std::nullopt;
-  std::vector<std::pair<std::string, std::vector<Validation>>> validations;
-  for (const std::string& file : a.validate) {
-    // In the band the fit used (its first record's), so the errors are the fit's yardstick.
-    ident::ProcessedRecord rv;
-    try {
-      rv = ident::processRecord(readLog(file, log), c, primary.signals.front());
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(file + ": " + e.what());
-    }
-    std::vector<Validation> v;
-    for (const MethodOutcome& m : outcomes) v.push_back(validate(rv, m.x, m.knee_armature.value_or(0.0)));
-    validations.emplace_back(file, std::move(v));
-  }
+  const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.c, outcomes) : std::nullopt;
+  const std::vector<std::pair<std::string, std::vector<Validation>>> validations = validateOutcomes(a, log, r, outcomes);
 
   printResults(a.timing, outcomes, validations, truths);
   printConsistency(outcomes);
   if (sensitivity) printSensitivity(*sensitivity);
-  if (!a.json_out.empty()) writeIdentifyJson(a, log, c, constants_origin, primary, knee, mo, outcomes, validations, truths, sensitivity);
+  if (!a.json_out.empty()) writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity);
   if (const std::string problems = problemsOf(outcomes); !problems.empty()) throw UnusableResult(problems);
 }
+
+}  // namespace
+
+namespace {
+
+// Options in CLI11's help: grouped by name, the groups in the order they first appear, so each
+// function below adds its group's options in their listed order.
+
+// The records, the methods and what they need; the yardsticks (--validate, --truth).
+void addInputOptions(CLI::App& cmd, IdentifyArgs& args) {
+  cmd.add_option("--data", args.data, "Dataset CSV: identify all 10 parameters from both equations (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd.add_option("--knee-data", args.knee_data, "Segmental step 1: knee-only record, hip fixed (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd.add_option("--both-data", args.both_data, "Segmental step 2: record where both joints swing (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd.add_option("--method", args.methods,
+                 "ls (also ls-parallel: LS with the default parallel processing), rls, pso, rls-pso, lad, idim-iv, iv-band, or all\n"
+                 "(= all but idim-iv and iv-band) (repeatable).\n"
+                 "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
+                 "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
+                 "'# controller_*' metadata exoid simulate writes)")
+      ->capture_default_str()->delimiter(',')->group("Input");
+  cmd.add_option("--controller", args.controller,
+                 "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
+                 "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
+                 "\"hip_locked\": false}; default: the records' metadata")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd.add_option("--validate", args.validate, "Validation record(s): torque error per joint (repeatable)")
+      ->check(CLI::ExistingFile)->group("Input");
+  cmd.add_option("--truth", args.truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")
+      ->check(CLI::ExistingFile)->group("Input");
+}
+
+// The knee armature, IDIM-IV's stopping rule, and how physical consistency judges the result.
+void addIdentificationOptions(CLI::App& cmd, IdentifyArgs& args) {
+  cmd.add_flag("--knee-armature", args.knee_armature,
+               "Also estimate Ia2, the knee's armature (reflected rotor/actuator inertia on its own diagonal, kg m^2): "
+               "Ia2 qdd2 joins the knee equation only; needs --data (both equations of a record where the hip moves)")
+      ->group("Identification");
+  cmd.add_option("--iv-tolerance", args.iv.step_tolerance, "IDIM-IV: stop when every step < this many standard errors, (0, 1)")
+      ->capture_default_str()->group("Identification");
+  cmd.add_option("--iv-max-iterations", args.iv.max_iterations, "IDIM-IV: iteration limit, >= 1")
+      ->capture_default_str()->group("Identification");
+  cmd.add_flag("!--no-consistency", args.consistency,
+               "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
+               "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"
+               "Mys^2)) whose violations count only beyond --significance standard errors")
+      ->group("Identification");
+  cmd.add_option("--significance", args.consistency_options.significance_sigmas,
+                 "Standard errors beyond which a violated physical condition is significant (exit code 3)")
+      ->check(positiveNumber())->capture_default_str()->group("Identification");
+}
+
+void addOutputOptions(CLI::App& cmd, IdentifyArgs& args) {
+  cmd.add_option("--json", args.json_out, "Write the results as JSON here (atomically)")->group("Output");
+  cmd.add_flag("--timing", args.timing,
+               "Wall times of each method in the table and the JSON (without it, the same input gives the same bytes)")
+      ->group("Output");
+  cmd.add_flag("--history", args.history, "Include PSO best-cost histories in the JSON")->group("Output");
+}
+
+// The shared option sets (constants, log format, signal processing, methods), --threads first.
+void addProcessingOptions(CLI::App& cmd, IdentifyArgs& args) {
+  cmd.add_option("--threads", args.signals.threads,
+                 "Threads processing a long record's blocks (0 = all cores); the results are the same bytes whatever the number")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
+  addConstantsOptions(cmd, args.constants);
+  addLogInputOptions(cmd, args.log);
+  addSignalOptions(cmd, args.signals);
+  addMethodOptions(cmd, args.methods_options);
+  args.wide_box_option = cmd.get_option("--wide-box");
+  args.wide_box_option->description(
+      "Half-width of the PSO baseline's box in every parameter (default for identify: 10 x the largest |LS estimate| of "
+      "the records, printed; a PSO result on its box's bound is not usable)");
+  args.wide_box_option->default_str("10 x the largest |LS estimate|");
+}
+
+#ifdef EXOID_WITH_MUJOCO
+// A robot model other than the APAL leg, and what only its path takes.
+void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
+  cmd.add_option("--model", args.model,
+                 "The robot: apal (the built-in APAL leg, the default), leg3 (the built-in hip-knee-ankle leg) or its MJCF or\n"
+                 "URDF file. The records then have q_<joint>, tau_<joint> for its joints; its base parameters are fitted")
+      ->group("Input");
+  cmd.add_option("--plot", args.plot,
+                 "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
+                 "record (else the first --data record), and its data as <plot>_series.csv")
+      ->group("Output");
+  cmd.add_option("--armature", args.armature,
+                 "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
+                 "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
+      ->delimiter(',')->group("Identification");
+  cmd.add_option("--stage", args.stages,
+                 "Chain models: the segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints\n"
+                 "above JOINT are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations\n"
+                 "determine that the more distal stages left open; --data, every joint moving, is the last stage")
+      ->group("Input");
+}
+#endif
 
 }  // namespace
 
@@ -653,79 +814,12 @@ void addIdentifyCommand(CLI::App& app) {
       "written): a parameter the record cannot identify (rank), a regressor whose condition number\n"
       "(columns scaled) exceeds --max-condition, a physically implausible estimate (Js <= 0, Jt <= Js,\n"
       "negative friction), or a PSO / RLS-PSO estimate on its search box's bound.");
-  cmd->add_option("--data", args->data, "Dataset CSV: identify all 10 parameters from both equations (repeatable)")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--knee-data", args->knee_data, "Segmental step 1: knee-only record, hip fixed (repeatable)")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--both-data", args->both_data, "Segmental step 2: record where both joints swing (repeatable)")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--method", args->methods,
-                  "ls (also ls-parallel: LS with the default parallel processing), rls, pso, rls-pso, lad, idim-iv, iv-band, or all\n"
-                  "(= all but idim-iv and iv-band) (repeatable).\n"
-                  "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
-                  "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
-                  "'# controller_*' metadata exoid simulate writes)")
-      ->capture_default_str()->delimiter(',')->group("Input");
-  cmd->add_option("--controller", args->controller,
-                  "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
-                  "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
-                  "\"hip_locked\": false}; default: the records' metadata")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_flag("--knee-armature", args->knee_armature,
-               "Also estimate Ia2, the knee's armature (reflected rotor/actuator inertia on its own diagonal, kg m^2): "
-               "Ia2 qdd2 joins the knee equation only; needs --data (both equations of a record where the hip moves)")
-      ->group("Identification");
-  cmd->add_option("--iv-tolerance", args->iv.step_tolerance, "IDIM-IV: stop when every step < this many standard errors, (0, 1)")
-      ->capture_default_str()->group("Identification");
-  cmd->add_option("--iv-max-iterations", args->iv.max_iterations, "IDIM-IV: iteration limit, >= 1")
-      ->capture_default_str()->group("Identification");
-  cmd->add_option("--validate", args->validate, "Validation record(s): torque error per joint (repeatable)")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--truth", args->truth, "Truth JSON ({\"parameters\": {...}} or a simulation sidecar): parameter errors")
-      ->check(CLI::ExistingFile)->group("Input");
-  cmd->add_option("--json", args->json_out, "Write the results as JSON here (atomically)")->group("Output");
-  cmd->add_option("--threads", args->signals.threads,
-                  "Threads processing a long record's blocks (0 = all cores); the results are the same bytes whatever the number")
-      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Signal processing");
-  cmd->add_flag("!--no-consistency", args->consistency,
-                "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
-                "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"
-                "Mys^2)) whose violations count only beyond --significance standard errors")
-      ->group("Identification");
-  cmd->add_option("--significance", args->consistency_options.significance_sigmas,
-                  "Standard errors beyond which a violated physical condition is significant (exit code 3)")
-      ->check(positiveNumber())->capture_default_str()->group("Identification");
-  cmd->add_flag("--timing", args->timing,
-                "Wall times of each method in the table and the JSON (without it, the same input gives the same bytes)")
-      ->group("Output");
-  cmd->add_flag("--history", args->history, "Include PSO best-cost histories in the JSON")->group("Output");
-  addConstantsOptions(*cmd, args->constants);
-  addLogInputOptions(*cmd, args->log);
-  addSignalOptions(*cmd, args->signals);
-  addMethodOptions(*cmd, args->methods_options);
-  args->wide_box_option = cmd->get_option("--wide-box");
-  args->wide_box_option->description(
-      "Half-width of the PSO baseline's box in every parameter (default for identify: 10 x the largest |LS estimate| of "
-      "the records, printed; a PSO result on its box's bound is not usable)");
-  args->wide_box_option->default_str("10 x the largest |LS estimate|");
+  addInputOptions(*cmd, *args);
+  addIdentificationOptions(*cmd, *args);
+  addOutputOptions(*cmd, *args);
+  addProcessingOptions(*cmd, *args);
 #ifdef EXOID_WITH_MUJOCO
-  cmd->add_option("--model", args->model,
-                  "The robot: apal (the built-in APAL leg, the default), leg3 (the built-in hip-knee-ankle leg) or its MJCF or\n"
-                  "URDF file. The records then have q_<joint>, tau_<joint> for its joints; its base parameters are fitted")
-      ->group("Input");
-  cmd->add_option("--plot", args->plot,
-                  "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
-                  "record (else the first --data record), and its data as <plot>_series.csv")
-      ->group("Output");
-  cmd->add_option("--armature", args->armature,
-                  "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
-                  "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
-      ->delimiter(',')->group("Identification");
-  cmd->add_option("--stage", args->stages,
-                  "Chain models: the segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints\n"
-                  "above JOINT are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations\n"
-                  "determine that the more distal stages left open; --data, every joint moving, is the last stage")
-      ->group("Input");
+  addChainOptions(*cmd, *args);
 #endif
   args->cmd = cmd;
   cmd->callback([args] { run(*args); });
