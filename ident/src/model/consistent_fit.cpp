@@ -225,40 +225,36 @@ class BarrierSolver {
   double barrier_parameter_ = 0.0;
 };
 
-}  // namespace
-
-ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters& base, const Eigen::MatrixXd& A,
-                                  const Eigen::VectorXd& b, double yy, const Eigen::VectorXd& phi_start,
-                                  const ConsistentFitOptions& options) {
-  options.validate();
+void checkNormalEquations(const ChainModel& model, const BaseParameters& base, const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
+                          const Eigen::VectorXd& phi_start) {
   const Eigen::Index p = model.standardParameterCount(), r = base.rank;
   if (A.rows() != r || A.cols() != r || b.size() != r || phi_start.size() != p) {
     throw std::invalid_argument("consistent fit: expected A " + core::toText(r) + " x " + core::toText(r) + ", b of " +
                                 core::toText(r) + " and phi_start of " + core::toText(p) + " entries");
   }
   if (!A.allFinite() || !b.allFinite() || !phi_start.allFinite()) throw std::invalid_argument("consistent fit: a NaN or Inf in the data");
-  Eigen::LLT<Eigen::MatrixXd> llt(A);
-  if (llt.info() != Eigen::Success) {
-    throw std::invalid_argument("consistent fit: the base regressor is not of full rank: the record does not identify every base parameter");
-  }
-  ConsistentFit fit;
-  fit.beta_ls = llt.solve(b);
-  fit.ls_cost = std::max(0.0, yy - b.dot(fit.beta_ls));
-  const Eigen::MatrixXd R = llt.matrixU();  // A = R' R
-  const Eigen::MatrixXd RC = R * base.combination;
-  const Eigen::VectorXd target = R * fit.beta_ls;
-  const double scale = target.squaredNorm();
-  const Coordinates coords{model, model.layout()};
+}
 
-  Eigen::VectorXd theta = coords.start(phi_start);
+// Levenberg-Marquardt on ||RC phi(theta) - target||^2 from theta: until the cost is within
+// tolerance of LS (LS is consistent), no damped step decreases it by more than that (the optimum
+// is constrained), or max_iterations.
+struct LmFit {
+  Eigen::VectorXd theta;
+  double cost = 0.0;
+  int iterations = 0;
+  ConsistentFitStatus status = ConsistentFitStatus::kMaxIterations;
+};
+
+LmFit levenbergMarquardt(const Coordinates& coords, const Eigen::MatrixXd& RC, const Eigen::VectorXd& target, double scale,
+                         Eigen::VectorXd theta, const ConsistentFitOptions& options) {
+  LmFit out;
   Eigen::VectorXd residual = RC * coords.toPhi(theta) - target;
   double cost = residual.squaredNorm();
   double lambda = 1e-3;
-  fit.status = ConsistentFitStatus::kMaxIterations;
   for (int it = 0; it < options.max_iterations; ++it) {
-    fit.iterations = it + 1;
+    out.iterations = it + 1;
     if (cost <= options.tolerance * scale) {
-      fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
+      out.status = ConsistentFitStatus::kLeastSquaresConsistent;
       break;
     }
     const Eigen::MatrixXd Jr = RC * coords.jacobian(theta);
@@ -286,32 +282,69 @@ ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters&
       }
     }
     if (!accepted || decrease <= options.tolerance * scale) {
-      fit.status = cost <= options.tolerance * scale ? ConsistentFitStatus::kLeastSquaresConsistent : ConsistentFitStatus::kConstrained;
+      out.status = cost <= options.tolerance * scale ? ConsistentFitStatus::kLeastSquaresConsistent : ConsistentFitStatus::kConstrained;
       break;
     }
   }
-  fit.phi = coords.toPhi(theta);
+  out.theta = theta;
+  out.cost = cost;
+  return out;
+}
+
+// The optimum on the boundary (or LS needs a link beyond the bounds): the barrier, from the
+// start's (consistent) bodies. Not from LM's point: LM crawls towards the boundary, and a barrier
+// started next to it needs hundreds of damped Newton steps to get away (measured). Sets fit.phi,
+// its status and steps; returns its excess cost over LS.
+double fitOnBoundary(ConsistentFit& fit, const Coordinates& coords, const BarrierSolver& barrier, const BaseParameters& base,
+                     const Eigen::MatrixXd& A, const Eigen::VectorXd& phi_start, double scale, const ConsistentFitOptions& options) {
+  Eigen::VectorXd phi = coords.toPhi(coords.start(phi_start));
+  if (!barrier.feasible(phi)) phi = coords.toPhi(coords.start(Eigen::VectorXd::Zero(phi.size())));
+  fit.barrier_newton_steps = barrier.solve(phi, options.barrier_gap, fit.ls_cost / scale, options.max_newton_steps);
+  fit.phi = phi;
+  fit.status = ConsistentFitStatus::kConstrained;
+  const Eigen::VectorXd d = base.combination * fit.phi - fit.beta_ls;
+  return d.dot(A * d);
+}
+
+std::string fitMessage(const ConsistentFit& fit) {
+  return std::string(toString(fit.status)) + " after " + core::toText(fit.iterations) + " Levenberg-Marquardt iterations" +
+         (fit.barrier_newton_steps ? " and " + core::toText(fit.barrier_newton_steps) + " barrier Newton steps" : std::string()) +
+         "; consistency costs " + core::formatNumber(fit.excess_cost, 4) + " of the residual sum of squares " +
+         core::formatNumber(fit.ls_cost, 6);
+}
+
+}  // namespace
+
+ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters& base, const Eigen::MatrixXd& A,
+                                  const Eigen::VectorXd& b, double yy, const Eigen::VectorXd& phi_start,
+                                  const ConsistentFitOptions& options) {
+  options.validate();
+  checkNormalEquations(model, base, A, b, phi_start);
+  Eigen::LLT<Eigen::MatrixXd> llt(A);
+  if (llt.info() != Eigen::Success) {
+    throw std::invalid_argument("consistent fit: the base regressor is not of full rank: the record does not identify every base parameter");
+  }
+  ConsistentFit fit;
+  fit.beta_ls = llt.solve(b);
+  fit.ls_cost = std::max(0.0, yy - b.dot(fit.beta_ls));
+  const Eigen::MatrixXd R = llt.matrixU();  // A = R' R
+  const Eigen::MatrixXd RC = R * base.combination;
+  const Eigen::VectorXd target = R * fit.beta_ls;
+  const double scale = target.squaredNorm();
+  const Coordinates coords{model, model.layout()};
+
+  const LmFit lm = levenbergMarquardt(coords, RC, target, scale, coords.start(phi_start), options);
+  fit.iterations = lm.iterations;
+  fit.status = lm.status;
+  double cost = lm.cost;
+  fit.phi = coords.toPhi(lm.theta);
   const BarrierSolver barrier(coords, RC, target, scale, options.max_link_mass_kg, options.link_radius_m);
   const bool interior_optimum = fit.status == ConsistentFitStatus::kLeastSquaresConsistent && barrier.feasible(fit.phi);
-  if (!interior_optimum) {
-    // The optimum is on the boundary (or LS needs a link beyond the bounds): the barrier, from
-    // the start's (consistent) bodies. Not from LM's point: LM crawls towards the boundary, and a
-    // barrier started next to it needs hundreds of damped Newton steps to get away (measured).
-    Eigen::VectorXd phi = coords.toPhi(coords.start(phi_start));
-    if (!barrier.feasible(phi)) phi = coords.toPhi(coords.start(Eigen::VectorXd::Zero(phi.size())));
-    fit.barrier_newton_steps = barrier.solve(phi, options.barrier_gap, fit.ls_cost / scale, options.max_newton_steps);
-    fit.phi = phi;
-    fit.status = ConsistentFitStatus::kConstrained;
-    const Eigen::VectorXd d = base.combination * fit.phi - fit.beta_ls;
-    cost = d.dot(A * d);
-  }
+  if (!interior_optimum) cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options);
   fit.beta = base.combination * fit.phi;
   fit.excess_cost = cost;
   for (const JointParameterLayout& l : coords.layout) fit.link_min_eigenvalue.push_back(pseudoInertiaMinEigenvalue(fit.phi.segment<kLinkParams>(l.link)));
-  fit.message = std::string(toString(fit.status)) + " after " + core::toText(fit.iterations) + " Levenberg-Marquardt iterations" +
-                (fit.barrier_newton_steps ? " and " + core::toText(fit.barrier_newton_steps) + " barrier Newton steps" : std::string()) +
-                "; consistency costs " +
-                core::formatNumber(fit.excess_cost, 4) + " of the residual sum of squares " + core::formatNumber(fit.ls_cost, 6);
+  fit.message = fitMessage(fit);
   return fit;
 }
 
