@@ -65,89 +65,112 @@ OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options
   }
 }
 
+namespace {
+
+// The text block's torque lines at `row`: measured, or measured / predicted / error.
+void addTorqueText(const Track& tr, std::size_t row, std::string& l, std::string& r) {
+  const double th = tr.tau_hip_Nm[row], tk = tr.tau_knee_Nm[row];
+  if (tr.hasPrediction()) {
+    const double ph = tr.tau_hip_pred_Nm[row], pk = tr.tau_knee_pred_Nm[row];
+    const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
+    l += "\nhip torque " + cols + "\nknee torque " + cols;
+    const auto line = [](double meas, double p) {
+      return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
+                           : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
+    };
+    r += "\n" + line(th, ph) + "\n" + line(tk, pk);
+  } else {
+    l += "\nhip torque (" + tr.torque_name + ")\nknee torque (" + tr.torque_name + ")";
+    r += "\n" + format("%+.2f N m", th) + "\n" + format("%+.2f N m", tk);
+  }
+}
+
+// The text block at `row`: labels on the left, values on the right.
+void addText(const Track& tr, const OverlayOptions& options, std::size_t row, Overlay& o) {
+  std::string& l = o.text_left;
+  std::string& r = o.text_right;
+  l = tr.title.empty() ? std::string(" ") : tr.title;
+  r = " ";
+  l += "\ntime\nhip angle\nknee angle";
+  r += "\n" + format("%.3f s", tr.t_s[row]) + "\n" + format("%+.1f deg", tr.q_hip_rad[row] * kRadToDeg) + "\n" +
+       format("%+.1f deg", tr.q_knee_rad[row] * kRadToDeg);
+  if (tr.hasTorque()) addTorqueText(tr, row, l, r);
+  if (options.plot && tr.hasTorque()) {
+    l += "\nplots";
+    r += tr.hasPrediction() ? "\nwhite " + tr.torque_name + ", blue " + tr.prediction_name + ", red err" : "\nwhite " + tr.torque_name;
+  }
+  if (tr.hasBase()) {
+    l += "\npedestal x / z";
+    r += "\n" + format("%+.2f", 1e3 * tr.base_x_m[row]) + format(" / %+.2f mm", 1e3 * tr.base_z_m[row]);
+  }
+}
+
+// The plots' window ending at `row`: its time range and the rows drawn in it.
+struct PlotWindow {
+  std::array<double, 2> x_range;
+  std::vector<std::size_t> rows;
+};
+
+PlotWindow plotWindow(const Track& tr, const OverlayOptions& options, std::size_t row) {
+  const double dt = tr.sampleInterval_s();
+  const double t0 = tr.t_s.front();
+  const double t = tr.t_s[row];
+  const double w = options.plot_window_s;
+  PlotWindow win;
+  win.x_range = t - t0 < w ? std::array<double, 2>{t0, t0 + w} : std::array<double, 2>{t - w, t};
+  const std::size_t window_rows = static_cast<std::size_t>(std::ceil(w / dt));
+  const std::size_t first = row > window_rows ? row - window_rows : 0;
+  // Points on a fixed grid of rows (multiples of stride) plus the current row: the decimated
+  // curve does not shimmer as the window scrolls.
+  const std::size_t stride = std::max<std::size_t>(
+      1, (window_rows + static_cast<std::size_t>(options.max_plot_points) - 2) / static_cast<std::size_t>(options.max_plot_points - 1));
+  for (std::size_t i = (first + stride - 1) / stride * stride; i < row; i += stride) win.rows.push_back(i);
+  win.rows.push_back(row);
+  return win;
+}
+
+// Joint j's torque panel over the window: measured, and with a prediction, predicted and error.
+PlotPanel torquePanel(const Track& tr, int j, const PlotWindow& win, const std::array<double, 2>& y_range) {
+  const char* joint_name[2] = {"hip torque (N m)", "knee torque (N m)"};
+  const std::vector<double>& meas = j == 0 ? tr.tau_hip_Nm : tr.tau_knee_Nm;
+  const std::vector<double>& prd = j == 0 ? tr.tau_hip_pred_Nm : tr.tau_knee_pred_Nm;
+  const bool pred = tr.hasPrediction();
+  PlotPanel p;
+  p.title = joint_name[j];
+  p.x_range = win.x_range;
+  p.y_range = y_range;
+  PlotLine m{tr.torque_name, kMeasuredRgb, {}, {}};
+  PlotLine pl{tr.prediction_name, kPredictedRgb, {}, {}};
+  PlotLine e{"error", kErrorRgb, {}, {}};
+  for (std::size_t i : win.rows) {
+    const auto x = static_cast<float>(tr.t_s[i]);
+    m.x.push_back(x);
+    m.y.push_back(static_cast<float>(meas[i]));
+    if (pred && !std::isnan(prd[i])) {
+      pl.x.push_back(x);
+      pl.y.push_back(static_cast<float>(prd[i]));
+      e.x.push_back(x);
+      e.y.push_back(static_cast<float>(meas[i] - prd[i]));
+    }
+  }
+  p.lines.push_back(std::move(m));
+  if (pred) {
+    p.lines.push_back(std::move(pl));
+    p.lines.push_back(std::move(e));
+  }
+  return p;
+}
+
+}  // namespace
+
 Overlay OverlayBuilder::at(std::size_t row) const {
   Overlay o;
   const Track& tr = track_;
   if (row >= tr.size()) throw std::invalid_argument("overlay row " + core::toText(row) + " >= " + core::toText(tr.size()));
-  const bool pred = tr.hasPrediction();
-  if (options_.text) {
-    std::string& l = o.text_left;
-    std::string& r = o.text_right;
-    l = tr.title.empty() ? std::string(" ") : tr.title;
-    r = " ";
-    l += "\ntime\nhip angle\nknee angle";
-    r += "\n" + format("%.3f s", tr.t_s[row]) + "\n" + format("%+.1f deg", tr.q_hip_rad[row] * kRadToDeg) + "\n" +
-         format("%+.1f deg", tr.q_knee_rad[row] * kRadToDeg);
-    if (tr.hasTorque()) {
-      const double th = tr.tau_hip_Nm[row], tk = tr.tau_knee_Nm[row];
-      if (pred) {
-        const double ph = tr.tau_hip_pred_Nm[row], pk = tr.tau_knee_pred_Nm[row];
-        const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
-        l += "\nhip torque " + cols + "\nknee torque " + cols;
-        const auto line = [](double meas, double p) {
-          return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
-                               : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
-        };
-        r += "\n" + line(th, ph) + "\n" + line(tk, pk);
-      } else {
-        l += "\nhip torque (" + tr.torque_name + ")\nknee torque (" + tr.torque_name + ")";
-        r += "\n" + format("%+.2f N m", th) + "\n" + format("%+.2f N m", tk);
-      }
-    }
-    if (options_.plot && tr.hasTorque()) {
-      l += "\nplots";
-      r += pred ? "\nwhite " + tr.torque_name + ", blue " + tr.prediction_name + ", red err" : "\nwhite " + tr.torque_name;
-    }
-    if (tr.hasBase()) {
-      l += "\npedestal x / z";
-      r += "\n" + format("%+.2f", 1e3 * tr.base_x_m[row]) + format(" / %+.2f mm", 1e3 * tr.base_z_m[row]);
-    }
-  }
+  if (options_.text) addText(tr, options_, row, o);
   if (options_.plot && tr.hasTorque()) {
-    const double dt = tr.sampleInterval_s();
-    const double t0 = tr.t_s.front();
-    const double t = tr.t_s[row];
-    const double w = options_.plot_window_s;
-    const std::array<double, 2> xr = t - t0 < w ? std::array<double, 2>{t0, t0 + w} : std::array<double, 2>{t - w, t};
-    const std::size_t window_rows = static_cast<std::size_t>(std::ceil(w / dt));
-    const std::size_t first = row > window_rows ? row - window_rows : 0;
-    // Points on a fixed grid of rows (multiples of stride) plus the current row: the decimated
-    // curve does not shimmer as the window scrolls.
-    const std::size_t stride = std::max<std::size_t>(
-        1, (window_rows + static_cast<std::size_t>(options_.max_plot_points) - 2) /
-               static_cast<std::size_t>(options_.max_plot_points - 1));
-    std::vector<std::size_t> rows;
-    for (std::size_t i = (first + stride - 1) / stride * stride; i < row; i += stride) rows.push_back(i);
-    rows.push_back(row);
-    const char* joint_name[2] = {"hip torque (N m)", "knee torque (N m)"};
-    const std::vector<double>* meas[2] = {&tr.tau_hip_Nm, &tr.tau_knee_Nm};
-    const std::vector<double>* prd[2] = {&tr.tau_hip_pred_Nm, &tr.tau_knee_pred_Nm};
-    for (int j = 0; j < 2; ++j) {
-      PlotPanel p;
-      p.title = joint_name[j];
-      p.x_range = xr;
-      p.y_range = y_range_[static_cast<std::size_t>(j)];
-      PlotLine m{tr.torque_name, kMeasuredRgb, {}, {}};
-      PlotLine pl{tr.prediction_name, kPredictedRgb, {}, {}};
-      PlotLine e{"error", kErrorRgb, {}, {}};
-      for (std::size_t i : rows) {
-        const auto x = static_cast<float>(tr.t_s[i]);
-        m.x.push_back(x);
-        m.y.push_back(static_cast<float>((*meas[j])[i]));
-        if (pred && !std::isnan((*prd[j])[i])) {
-          pl.x.push_back(x);
-          pl.y.push_back(static_cast<float>((*prd[j])[i]));
-          e.x.push_back(x);
-          e.y.push_back(static_cast<float>((*meas[j])[i] - (*prd[j])[i]));
-        }
-      }
-      p.lines.push_back(std::move(m));
-      if (pred) {
-        p.lines.push_back(std::move(pl));
-        p.lines.push_back(std::move(e));
-      }
-      o.panels.push_back(std::move(p));
-    }
+    const PlotWindow win = plotWindow(tr, options_, row);
+    for (int j = 0; j < 2; ++j) o.panels.push_back(torquePanel(tr, j, win, y_range_[static_cast<std::size_t>(j)]));
   }
   return o;
 }
