@@ -203,100 +203,114 @@ struct Simulator::Impl {
     if (ran) throw std::logic_error("Simulator::run called twice");
     ran = true;
     const auto t0 = std::chrono::steady_clock::now();
-    const mjModel* m = leg.model.get();
-    mjData* d = data.get();
-    const LegIndices& x = leg.idx;
-    const bool has_floor = cfg.floor.active();
-    const double dt = cfg.dt_s;
     // With record_after_ramp the start ramp runs unrecorded (as a rig is started before its log):
     // rows go to a scratch row until the ramp is over, and the table's t starts at 0 after it.
     const Eigen::Index preroll = this->preroll();
     Eigen::Matrix<double, 1, kNumCols> scratch = Eigen::Matrix<double, 1, kNumCols>::Zero();
     for (Eigen::Index step = 0; step < preroll + n; ++step) {
       const Eigen::Index k = step - preroll;  // record row, negative during the pre-roll
-      const double t = static_cast<double>(step) * dt;  // trajectory (and disturbance) time
-      const JointReference ref = traj->at(t);
-      if (leg.kinematic_loop) {
-        setLegState(m, d, x, *fb, {d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]},
-                    {d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]});
-      }
-      const Eigen::Vector2d q(d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]);
-      const Eigen::Vector2d qd(d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]);
       double* row = k >= 0 ? rec.data() + k * kNumCols : scratch.data();
-      row[kT] = static_cast<double>(k) * dt;
-      row[kQHipTrue] = q[0];
-      row[kQKneeTrue] = q[1];
-      row[kQdHipTrue] = qd[0];
-      row[kQdKneeTrue] = qd[1];
-      row[kQHipRef] = ref.q[0];
-      row[kQKneeRef] = ref.q[1];
-      if (!leg.welded) {
-        row[kBaseX] = d->qpos[x.mount_qadr[0]];
-        row[kBaseZ] = d->qpos[x.mount_qadr[1]];
-        row[kBasePitch] = d->qpos[x.mount_qadr[2]];
-      }
-      const Eigen::Vector2d qm = sensors->angles(q);
-      row[kQHip] = qm[0];
-      row[kQKnee] = qm[1];
-      Eigen::Vector2d u = pid->update(ref, qm);
-      if (cfg.feedforward) u += ff_cmd.row(step).transpose();
-      row[kTauHipCmd] = u[0];
-      row[kTauKneeCmd] = u[1];
-      const Eigen::Vector2d applied = act->step(u);
-      d->ctrl[x.act[0]] = applied[0];
-      d->ctrl[x.act[1]] = applied[1];
-      d->qfrc_applied[x.vadr[0]] = -leg.coulomb.torque(0, qd[0]);
-      d->qfrc_applied[x.vadr[1]] = -leg.coulomb.torque(1, qd[1]);
-      if (has_floor) {
-        double fx, fz;
-        floor->at(t, fx, fz);
-        d->xfrc_applied[6 * x.body_pedestal + 0] = fx;
-        d->xfrc_applied[6 * x.body_pedestal + 2] = fz;
-      }
-      // Forward dynamics at the state of time t: qacc and actuator_force of this row. Then the
-      // step itself. With RK4 (the model's integrator) mj_RungeKutta reuses this mj_forward as its
-      // first stage, exactly as mj_step would; afterwards qacc holds the last stage's value, so
-      // it is read here, before integrating.
-      mj_forward(m, d);
-      checkStepHealth(m, d, t, "mj_forward");
-      const Eigen::Vector2d tau(d->actuator_force[x.act[0]], d->actuator_force[x.act[1]]);
-      row[kQddHipTrue] = d->qacc[x.vadr[0]];
-      row[kQddKneeTrue] = d->qacc[x.vadr[1]];
-      // Loop error of this row's state (xpos from the mj_forward above).
-      const Eigen::Vector3d imu = sensors->imu(pedestalImuTruth(m, d, x));
-      row[kBaseAccX] = imu[0];
-      row[kBaseAccZ] = imu[1];
-      row[kBaseGyroY] = imu[2];
-      const double le = loopError(m, d, x);
-      row[kLoopError] = le;
-      if (step == 0) first_loop_error_m = le;
-      if (!(le <= cfg.max_loop_error_m)) {
-        char buf[256];
-        std::snprintf(buf, sizeof buf,
-                      "the four-bar loop opened to %.3g m at t = %.6g s (limit max_loop_error_m = %.3g m): "
-                      "the simulation is not trustworthy (check gains, timestep, solref)",
-                      le, t, cfg.max_loop_error_m);
-        throw SimulationError(buf);
-      }
-      integrate(m, d);
-      checkStepHealth(m, d, t, "integration");
-      row[kTauHipTrue] = tau[0];
-      row[kTauKneeTrue] = tau[1];
-      const Eigen::Vector2d tm = sensors->torques(tau);
-      row[kTauHip] = tm[0];
-      row[kTauKnee] = tm[1];
+      row[kT] = static_cast<double>(k) * cfg.dt_s;
+      advance(step, row);
     }
     loop_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
-  SimResult finish() {
-    if (!ran) run();
-    if (finished) throw std::logic_error("Simulator::finish called twice");
-    finished = true;
-    const auto t0 = std::chrono::steady_clock::now();
-    SimResult r;
-    r.config = cfg;
-    // Ideal (vibration-free, rigid-loop) torques at the exact joint states.
+  // One step at t = step dt (trajectory and disturbance time): the row gets the state, the
+  // readings, the command and the forward dynamics at t; then the state is integrated to t + dt.
+  void advance(Eigen::Index step, double* row) {
+    const mjModel* m = leg.model.get();
+    mjData* d = data.get();
+    const LegIndices& x = leg.idx;
+    const double t = static_cast<double>(step) * cfg.dt_s;
+    const JointReference ref = traj->at(t);
+    if (leg.kinematic_loop) {
+      setLegState(m, d, x, *fb, {d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]}, {d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]});
+    }
+    const Eigen::Vector2d q(d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]);
+    const Eigen::Vector2d qd(d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]);
+    recordState(q, qd, ref, row);
+    const Eigen::Vector2d qm = sensors->angles(q);
+    row[kQHip] = qm[0];
+    row[kQKnee] = qm[1];
+    drive(step, t, ref, qm, qd, row);
+    // Forward dynamics at the state of time t: qacc and actuator_force of this row. Then the
+    // step itself. With RK4 (the model's integrator) mj_RungeKutta reuses this mj_forward as its
+    // first stage, exactly as mj_step would; afterwards qacc holds the last stage's value, so
+    // it is read here, before integrating.
+    mj_forward(m, d);
+    checkStepHealth(m, d, t, "mj_forward");
+    const Eigen::Vector2d tau(d->actuator_force[x.act[0]], d->actuator_force[x.act[1]]);
+    row[kQddHipTrue] = d->qacc[x.vadr[0]];
+    row[kQddKneeTrue] = d->qacc[x.vadr[1]];
+    const Eigen::Vector3d imu = sensors->imu(pedestalImuTruth(m, d, x));
+    row[kBaseAccX] = imu[0];
+    row[kBaseAccZ] = imu[1];
+    row[kBaseGyroY] = imu[2];
+    // Loop error of this row's state (xpos from the mj_forward above).
+    const double le = loopError(m, d, x);
+    row[kLoopError] = le;
+    if (step == 0) first_loop_error_m = le;
+    checkLoopClosed(le, t);
+    integrate(m, d);
+    checkStepHealth(m, d, t, "integration");
+    row[kTauHipTrue] = tau[0];
+    row[kTauKneeTrue] = tau[1];
+    const Eigen::Vector2d tm = sensors->torques(tau);
+    row[kTauHip] = tm[0];
+    row[kTauKnee] = tm[1];
+  }
+
+  // The exact joint state, the reference and the pedestal's pose at t.
+  void recordState(const Eigen::Vector2d& q, const Eigen::Vector2d& qd, const JointReference& ref, double* row) const {
+    row[kQHipTrue] = q[0];
+    row[kQKneeTrue] = q[1];
+    row[kQdHipTrue] = qd[0];
+    row[kQdKneeTrue] = qd[1];
+    row[kQHipRef] = ref.q[0];
+    row[kQKneeRef] = ref.q[1];
+    if (!leg.welded) {
+      const mjData* d = data.get();
+      row[kBaseX] = d->qpos[leg.idx.mount_qadr[0]];
+      row[kBaseZ] = d->qpos[leg.idx.mount_qadr[1]];
+      row[kBasePitch] = d->qpos[leg.idx.mount_qadr[2]];
+    }
+  }
+
+  // The controller's command on the angle readings qm (PID plus the planned feedforward) through
+  // the actuators, the joints' Coulomb friction, and the floor's push on the pedestal.
+  void drive(Eigen::Index step, double t, const JointReference& ref, const Eigen::Vector2d& qm, const Eigen::Vector2d& qd, double* row) {
+    mjData* d = data.get();
+    const LegIndices& x = leg.idx;
+    Eigen::Vector2d u = pid->update(ref, qm);
+    if (cfg.feedforward) u += ff_cmd.row(step).transpose();
+    row[kTauHipCmd] = u[0];
+    row[kTauKneeCmd] = u[1];
+    const Eigen::Vector2d applied = act->step(u);
+    d->ctrl[x.act[0]] = applied[0];
+    d->ctrl[x.act[1]] = applied[1];
+    d->qfrc_applied[x.vadr[0]] = -leg.coulomb.torque(0, qd[0]);
+    d->qfrc_applied[x.vadr[1]] = -leg.coulomb.torque(1, qd[1]);
+    if (cfg.floor.active()) {
+      double fx, fz;
+      floor->at(t, fx, fz);
+      d->xfrc_applied[6 * x.body_pedestal + 0] = fx;
+      d->xfrc_applied[6 * x.body_pedestal + 2] = fz;
+    }
+  }
+
+  void checkLoopClosed(double loop_error_m, double t) const {
+    if (loop_error_m <= cfg.max_loop_error_m) return;
+    char buf[256];
+    std::snprintf(buf, sizeof buf,
+                  "the four-bar loop opened to %.3g m at t = %.6g s (limit max_loop_error_m = %.3g m): "
+                  "the simulation is not trustworthy (check gains, timestep, solref)",
+                  loop_error_m, t, cfg.max_loop_error_m);
+    throw SimulationError(buf);
+  }
+
+  // Ideal (vibration-free, rigid-loop) torques at the exact joint states.
+  void idealTorques() {
     for (Eigen::Index k = 0; k < n; ++k) {
       auto row = rec.row(k);
       const Eigen::Vector2d tau = ideal->torque({row[kQHipTrue], row[kQKneeTrue]},
@@ -305,8 +319,10 @@ struct Simulator::Impl {
       row[kTauHipIdeal] = tau[0];
       row[kTauKneeIdeal] = tau[1];
     }
-    // Statistics.
-    SimStats& s = r.stats;
+  }
+
+  SimStats statistics() const {
+    SimStats s;
     const double rad2deg = 180.0 / M_PI;
     auto track = [&](int qcol, int refcol) {
       JointErrorStats e;
@@ -326,14 +342,11 @@ struct Simulator::Impl {
     s.tau_rms_hip_Nm = std::sqrt(rec.col(kTauHipTrue).array().square().mean());
     s.tau_rms_knee_Nm = std::sqrt(rec.col(kTauKneeTrue).array().square().mean());
     s.loop_time_s = loop_time_s;
-    // Truths.
-    r.truth = rigidTruth(leg);
-    r.lumped_band = lumpedBand(leg, rec.col(kQKneeTrue).minCoeff(), rec.col(kQKneeTrue).maxCoeff(), 181);
-    r.model_fnv1a64 = toHex(leg.xml_fnv1a64);
-    r.model_bytes = leg.xml_bytes;
-    r.mujoco_version = mj_versionString();
-    // Table.
-    Table& tb = r.table;
+    return s;
+  }
+
+  // The dataset's columns (all, or the short set a rig logs).
+  void fillTable(Table& tb) const {
     tb.names = datasetColumns(cfg.exact_columns);
     if (cfg.exact_columns) {
       tb.values = rec;
@@ -343,39 +356,61 @@ struct Simulator::Impl {
         tb.values.col(static_cast<Eigen::Index>(i)) = rec.col(kShortCols[i]);
       }
     }
+  }
+
+  // The dataset's header: the run's settings, and the tracking law, so that methods that simulate
+  // the closed loop (IDIM-IV) can rebuild it.
+  void addMetadata(const SimResult& r, Table& tb) const {
     auto meta = [&](const std::string& k, const std::string& v) { tb.metadata.emplace_back(k, v); };
+    const auto num = [](double v) { return core::formatNumber(v, 17); };
     meta("source", std::string("exoid sim (MuJoCo ") + mj_versionString() + ")");
     meta("model", cfg.model_path);
     meta("model_fnv1a64", r.model_fnv1a64);
     meta("trajectory", cfg.trajectory == 0 ? std::string("fourier") : core::toText(cfg.trajectory));
     meta("hip_locked", traj->hipLocked() ? "true" : "false");
     meta("seed", core::toText(cfg.seed));
-    meta("dt_s", core::formatNumber(cfg.dt_s, 17));
-    meta("duration_s", core::formatNumber(cfg.duration_s, 17));
-    meta("ramp_s", core::formatNumber(cfg.ramp_s, 17));
+    meta("dt_s", num(cfg.dt_s));
+    meta("duration_s", num(cfg.duration_s));
+    meta("ramp_s", num(cfg.ramp_s));
     meta("record_after_ramp", cfg.record_after_ramp ? "true" : "false");
-    meta("thigh_length_m", core::formatNumber(r.truth.thigh_length_m, 17));
-    meta("gravity_mps2", core::formatNumber(r.truth.gravity_mps2, 17));
-    meta("noise_q_deg", core::formatNumber(cfg.sensors.noise_q_deg, 17));
-    meta("quantisation_deg", core::formatNumber(cfg.sensors.quantisation_deg, 17));
-    if (cfg.sensors.encoder_backlash_deg > 0) meta("encoder_backlash_deg", core::formatNumber(cfg.sensors.encoder_backlash_deg, 17));
-    meta("noise_tau_Nm", core::formatNumber(cfg.sensors.noise_tau_Nm, 17));
-    meta("vibration_level", core::formatNumber(cfg.variant.vibration_level, 17));
-    meta("cylinder_mass_scale", core::formatNumber(cfg.variant.cylinder_mass_scale, 17));
+    meta("thigh_length_m", num(r.truth.thigh_length_m));
+    meta("gravity_mps2", num(r.truth.gravity_mps2));
+    meta("noise_q_deg", num(cfg.sensors.noise_q_deg));
+    meta("quantisation_deg", num(cfg.sensors.quantisation_deg));
+    if (cfg.sensors.encoder_backlash_deg > 0) meta("encoder_backlash_deg", num(cfg.sensors.encoder_backlash_deg));
+    meta("noise_tau_Nm", num(cfg.sensors.noise_tau_Nm));
+    meta("vibration_level", num(cfg.variant.vibration_level));
+    meta("cylinder_mass_scale", num(cfg.variant.cylinder_mass_scale));
     meta("feedforward", cfg.feedforward ? "true" : "false");
-    // The tracking law, so that methods that simulate the closed loop (IDIM-IV) can rebuild it.
-    const auto pair = [](const Eigen::Vector2d& v) { return core::formatNumber(v[0], 17) + "," + core::formatNumber(v[1], 17); };
+    const auto pair = [&](const Eigen::Vector2d& v) { return num(v[0]) + "," + num(v[1]); };
     meta("controller_kp_Nm_per_rad", pair(cfg.gains.kp_Nm_per_rad));
     meta("controller_ki_Nm_per_rad_s", pair(cfg.gains.ki_Nm_per_rad_s));
     meta("controller_kd_Nms_per_rad", pair(cfg.gains.kd_Nms_per_rad));
-    meta("controller_derivative_cutoff_Hz", core::formatNumber(cfg.gains.derivative_cutoff_Hz, 17));
-    meta("controller_integral_limit_Nm", core::formatNumber(cfg.gains.integral_limit_Nm, 17));
-    meta("hip_actuator_bandwidth_Hz", core::formatNumber(cfg.actuators.hip_bandwidth_Hz, 17));
-    meta("knee_actuator_bandwidth_Hz", core::formatNumber(cfg.actuators.knee_bandwidth_Hz, 17));
-    meta("torque_sensor_bandwidth_Hz", core::formatNumber(cfg.sensors.tau_bandwidth_Hz, 17));
+    meta("controller_derivative_cutoff_Hz", num(cfg.gains.derivative_cutoff_Hz));
+    meta("controller_integral_limit_Nm", num(cfg.gains.integral_limit_Nm));
+    meta("hip_actuator_bandwidth_Hz", num(cfg.actuators.hip_bandwidth_Hz));
+    meta("knee_actuator_bandwidth_Hz", num(cfg.actuators.knee_bandwidth_Hz));
+    meta("torque_sensor_bandwidth_Hz", num(cfg.sensors.tau_bandwidth_Hz));
     meta("units", "s, rad, rad/s, rad/s^2, N m, m");
-    s.wall_time_s = setup_time_s + loop_time_s +
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  SimResult finish() {
+    if (!ran) run();
+    if (finished) throw std::logic_error("Simulator::finish called twice");
+    finished = true;
+    const auto t0 = std::chrono::steady_clock::now();
+    SimResult r;
+    r.config = cfg;
+    idealTorques();
+    r.stats = statistics();
+    r.truth = rigidTruth(leg);
+    r.lumped_band = lumpedBand(leg, rec.col(kQKneeTrue).minCoeff(), rec.col(kQKneeTrue).maxCoeff(), 181);
+    r.model_fnv1a64 = toHex(leg.xml_fnv1a64);
+    r.model_bytes = leg.xml_bytes;
+    r.mujoco_version = mj_versionString();
+    fillTable(r.table);
+    addMetadata(r, r.table);
+    r.stats.wall_time_s = setup_time_s + loop_time_s + std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return r;
   }
 };
