@@ -4,6 +4,7 @@
 #include "exoid/ident/io/dataset.hpp"
 
 #include "../ident/test_support.hpp"
+#include "../support/closed_loop_multisine.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -295,29 +296,15 @@ namespace exoid::experiments {
 namespace {
 
 // A closed-loop log as a real rig would write it: angles, torques, derivatives, the reference,
-// from the rigid leg simulated under a PD + model feedforward controller (ident::simulateClosedLoop).
+// from the rigid leg simulated along the multisine under a PD + model feedforward controller
+// (tests/support/closed_loop_multisine.hpp, ident::simulateClosedLoop), 6 s at 1 kHz.
 std::string writeClosedLoopRecord(const std::string& name, const ident::ControllerModel& ctl) {
-  const Eigen::Index n = 6001;
-  Eigen::VectorXd t(n);
-  Eigen::MatrixX2d q_ref(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double s = 1e-3 * static_cast<double>(i);
-    t[i] = s;
-    q_ref.row(i) << -0.5 + 0.4 * std::sin(2 * M_PI * 0.5 * s) + 0.1 * std::sin(2 * M_PI * 1.3 * s),
-        1.0 + 0.5 * std::sin(2 * M_PI * 0.7 * s + 0.4) + 0.1 * std::sin(2 * M_PI * 1.9 * s);
-  }
-  const ident::ClosedLoopRun run = ident::simulateClosedLoop(ident::toParamVector(ident::defaultLeg()), {0.45, 9.81}, ctl,
-                                                             ident::referenceFromAngles(t, q_ref));
-  EXPECT_TRUE(run.ok) << run.message;
-  ident::Dataset d;
+  const test::ClosedLoopMultisine m = test::closedLoopMultisine(6001, ctl);
+  EXPECT_TRUE(m.run.ok) << m.run.message;
+  ident::Dataset d = test::measuredMultisine(m, {}, true);
   d.comments = {" thigh_length_m: 0.45", " gravity_mps2: 9.81"};
-  d.t_s = t;
-  d.q_rad = run.states.q_rad;
-  d.tau_Nm = run.states.tau_Nm;
-  d.qd_radps = run.states.qd_radps;
-  d.qdd_radps2 = run.states.qdd_radps2;
   d.extra_names = {"q_hip_ref", "q_knee_ref"};
-  d.extra = q_ref;
+  d.extra = m.reference.q_rad;
   const std::string path = ::testing::TempDir() + "/" + name;
   ident::writeDatasetCsv(d, path);
   return path;

@@ -3,6 +3,7 @@
 // inverse dynamics, and clear failures for models that cannot be simulated.
 #include "exoid/ident/leg/closed_loop.hpp"
 #include "test_support.hpp"
+#include "../support/closed_loop_multisine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -127,6 +128,23 @@ TEST(ClosedLoop, ReferenceFromAnglesDifferentiatesToFourthOrder) {
   const Eigen::Index n = r.size();
   EXPECT_LT((r.qd_radps - exact.qd_radps).middleRows(4, n - 8).cwiseAbs().maxCoeff(), 1e-8);
   EXPECT_LT((r.qdd_radps2 - exact.qdd_radps2).middleRows(4, n - 8).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+// The shared closed-loop multisine record (tests/support, also the IDIM-IV benchmark's): the hip
+// held where the knee-only record says, the logged angles exactly the run's without noise, and
+// the same seed the same bytes, another seed other noise.
+TEST(ClosedLoop, TheSharedMultisineRecordIsHeldWhereItSaysAndSeeded) {
+  const test::ClosedLoopMultisine knee = test::closedLoopMultisine(2001, test::rigController(true));
+  ASSERT_TRUE(knee.run.ok) << knee.run.message;
+  EXPECT_EQ((knee.run.states.q_rad.col(0).array() != test::kMultisineHipHold_rad).count(), 0);
+  const test::ClosedLoopMultisine both = test::closedLoopMultisine(2001, test::rigController(false));
+  ASSERT_TRUE(both.run.ok) << both.run.message;
+  EXPECT_EQ(test::measuredMultisine(both, {}, false).q_rad, both.run.states.q_rad);
+  const Dataset a = test::measuredMultisine(both, {1e-4, 0.5, 7}, true), b = test::measuredMultisine(both, {1e-4, 0.5, 7}, true);
+  EXPECT_EQ(a.q_rad, b.q_rad);
+  EXPECT_EQ(a.tau_Nm, b.tau_Nm);
+  EXPECT_NE(test::measuredMultisine(both, {1e-4, 0.5, 8}, true).tau_Nm, a.tau_Nm);
+  EXPECT_EQ(*a.qdd_radps2, both.run.states.qdd_radps2);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "test_support.hpp"
+#include "../support/closed_loop_multisine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -89,58 +90,20 @@ TEST(IterateInstrumentalVariables, StopsWhenTheStepIsBelowTheStandardErrorAndRep
   EXPECT_NE(failed.summary.message.find("cannot be simulated"), std::string::npos);
 }
 
-// A closed-loop record of the default leg: the measured side simulated with the true parameters
-// under the controller, recorded at 1 kHz with optional encoder and torque noise.
-ControllerModel rigController(bool hip_locked) {
-  ControllerModel ctl;
-  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
-  ctl.pid.ki_Nm_per_rad_s << 6900.0, 1200.0;
-  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
-  ctl.pid.derivative_cutoff_hz = 100.0;
-  ctl.locked = {hip_locked, false};
-  return ctl;
-}
-
 SignalOptions parallel() {
   SignalOptions o;
   o.processing = Processing::kParallel;
   return o;
 }
 
+// The closed-loop multisine record of the default leg (tests/support/closed_loop_multisine.hpp):
+// the measured side simulated with the true parameters under the rig's controller, 8 s at 1 kHz,
+// with optional encoder and torque noise.
 ClosedLoopRecord closedLoopRecord(bool hip_locked, double noise_q_rad, double noise_tau_Nm, std::uint64_t seed,
                                   bool recorded_derivatives) {
-  const Eigen::Index n = 8001;
-  Eigen::VectorXd t(n);
-  Eigen::MatrixX2d q_ref(n, 2);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double s = 1e-3 * static_cast<double>(i);
-    q_ref.row(i) << (hip_locked ? -0.3 : -0.5 + 0.4 * std::sin(2 * M_PI * 0.5 * s) + 0.1 * std::sin(2 * M_PI * 1.3 * s)),
-        1.0 + 0.5 * std::sin(2 * M_PI * 0.7 * s + 0.4) + 0.1 * std::sin(2 * M_PI * 1.9 * s);
-    t[i] = s;
-  }
-  ClosedLoopRecord r;
-  r.reference = referenceFromAngles(t, q_ref);
-  r.controller = rigController(hip_locked);
-  const ClosedLoopRun run = simulateClosedLoop(toParamVector(defaultLeg()), kC, r.controller, r.reference);
-  EXPECT_TRUE(run.ok) << run.message;
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> n01;
-  Dataset d;
-  d.t_s = t;
-  d.q_rad = run.states.q_rad;
-  d.tau_Nm = run.states.tau_Nm;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (int j = 0; j < 2; ++j) {
-      d.q_rad(i, j) += noise_q_rad * n01(rng);
-      d.tau_Nm(i, j) += noise_tau_Nm * n01(rng);
-    }
-  }
-  if (recorded_derivatives) {
-    d.qd_radps = run.states.qd_radps;
-    d.qdd_radps2 = run.states.qdd_radps2;
-  }
-  r.measured = processRecord(d, kC, parallel());
-  return r;
+  const test::ClosedLoopMultisine m = test::closedLoopMultisine(8001, test::rigController(hip_locked));
+  EXPECT_TRUE(m.run.ok) << m.run.message;
+  return test::closedLoopRecordOf(m, test::measuredMultisine(m, {noise_q_rad, noise_tau_Nm, seed}, recorded_derivatives));
 }
 
 TEST(IdimIv, IsExactOnExactClosedLoopRecords) {
