@@ -119,7 +119,8 @@ ChildRun runExoidIdentify(const std::string& log) {
   const auto t0 = std::chrono::steady_clock::now();
   const pid_t pid = fork();
   if (pid == 0) {
-    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stdout);  // the report, and the warnings a synthetic log earns
+    std::freopen("/dev/null", "w", stderr);
     execl(EXOID_BINARY, EXOID_BINARY, "identify", "--data", log.c_str(), "--method", "ls", static_cast<char*>(nullptr));
     _exit(127);
   }

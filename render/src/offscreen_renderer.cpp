@@ -24,6 +24,14 @@ void copyText(char* dst, std::size_t cap, const std::string& s) {
   dst[n] = '\0';
 }
 
+// Rows of text in the overlay (its longer column) at mjr_overlay's line pitch, 5/4 of the font's
+// character height (measured: 23 px a line for charHeight 18 at 640x480), and one more row of
+// margin.
+int textBandHeight_px(const Overlay& o, int char_height_px) {
+  const auto lines = [](const std::string& t) { return t.empty() ? 0 : 1 + static_cast<int>(std::count(t.begin(), t.end(), '\n')); };
+  return (std::max(lines(o.text_left), lines(o.text_right)) + 1) * char_height_px * 5 / 4;
+}
+
 int fontScaleFor(int height) {
   if (height <= 560) return mjFONTSCALE_100;
   if (height <= 900) return mjFONTSCALE_150;
@@ -151,11 +159,16 @@ const Image& OffscreenRenderer::render(const mjModel* m, mjData* d, const Overla
   s.makeCurrent();
   mjr_setBuffer(mjFB_OFFSCREEN, &s.context);
   const mjrRect viewport{0, 0, s.width, s.height};
+  // The overlay's text gets a band of its own across the top, and the scene the rest: text drawn
+  // over the scene would hide the leg wherever the motion takes it.
+  const bool text = overlay && (!overlay->text_left.empty() || !overlay->text_right.empty());
+  const int band = text ? std::min(s.height / 2, textBandHeight_px(*overlay, s.context.charHeight)) : 0;
   mjv_updateScene(m, d, &s.option, nullptr, &s.camera, mjCAT_ALL, &s.scene);
-  mjr_render(viewport, &s.scene, &s.context);
+  mjr_render(mjrRect{0, 0, s.width, s.height - band}, &s.scene, &s.context);
 
   if (overlay) {
-    if (!overlay->text_left.empty() || !overlay->text_right.empty()) {
+    if (text) {
+      mjr_rectangle(mjrRect{0, s.height - band, s.width, band}, 0.05f, 0.06f, 0.08f, 1.0f);
       mjr_overlay(mjFONT_NORMAL, mjGRID_TOPRIGHT, viewport, overlay->text_left.c_str(), overlay->text_right.c_str(),
                   &s.context);
     }

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -144,6 +145,32 @@ TEST(Clip, FramesAreNotBlankAndChangeWhileTheLegMoves) {
   }
   // 30 deg at 1 Hz: |dq| per 1/30 s frame exceeds 2 deg for most of the cycle.
   EXPECT_GT(moving_pairs, 30);
+}
+
+// The overlay's text has a band of its own across the top: no part of the leg is drawn under it,
+// wherever the motion takes the leg (the rig's colours are saturated, the text and band grey).
+TEST(Clip, TheOverlaysTextNeverCoversTheLeg) {
+  ClipOptions o;  // the default 640 x 480 of reproduce's still and clip
+  const Track& tr = track2s();
+  TrackRenderer source(tr, o);
+  const auto saturation = [](const Image& im, int x, int y) {
+    const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(im.width) + static_cast<std::size_t>(x));
+    const int r = im.rgb[i], g = im.rgb[i + 1], b = im.rgb[i + 2];
+    return std::max({r, g, b}) - std::min({r, g, b});
+  };
+  for (int k = 0; k < source.frameCount(); k += 6) {
+    const Image& im = source.frame(k);
+    // Seven text lines at 23 px: the band's 180 rows hold them; nothing coloured there.
+    int coloured_in_band = 0, coloured_below = 0;
+    for (int y = 0; y < im.height; ++y) {
+      for (int x = 0; x < im.width / 2; ++x) {  // the left half: the leg's side of the frame
+        const bool coloured = saturation(im, x, y) > 40;
+        (y < 170 ? coloured_in_band : coloured_below) += coloured ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(coloured_in_band, 0) << "frame " << k;
+    EXPECT_GT(coloured_below, 500) << "frame " << k << ": the leg must be drawn below the band";
+  }
 }
 
 // Writes a still for the cross-process test when asked to (skipped in normal runs).
