@@ -42,3 +42,14 @@ execute_process(COMMAND git -C ${CMAKE_SOURCE_DIR} describe --always --dirty --a
 if(NOT EXOID_GIT_REVISION)
   set(EXOID_GIT_REVISION "unknown")
 endif()
+
+# Heavy third-party headers (Eigen, CLI11, nlohmann_json, gtest) parsed, and their templates
+# instantiated, once per target instead of once per source. Off by default: a tree whose objects
+# ccache shares with another configuration (.ci/run's Release and no-MuJoCo builds) must compile
+# each source on its own; .ci/run turns it on for its throwaway sanitizer tree.
+option(EXOID_PRECOMPILE_HEADERS "Precompile the heavy third-party headers once per target (for throwaway build trees)" OFF)
+function(exoid_precompile_headers target)
+  if(EXOID_PRECOMPILE_HEADERS)
+    target_precompile_headers(${target} PRIVATE ${ARGN})
+  endif()
+endfunction()

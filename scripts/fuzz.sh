@@ -1,22 +1,42 @@
 #!/usr/bin/env bash
-# Builds exoid's libFuzzer targets (fuzz/) with clang, ASan and UBSan in build-fuzz/ and runs each
-# for SECONDS (default 60) from its seed corpus (fuzz/corpus/<target>/), new inputs going to
-# build-fuzz/corpus/. Installs clang and its fuzzer runtime when missing (scripts/deps.sh --with-fuzz).
-# A crash stops the run with the reproducer in build-fuzz/ and a non-zero exit.
+# Builds exoid's libFuzzer targets (fuzz/) with clang, ASan and UBSan and runs each for SECONDS
+# (default 60) from its seed corpus (fuzz/corpus/<target>/), new inputs going to <build>/corpus/.
+# The three targets run at the same time, one process each. Installs clang and its fuzzer runtime
+# when missing (scripts/deps.sh --with-fuzz). A crash fails the run, with the reproducer in the
+# build folder and a non-zero exit.
 #   scripts/fuzz.sh [SECONDS]
+# FUZZ_BUILD_DIR (default build-fuzz): a folder already configured with -DEXOID_FUZZ=ON (as .ci/run's
+# sanitizer tree is) is reused as it is, so its libraries are not compiled a second time; any other
+# is configured for fuzzing alone (no MuJoCo, tests or benchmarks).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+root=$PWD
 seconds=${1:-60}
+dir=${FUZZ_BUILD_DIR:-build-fuzz}
+targets=(dataset_fuzz log_profile_fuzz controller_json_fuzz)
 scripts/deps.sh --with-fuzz
-# libFuzzer's recommended flags (-O1, line tables only): a quarter of -O2 -g's compile time.
-cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
-  -DEXOID_FUZZ=ON -DEXOID_WITH_MUJOCO=OFF -DEXOID_WITH_PYTHON=OFF -DEXOID_BUILD_TESTS=OFF -DEXOID_BUILD_BENCH=OFF > /dev/null
-cmake --build build-fuzz --target dataset_fuzz log_profile_fuzz controller_json_fuzz
-for target in dataset_fuzz log_profile_fuzz controller_json_fuzz; do
-  corpus=build-fuzz/corpus/${target%_fuzz}
-  mkdir -p "$corpus"
-  echo "== $target: ${seconds} s"
-  (cd build-fuzz && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "./fuzz/$target" -max_total_time="$seconds" \
-    -max_len=65536 -print_final_stats=1 "../$corpus" "../fuzz/corpus/${target%_fuzz}" 2>&1 | tail -n 12)
+if ! grep -qs '^EXOID_FUZZ:BOOL=ON' "$dir/CMakeCache.txt"; then
+  # libFuzzer's recommended flags (-O1, line tables only): a quarter of -O2 -g's compile time.
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
+    -DEXOID_FUZZ=ON -DEXOID_WITH_MUJOCO=OFF -DEXOID_WITH_PYTHON=OFF -DEXOID_BUILD_TESTS=OFF -DEXOID_BUILD_BENCH=OFF > /dev/null
+fi
+cmake --build "$dir" --target "${targets[@]}"
+dir=$(cd "$dir" && pwd)
+pids=()
+for target in "${targets[@]}"; do
+  name=${target%_fuzz}
+  mkdir -p "$dir/corpus/$name"
+  (cd "$dir" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "./fuzz/$target" -max_total_time="$seconds" \
+    -max_len=65536 -print_final_stats=1 "corpus/$name" "$root/fuzz/corpus/$name" > "$dir/$target.log" 2>&1) &
+  pids+=($!)
 done
+failed=0
+for i in "${!targets[@]}"; do
+  status=0
+  wait "${pids[$i]}" || status=$?
+  echo "== ${targets[$i]}: ${seconds} s, exit $status"
+  tail -n 12 "$dir/${targets[$i]}.log"
+  [[ $status -eq 0 ]] || failed=1
+done
+exit $failed
