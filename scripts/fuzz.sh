@@ -5,9 +5,9 @@
 # when missing (scripts/deps.sh --with-fuzz). A crash fails the run, with the reproducer in the
 # build folder and a non-zero exit.
 #   scripts/fuzz.sh [SECONDS]
-# FUZZ_BUILD_DIR (default build-fuzz): a folder already configured with -DEXOID_FUZZ=ON (as .ci/run's
-# sanitizer tree is) is reused as it is, so its libraries are not compiled a second time; any other
-# is configured for fuzzing alone (no MuJoCo, tests or benchmarks).
+# FUZZ_BUILD_DIR (default build-fuzz): a folder already configured with -DEXOID_FUZZ=ON is reused as
+# it is; any other is configured for fuzzing alone (no MuJoCo, tests or benchmarks; the heavy
+# headers precompiled: a fuzzing tree is throwaway).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$PWD
@@ -19,7 +19,8 @@ if ! grep -qs '^EXOID_FUZZ:BOOL=ON' "$dir/CMakeCache.txt"; then
   # libFuzzer's recommended flags (-O1, line tables only): a quarter of -O2 -g's compile time.
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" "-DCMAKE_C_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only -DNDEBUG" \
-    -DEXOID_FUZZ=ON -DEXOID_WITH_MUJOCO=OFF -DEXOID_WITH_PYTHON=OFF -DEXOID_BUILD_TESTS=OFF -DEXOID_BUILD_BENCH=OFF > /dev/null
+    -DEXOID_FUZZ=ON -DEXOID_PRECOMPILE_HEADERS=ON -DEXOID_WITH_MUJOCO=OFF -DEXOID_WITH_PYTHON=OFF -DEXOID_BUILD_TESTS=OFF \
+    -DEXOID_BUILD_BENCH=OFF > /dev/null
 fi
 cmake --build "$dir" --target "${targets[@]}"
 dir=$(cd "$dir" && pwd)
