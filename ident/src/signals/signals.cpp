@@ -182,7 +182,9 @@ Eigen::MatrixXd differentiate(const Eigen::MatrixXd& x, double dt_s, Differentia
   return dx;
 }
 
-SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz) {
+namespace {
+
+void validateButterworth(int order, double cutoff_hz, double sample_rate_hz) {
   if (order < 1 || order > kMaxOrder) {
     throw std::invalid_argument("order must be in [1, " + core::toText(kMaxOrder) + "], got " +
                                 core::toText(order));
@@ -195,19 +197,26 @@ SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz)
     throw std::invalid_argument("cutoff_hz must be in (0, " + core::formatNumber(nyquist_hz, 12) + ") Hz, got " +
                                 core::formatNumber(cutoff_hz, 12));
   }
+}
 
-  // scipy.signal.iirfilter: normalise to fs = 2, prewarp, scale the analog prototype (buttap)
-  // to the warped cutoff (lp2lp_zpk) and map each pole with the bilinear transform
-  // (bilinear_zpk): p_z = (4 + p) / (4 - p). All N zeros go to z = -1.
-  const double wn = 2.0 * cutoff_hz / sample_rate_hz;
+struct DigitalZpk {
+  std::vector<Pole> poles;
+  std::vector<double> zeros;
+};
+
+// scipy.signal.iirfilter: normalise to fs = 2, prewarp, scale the analog prototype (buttap)
+// to the warped cutoff (lp2lp_zpk) and map each pole with the bilinear transform
+// (bilinear_zpk): p_z = (4 + p) / (4 - p). All N zeros go to z = -1.
+// Then scipy's zpk2sos(pairing='nearest') after _cplxreal: one pole of each conjugate pair
+// (positive imaginary part) by increasing real part, then the real poles by increasing value.
+// An odd order gets an extra pole and zero at 0, so every section is second order.
+DigitalZpk butterworthZpk(int order, double wn) {
   const double warped = 4.0 * std::tan(kPi * wn / 2.0);
   const auto bilinear = [](Complex p) { return (4.0 + p) / (4.0 - p); };
-
-  // scipy's zpk2sos(pairing='nearest') after _cplxreal: one pole of each conjugate pair
-  // (positive imaginary part) by increasing real part, then the real poles by increasing value.
-  // An odd order gets an extra pole and zero at 0, so every section is second order.
-  std::vector<Pole> p;
-  std::vector<double> z(static_cast<std::size_t>(order), -1.0);
+  DigitalZpk d;
+  std::vector<Pole>& p = d.poles;
+  std::vector<double>& z = d.zeros;
+  z.assign(static_cast<std::size_t>(order), -1.0);
   for (int m = order - 1; m > 0; m -= 2) {
     // buttap's pole -exp(i pi m' / (2N)) for m' = -m, which has a positive imaginary part.
     const double theta = kPi * static_cast<double>(m) / (2.0 * order);
@@ -221,9 +230,14 @@ SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz)
     z.push_back(0.0);
     std::sort(z.begin(), z.end());
   }
+  return d;
+}
 
-  // Pair the pole closest to the unit circle with the nearest zeros, filling the sections from
-  // the last one, so the sections nearest to instability run last.
+// Pair the pole closest to the unit circle with the nearest zeros, filling the sections from
+// the last one, so the sections nearest to instability run last.
+SosFilter pairIntoSections(DigitalZpk d, int order) {
+  std::vector<Pole>& p = d.poles;
+  std::vector<double>& z = d.zeros;
   const Eigen::Index sections = (order + 1) / 2;
   SosFilter f;
   f.sos.resize(sections, 6);
@@ -255,14 +269,25 @@ SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz)
     z.erase(z.begin() + static_cast<std::ptrdiff_t>(j2));
     setSection(f.sos.row(s).data(), z1, z2, p1.value, p2);
   }
+  return f;
+}
 
-  // The gain goes into the first section, chosen so the DC gain prod_s B_s(1) / A_s(1) of the
-  // stored coefficients is 1 (scipy's k differs from it only by rounding).
+// The gain goes into the first section, chosen so the DC gain prod_s B_s(1) / A_s(1) of the
+// stored coefficients is 1 (scipy's k differs from it only by rounding).
+void normaliseDcGain(SosFilter& f) {
   double gain = 1.0;
-  for (Eigen::Index s = 0; s < sections; ++s) {
+  for (Eigen::Index s = 0; s < f.sos.rows(); ++s) {
     gain *= (1.0 + f.sos(s, 4) + f.sos(s, 5)) / (f.sos(s, 0) + f.sos(s, 1) + f.sos(s, 2));
   }
   f.sos.block(0, 0, 1, 3) *= gain;
+}
+
+}  // namespace
+
+SosFilter butterworthLowpass(int order, double cutoff_hz, double sample_rate_hz) {
+  validateButterworth(order, cutoff_hz, sample_rate_hz);
+  SosFilter f = pairIntoSections(butterworthZpk(order, 2.0 * cutoff_hz / sample_rate_hz), order);
+  normaliseDcGain(f);
   return f;
 }
 
