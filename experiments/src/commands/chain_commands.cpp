@@ -183,11 +183,11 @@ void exciteChain(const ChainExciteArgs& a) {
     lim.tau_max_Nm[j] = l.tau_max_Nm;
   }
   const double deg = M_PI / 180.0;
-  lim.q_min_rad = limitOr(a.q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
-  lim.q_max_rad = limitOr(a.q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
-  lim.qd_max_radps = limitOr(a.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
-  lim.qdd_max_radps2 = limitOr(a.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
-  lim.tau_max_Nm = limitOr(a.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
+  lim.q_min_rad = limitOr(a.limits.q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
+  lim.q_max_rad = limitOr(a.limits.q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
+  lim.qd_max_radps = limitOr(a.limits.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
+  lim.qdd_max_radps2 = limitOr(a.limits.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
+  lim.tau_max_Nm = limitOr(a.limits.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
   const ident::ChainExcitationDesign d = ident::designChainExcitation(a.options, model, base, nominal, lim);
   nlohmann::json j;
   j["tool"] = toolJson();

@@ -29,7 +29,7 @@ struct ExciteArgs {
   double duration_s = 10.0, rate_hz = 1000.0, sigma_Nm = 0.5;  // the CRB comparison's footing
   double hip_locked_at_deg = -10.0;
   // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
-  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  LimitOverrides overrides;
   std::string limits = "paper";  ///< "paper" (the envelope of its trajectories) or "urdf"
   std::string urdf = sim::dataPath("models/apal_leg.urdf");
   bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
@@ -82,17 +82,13 @@ void exciteChainModel(const ExciteArgs& args) {
   c.model = args.model;
   c.out = args.out;
   c.options = args.options;
-  c.q_min_deg = args.q_min_deg;
-  c.q_max_deg = args.q_max_deg;
-  c.qd_max = args.qd_max;
-  c.qdd_max = args.qdd_max;
-  c.tau_max = args.tau_max;
+  c.limits = args.overrides;
   c.armature = args.armature;
   exciteChain(c);
 }
 
 bool limitsOverridden(const ExciteArgs& a) {
-  return !(a.q_min_deg.empty() && a.q_max_deg.empty() && a.qd_max.empty() && a.qdd_max.empty() && a.tau_max.empty());
+  return !a.overrides.empty();
 }
 
 // The design's limits: the paper's envelope or the URDF's, then the command line's overrides.
@@ -111,11 +107,11 @@ ident::ExcitationLimits designLimits(const ExciteArgs& a, const ident::LegConsta
       limits.qdd_max_radps2[j] = 1e6;
     }
   }
-  overrideLimit(limits.q_min_rad, a.q_min_deg, M_PI / 180.0, "--q-min-deg");
-  overrideLimit(limits.q_max_rad, a.q_max_deg, M_PI / 180.0, "--q-max-deg");
-  overrideLimit(limits.qd_max_radps, a.qd_max, 1.0, "--qd-max");
-  overrideLimit(limits.qdd_max_radps2, a.qdd_max, 1.0, "--qdd-max");
-  overrideLimit(limits.tau_max_Nm, a.tau_max, 1.0, "--tau-max");
+  overrideLimit(limits.q_min_rad, a.overrides.q_min_deg, M_PI / 180.0, "--q-min-deg");
+  overrideLimit(limits.q_max_rad, a.overrides.q_max_deg, M_PI / 180.0, "--q-max-deg");
+  overrideLimit(limits.qd_max_radps, a.overrides.qd_max, 1.0, "--qd-max");
+  overrideLimit(limits.qdd_max_radps2, a.overrides.qdd_max, 1.0, "--qdd-max");
+  overrideLimit(limits.tau_max_Nm, a.overrides.tau_max, 1.0, "--tau-max");
   limits.validate();
   return limits;
 }
@@ -282,11 +278,11 @@ void addExciteCommand(CLI::App& app) {
                   "rig's joint range, speed and effort from --urdf")
       ->check(CLI::IsMember({"paper", "urdf"}))->capture_default_str();
   cmd->add_option("--urdf", a->urdf, "URDF with the hip and knee <limit>s (--limits urdf)")->check(CLI::ExistingFile)->capture_default_str();
-  cmd->add_option("--q-min-deg", a->q_min_deg, "Override the lower joint limits, hip,knee in deg")->delimiter(',');
-  cmd->add_option("--q-max-deg", a->q_max_deg, "Override the upper joint limits, hip,knee in deg")->delimiter(',');
-  cmd->add_option("--qd-max", a->qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');
-  cmd->add_option("--qdd-max", a->qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
-  cmd->add_option("--tau-max", a->tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
+  cmd->add_option("--q-min-deg", a->overrides.q_min_deg, "Override the lower joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--q-max-deg", a->overrides.q_max_deg, "Override the upper joint limits, hip,knee in deg")->delimiter(',');
+  cmd->add_option("--qd-max", a->overrides.qd_max, "Override the speed limits, hip,knee in rad/s")->delimiter(',');
+  cmd->add_option("--qdd-max", a->overrides.qdd_max, "Override the acceleration limits, hip,knee in rad/s^2")->delimiter(',');
+  cmd->add_option("--tau-max", a->overrides.tau_max, "Override the torque limits (nominal model), hip,knee in N m")->delimiter(',');
   cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();

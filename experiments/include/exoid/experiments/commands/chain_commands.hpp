@@ -41,12 +41,19 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
 /// the form identify --truth reads.
 void truthOfChain(const std::string& model_path, const std::string& json_out);
 
+/// `exoid excite`'s overrides of the limits a design respects (--q-min-deg ... --tau-max), one
+/// value per joint; an empty one keeps the model's (or the envelope's) limit.
+struct LimitOverrides {
+  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  bool empty() const { return q_min_deg.empty() && q_max_deg.empty() && qd_max.empty() && qdd_max.empty() && tau_max.empty(); }
+};
+
 struct ChainExciteArgs {
   std::string model, out;
   ident::ExcitationOptions options;
-  /// Overrides of the model's limits, one value per joint (empty = the model's; a joint the
-  /// model leaves unlimited gets 3 rad/s, 30 rad/s^2 and no torque limit).
-  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
+  /// Overrides of the model's limits (a joint the model leaves unlimited gets 3 rad/s, 30 rad/s^2
+  /// and no torque limit).
+  LimitOverrides limits;
   std::vector<std::string> armature;  ///< joints (or "all") given an armature parameter the file lacks
 };
 /// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
