@@ -25,13 +25,9 @@ if(EXOID_NATIVE)
   add_compile_options(${EXOID_NATIVE_FLAGS})
 endif()
 
-if(EXOID_FUZZ)
-  # Coverage for libFuzzer in every library, with ASan + UBSan; the fuzz targets add the driver.
-  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
-  add_link_options(-fsanitize=address,undefined)
-endif()
-
-if(EXOID_SANITIZE)
+# ASan + UBSan in every library; a fuzzing tree has them too (its targets add libFuzzer's coverage to
+# the parsers they drive only: fuzz/CMakeLists.txt), so one tree can serve both.
+if(EXOID_SANITIZE OR EXOID_FUZZ)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=address,undefined)
 endif()

@@ -17,15 +17,24 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586;
 }
 
+namespace {
+// Harmonic k (1-based) at the phase whose cosine and sine are c, s: the one expression at() and the
+// design's sampled period share, so both give the same bits.
+void addHarmonic(const ChainTrajectory& t, int k, double w, double c, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd,
+                 Eigen::VectorXd& qdd) {
+  q += (t.a_rad.row(k - 1) * c + t.b_rad.row(k - 1) * s).transpose();
+  qd += (w * (-t.a_rad.row(k - 1) * s + t.b_rad.row(k - 1) * c)).transpose();
+  qdd += (-w * w * (t.a_rad.row(k - 1) * c + t.b_rad.row(k - 1) * s)).transpose();
+}
+}  // namespace
+
 void ChainTrajectory::at(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
   q = offset_rad;
   qd.setZero(dof());
   qdd.setZero(dof());
   for (int k = 1; k <= harmonics(); ++k) {
-    const double w = kTwoPi * f0_hz * k, c = std::cos(w * t_s), s = std::sin(w * t_s);
-    q += (a_rad.row(k - 1) * c + b_rad.row(k - 1) * s).transpose();
-    qd += (w * (-a_rad.row(k - 1) * s + b_rad.row(k - 1) * c)).transpose();
-    qdd += (-w * w * (a_rad.row(k - 1) * c + b_rad.row(k - 1) * s)).transpose();
+    const double w = kTwoPi * f0_hz * k;
+    addHarmonic(*this, k, w, std::cos(w * t_s), std::sin(w * t_s), q, qd, qdd);
   }
 }
 
@@ -49,9 +58,42 @@ void ChainExcitationLimits::validate(int dof) const {
   }
 }
 
-ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
-                                          const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, int samples) {
+namespace {
+
+// One period's sample times and each harmonic's cosine and sine there, computed once for the
+// thousands of trajectories a design rates (the trigonometry was a tenth of its time).
+struct PeriodGrid {
+  double f0_hz = 0.0;
+  Eigen::VectorXd w;     ///< per harmonic, rad/s
+  Eigen::MatrixXd c, s;  ///< samples x harmonics
+  PeriodGrid(double f0, int harmonics, int samples) : f0_hz(f0), w(harmonics), c(samples, harmonics), s(samples, harmonics) {
+    for (int k = 1; k <= harmonics; ++k) w[k - 1] = kTwoPi * f0 * k;
+    for (int i = 0; i < samples; ++i) {
+      const double t_s = static_cast<double>(i) / (f0 * samples);
+      for (int k = 1; k <= harmonics; ++k) {
+        c(i, k - 1) = std::cos(w[k - 1] * t_s);
+        s(i, k - 1) = std::sin(w[k - 1] * t_s);
+      }
+    }
+  }
+  int samples() const { return static_cast<int>(c.rows()); }
+  void at(const ChainTrajectory& t, int i, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
+    q = t.offset_rad;
+    qd.setZero(t.dof());
+    qdd.setZero(t.dof());
+    for (int k = 1; k <= t.harmonics(); ++k) addHarmonic(t, k, w[k - 1], c(i, k - 1), s(i, k - 1), q, qd, qdd);
+  }
+};
+
+// What a rating needs: the limits alone (a feasibility check), the CRB criterion, or everything
+// (the condition number too: a QR and an SVD the CRB criterion does not use).
+enum class Rating { kLimits, kCrb, kFull };
+
+ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+                                 const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, const PeriodGrid& grid,
+                                 Rating rating) {
   const int dof = model.dof();
+  const int samples = grid.samples();
   const Eigen::Index p = model.standardParameterCount();
   Eigen::MatrixXd W(static_cast<Eigen::Index>(samples) * dof, p);
   ChainRegressorWorkspace work;
@@ -66,7 +108,7 @@ ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BasePar
     }
   };
   for (int i = 0; i < samples; ++i) {
-    t.at(static_cast<double>(i) / (t.f0_hz * samples), q, qd, qdd);
+    grid.at(t, i, q, qd, qdd);
     chainRegressorInto(model, q, qd, qdd, ChainBaseMotion::still(model), work, W.middleRows(static_cast<Eigen::Index>(i) * dof, dof));
     const Eigen::VectorXd tau = W.middleRows(static_cast<Eigen::Index>(i) * dof, dof) * phi_nominal;
     for (int j = 0; j < dof; ++j) {
@@ -78,20 +120,29 @@ ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BasePar
       violate(tau[j], limits.tau_max_Nm[j], "tau", j);
     }
   }
+  if (rating == Rating::kLimits) return s;
   Eigen::MatrixXd Wb = base.baseRegressor(W);
   const Eigen::VectorXd norms = Wb.colwise().norm().transpose();
-  s.condition_number = scaledConditionNumber(Wb);
+  if (rating == Rating::kFull) s.condition_number = scaledConditionNumber(Wb);
   // Cramer-Rao stds with unit noise per row: sqrt of diag((Wb' Wb)^-1), through the scaled
   // columns' Cholesky (their Gram matrix is well scaled); a singular one scores +infinity.
   for (Eigen::Index c = 0; c < Wb.cols(); ++c) Wb.col(c) /= std::max(norms[c], 1e-300);
   Eigen::LLT<Eigen::MatrixXd> llt(Wb.transpose() * Wb);
-  if (llt.info() != Eigen::Success || !std::isfinite(s.condition_number)) {
+  if (llt.info() != Eigen::Success || (rating == Rating::kFull && !std::isfinite(s.condition_number))) {
     s.sum_log_std = std::numeric_limits<double>::infinity();
     return s;
   }
   const Eigen::MatrixXd inv = llt.solve(Eigen::MatrixXd::Identity(Wb.cols(), Wb.cols()));
   for (Eigen::Index c = 0; c < Wb.cols(); ++c) s.sum_log_std += 0.5 * std::log(inv(c, c)) - std::log(std::max(norms[c], 1e-300));
+  if (!std::isfinite(s.sum_log_std)) s.sum_log_std = std::numeric_limits<double>::infinity();  // numerically singular
   return s;
+}
+
+}  // namespace
+
+ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+                                          const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, int samples) {
+  return scoreOnGrid(model, base, t, phi_nominal, limits, PeriodGrid(t.f0_hz, t.harmonics(), samples), Rating::kFull);
 }
 
 namespace {
@@ -123,9 +174,13 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
   if (o.hip_locked) throw std::invalid_argument("chain excitation: no joint is locked in a chain's design (hip_locked must be false)");
   if (phi_nominal.size() != model.standardParameterCount()) throw std::invalid_argument("chain excitation: phi_nominal has the wrong size");
   const int per_joint = 2 * o.harmonics - 1, dim = dof * per_joint;
-  const auto score = [&](const ChainTrajectory& t, int samples) { return scoreChainExcitation(model, base, t, phi_nominal, limits, samples); };
+  const PeriodGrid coarse(o.f0_hz, o.harmonics, o.samples), fine(o.f0_hz, o.harmonics, 1000);
+  const auto score = [&](const ChainTrajectory& t, const PeriodGrid& grid, Rating rating) {
+    return scoreOnGrid(model, base, t, phi_nominal, limits, grid, rating);
+  };
+  const Rating criterion = o.criterion == ExcitationCriterion::kCrb ? Rating::kCrb : Rating::kFull;
   const auto objective = [&](const Eigen::VectorXd& p) {
-    const ChainExcitationScore s = score(fromFree(o, dof, p), o.samples);
+    const ChainExcitationScore s = score(fromFree(o, dof, p), coarse, criterion);
     const double f = o.criterion == ExcitationCriterion::kCrb ? s.sum_log_std : std::log(s.condition_number);
     return f + 1e5 * s.worst_violation * s.worst_violation;
   };
@@ -145,7 +200,7 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
         }
         return p;
       },
-      objective, [&](const Eigen::VectorXd& p) { return score(fromFree(o, dof, p), o.samples).worst_violation == 0.0; });
+      objective, [&](const Eigen::VectorXd& p) { return score(fromFree(o, dof, p), coarse, Rating::kLimits).worst_violation == 0.0; });
   d.evaluations = found.evaluations;
   d.feasible_restarts = found.feasible_restarts;
   ChainTrajectory t = fromFree(o, dof, found.x);
@@ -156,11 +211,11 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
     r.b_rad *= s;
     return r;
   };
-  if (score(t, 1000).worst_violation > 0.0) {
-    t = shrunk(largestFeasibleScale([&](double s) { return !(score(shrunk(s), 1000).worst_violation > 0.0); }));
+  if (score(t, fine, Rating::kLimits).worst_violation > 0.0) {
+    t = shrunk(largestFeasibleScale([&](double s) { return !(score(shrunk(s), fine, Rating::kLimits).worst_violation > 0.0); }));
   }
   d.trajectory = t;
-  d.score = score(t, 1000);
+  d.score = score(t, fine, Rating::kFull);
   return d;
 }
 
