@@ -20,11 +20,17 @@ constexpr double kTwoPi = 6.283185307179586;
 namespace {
 // Harmonic k (1-based) at the phase whose cosine and sine are c, s: the one expression at() and the
 // design's sampled period share, so both give the same bits.
+// Scalar loops (the operations and their order of the row expressions they replaced, so the same
+// bits): the design calls this millions of times, and a row of a column-major matrix is strided.
 void addHarmonic(const ChainTrajectory& t, int k, double w, double c, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd,
                  Eigen::VectorXd& qdd) {
-  q += (t.a_rad.row(k - 1) * c + t.b_rad.row(k - 1) * s).transpose();
-  qd += (w * (-t.a_rad.row(k - 1) * s + t.b_rad.row(k - 1) * c)).transpose();
-  qdd += (-w * w * (t.a_rad.row(k - 1) * c + t.b_rad.row(k - 1) * s)).transpose();
+  const double minus_w_squared = -w * w;
+  for (Eigen::Index j = 0; j < q.size(); ++j) {
+    const double a = t.a_rad(k - 1, j), b = t.b_rad(k - 1, j);
+    q[j] += a * c + b * s;
+    qd[j] += w * (-a * s + b * c);
+    qdd[j] += minus_w_squared * (a * c + b * s);
+  }
 }
 }  // namespace
 
@@ -98,6 +104,7 @@ ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& 
   Eigen::MatrixXd W(static_cast<Eigen::Index>(samples) * dof, p);
   ChainRegressorWorkspace work;
   Eigen::VectorXd q, qd, qdd;
+  Eigen::VectorXd tau(dof);
   ChainExcitationScore s;
   const std::vector<std::string> names = model.jointNames();
   const auto violate = [&](double value, double limit, const char* what, int j) {
@@ -107,10 +114,11 @@ ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& 
       s.worst_violation_name = std::string(what) + "[" + names[static_cast<std::size_t>(j)] + "]";
     }
   };
+  const ChainBaseMotion still = ChainBaseMotion::still(model);
   for (int i = 0; i < samples; ++i) {
     grid.at(t, i, q, qd, qdd);
-    chainRegressorInto(model, q, qd, qdd, ChainBaseMotion::still(model), work, W.middleRows(static_cast<Eigen::Index>(i) * dof, dof));
-    const Eigen::VectorXd tau = W.middleRows(static_cast<Eigen::Index>(i) * dof, dof) * phi_nominal;
+    chainRegressorInto(model, q, qd, qdd, still, work, W.middleRows(static_cast<Eigen::Index>(i) * dof, dof));
+    tau.noalias() = W.middleRows(static_cast<Eigen::Index>(i) * dof, dof) * phi_nominal;
     for (int j = 0; j < dof; ++j) {
       const double span = std::isfinite(limits.q_max_rad[j] - limits.q_min_rad[j]) ? limits.q_max_rad[j] - limits.q_min_rad[j] : 1.0;
       if (q[j] > limits.q_max_rad[j]) violate(span + (q[j] - limits.q_max_rad[j]), span, "q_max", j);
