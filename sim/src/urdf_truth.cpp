@@ -17,13 +17,13 @@ Eigen::Matrix3d rot(const urdf::Rotation& r) {
 }
 Eigen::Vector3d vec(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
 
-struct Sums {
+struct LinkSums {
   double mass = 0, Mx = 0, My = 0, J = 0;
 };
 
 // Adds `link` (pose R, p in the joint frame) and the links fixed below it.
 void addLink(const urdf::ModelInterface& model, const urdf::Link& link, const Eigen::Matrix3d& R,
-             const Eigen::Vector3d& p, Sums& s) {
+             const Eigen::Vector3d& p, LinkSums& s) {
   if (link.inertial) {
     const urdf::Inertial& in = *link.inertial;
     Eigen::Matrix3d I;
@@ -80,7 +80,7 @@ Truth truthFromUrdf(const std::string& path) {
     throw std::invalid_argument("'" + path + "': the knee joint origin must be (0, y, -Lt) in the thigh frame");
   }
   const double Lt = -kp.z;
-  Sums t, s;
+  LinkSums t, s;
   // Thigh alone (the knee joint is not fixed, so the shank is not included).
   addLink(*model, *thigh, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), t);
   addLink(*model, *shank, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), s);

@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
+fs::path freshTemporaryDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("exoid_tmpfiles_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
@@ -25,7 +25,7 @@ fs::path freshDir(const std::string& name) {
 }
 
 TEST(TemporaryFiles, SigtermRemovesTheGuardedTemporaryAndStillTerminates) {
-  const fs::path d = freshDir("sigterm");
+  const fs::path d = freshTemporaryDir("sigterm");
   const std::string tmp = temporaryPathFor((d / "clip.mp4").string());
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -43,7 +43,7 @@ TEST(TemporaryFiles, SigtermRemovesTheGuardedTemporaryAndStillTerminates) {
 }
 
 TEST(TemporaryFiles, AReleasedGuardLeavesTheFileAlone) {
-  const fs::path d = freshDir("released");
+  const fs::path d = freshTemporaryDir("released");
   const std::string file = (d / "kept").string();
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -59,7 +59,7 @@ TEST(TemporaryFiles, AReleasedGuardLeavesTheFileAlone) {
 }
 
 TEST(TemporaryFiles, TheNextWriterRemovesTemporariesOfDeadProcessesOnly) {
-  const fs::path d = freshDir("stale");
+  const fs::path d = freshTemporaryDir("stale");
   const std::string out = (d / "k.mp4").string();
   const pid_t dead = ::fork();
   if (dead == 0) ::_exit(0);

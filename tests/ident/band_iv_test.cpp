@@ -15,12 +15,11 @@
 namespace exoid::ident {
 namespace {
 
-SignalOptions tenHertz() { return test::tenHertzParallel(); }
 
 TEST(BandIv, ExactOnExactData) {
   const Dataset d = test::multisineRecord(10.0, true, false);
   const double fm = motionBandwidth(d);
-  const Estimate e = solveBandIv({bandIvRows(d, LegConstants{}, tenHertz(), fm)});
+  const Estimate e = solveBandIv({bandIvRows(d, LegConstants{}, test::tenHertzParallel(), fm)});
   ASSERT_EQ(e.summary.status, Status::kConverged) << e.summary.message;
   const ParamVector truth = toParamVector(defaultLeg());
   // From angles alone, as least squares: 1e-6 relative (parallel_processing_test).
@@ -46,7 +45,7 @@ TEST(BandIv, UnbiasedUnderEncoderNoiseWhereLeastSquaresIsNot) {
     Dataset d = exact;
     d.q_rad += Eigen::MatrixX2d::NullaryExpr(d.size(), 2, [&] { return angle(gen); });
     d.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d.size(), 2, [&] { return torque(gen); });
-    const BandIvRows rows = bandIvRows(d, LegConstants{}, tenHertz(), fm);
+    const BandIvRows rows = bandIvRows(d, LegConstants{}, test::tenHertzParallel(), fm);
     ls.col(k) = solveLeastSquares(rows.H, rows.y).x - truth;
     iv.col(k) = solveBandIv({rows}).x - truth;
   }
@@ -70,10 +69,10 @@ TEST(BandIv, UnbiasedUnderEncoderNoiseWhereLeastSquaresIsNot) {
 
 TEST(BandIv, RefusesWhatItCannotDo) {
   const Dataset d = test::multisineRecord(10.0, true, false);
-  SignalOptions paper = tenHertz();
+  SignalOptions paper = test::tenHertzParallel();
   paper.processing = Processing::kPaper;
   test::expectInvalidArgumentMentioning([&] { bandIvRows(d, LegConstants{}, paper, 2.0); }, "parallel");
-  test::expectInvalidArgumentMentioning([&] { bandIvRows(d, LegConstants{}, tenHertz(), 600.0); }, "cutoff");
+  test::expectInvalidArgumentMentioning([&] { bandIvRows(d, LegConstants{}, test::tenHertzParallel(), 600.0); }, "cutoff");
   test::expectInvalidArgumentMentioning([&] { solveBandIv({}); }, "no records");
 }
 

@@ -21,7 +21,6 @@ using testing::exactChainDataset;
 using testing::legChain;
 using testing::randomPhysicalParameters;
 
-SignalOptions tenHertz() { return test::tenHertzParallel(); }
 
 struct Leg {
   ChainModel model = legChain();
@@ -39,7 +38,7 @@ struct Leg {
 TEST(ChainBandIv, ExactOnExactDataInTheBandChosenFromTheRecord) {
   const Leg leg;
   const Dataset d = exactChainDataset(leg.model, leg.phi, 10.0, 5);
-  SignalOptions o = tenHertz();
+  SignalOptions o = test::tenHertzParallel();
   o.cutoff_from_data = o.derivative_cutoff_from_data = true;  // identify's default: the band chosen once for rows and instruments
   const Estimate e = solveBandIv({chainBandIvRows(d, leg.model, leg.base, o, motionBandwidth(d))});
   ASSERT_EQ(e.summary.status, Status::kConverged) << e.summary.message;
@@ -68,7 +67,7 @@ TEST(ChainBandIv, UnbiasedUnderEncoderNoiseWhereLeastSquaresIsNot) {
     Dataset d = exact;
     d.q_rad += Eigen::MatrixXd::NullaryExpr(d.size(), d.dof(), [&] { return angle(gen); });
     d.tau_Nm += Eigen::MatrixXd::NullaryExpr(d.size(), d.dof(), [&] { return torque(gen); });
-    const BandIvRows rows = chainBandIvRows(d, leg.model, leg.base, tenHertz(), fm);
+    const BandIvRows rows = chainBandIvRows(d, leg.model, leg.base, test::tenHertzParallel(), fm);
     ls.col(k) = solveLeastSquares(rows.H, rows.y).x - truth;
     iv.col(k) = solveBandIv({rows}).x - truth;
   }
@@ -98,10 +97,10 @@ TEST(ChainBandIv, UnbiasedUnderEncoderNoiseWhereLeastSquaresIsNot) {
 TEST(ChainBandIv, RefusesWhatItCannotDo) {
   const Leg leg;
   const Dataset d = exactChainDataset(leg.model, leg.phi, 10.0, 5);
-  SignalOptions paper = tenHertz();
+  SignalOptions paper = test::tenHertzParallel();
   paper.processing = Processing::kPaper;
   test::expectInvalidArgumentMentioning([&] { chainBandIvRows(d, leg.model, leg.base, paper, 2.0); }, "parallel");
-  test::expectInvalidArgumentMentioning([&] { chainBandIvRows(d, leg.model, leg.base, tenHertz(), 600.0); }, "cutoff");
+  test::expectInvalidArgumentMentioning([&] { chainBandIvRows(d, leg.model, leg.base, test::tenHertzParallel(), 600.0); }, "cutoff");
 }
 
 }  // namespace

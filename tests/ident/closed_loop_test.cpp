@@ -12,7 +12,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 Reference sineReference(double duration_s, double dt_s, double hip0, double hip_amp, double knee0, double knee_amp,
                         double f_hz) {
@@ -46,7 +45,7 @@ double maxSteadyStateError(double dt_s) {
   ctl.feedforward = Feedforward::kNone;
   ctl.locked = {true, false};
   const Reference ref = sineReference(5.0, dt_s, -0.3, 0.0, 0.0, amp, f);
-  const ClosedLoopRun run = simulateClosedLoop(x, kC, ctl, ref);
+  const ClosedLoopRun run = simulateClosedLoop(x, test::kLeg, ctl, ref);
   EXPECT_TRUE(run.ok) << run.message;
   const double w = 2 * M_PI * f;
   const std::complex<double> s(0.0, w);
@@ -77,15 +76,15 @@ TEST(ClosedLoop, ForwardDynamicsInvertTheRegressorsInverseDynamics) {
   ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
   ctl.pid.derivative_cutoff_hz = 100.0;
   const Reference ref = sineReference(4.0, 1e-3, -0.5, -0.5, 1.3, -0.5, 1.0);
-  const ClosedLoopRun run = simulateClosedLoop(x, kC, ctl, ref);
+  const ClosedLoopRun run = simulateClosedLoop(x, test::kLeg, ctl, ref);
   ASSERT_TRUE(run.ok) << run.message;
   // At every sample the torque that drove the model is its inverse dynamics at the state reached.
-  const Eigen::MatrixX2d tau = predictTorque(run.states, x, kC);
+  const Eigen::MatrixX2d tau = predictTorque(run.states, x, test::kLeg);
   EXPECT_LT((tau - run.states.tau_Nm).cwiseAbs().maxCoeff(), 1e-9 * run.states.tau_Nm.cwiseAbs().maxCoeff());
   // The same with a knee armature: the knee torque carries Ia2 qdd2 on top.
-  const ClosedLoopRun geared = simulateClosedLoop(x, kC, ctl, ref, 0.1);
+  const ClosedLoopRun geared = simulateClosedLoop(x, test::kLeg, ctl, ref, 0.1);
   ASSERT_TRUE(geared.ok) << geared.message;
-  Eigen::MatrixX2d tau_geared = predictTorque(geared.states, x, kC);
+  Eigen::MatrixX2d tau_geared = predictTorque(geared.states, x, test::kLeg);
   tau_geared.col(1) += 0.1 * geared.states.qdd_radps2.col(1);
   EXPECT_LT((tau_geared - geared.states.tau_Nm).cwiseAbs().maxCoeff(), 1e-9 * geared.states.tau_Nm.cwiseAbs().maxCoeff());
   // With the model's own feedforward only the integration error separates motion and reference:
@@ -99,7 +98,7 @@ TEST(ClosedLoop, AModelWithoutPositiveInertiaIsRefusedNotIntegrated) {
   ControllerModel ctl;
   ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
   ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
-  const ClosedLoopRun run = simulateClosedLoop(x, kC, ctl, sineReference(1.0, 1e-3, -0.5, -0.5, 1.3, -0.5, 1.0));
+  const ClosedLoopRun run = simulateClosedLoop(x, test::kLeg, ctl, sineReference(1.0, 1e-3, -0.5, -0.5, 1.3, -0.5, 1.0));
   EXPECT_FALSE(run.ok);
   EXPECT_NE(run.message.find("not positive definite"), std::string::npos) << run.message;
 }

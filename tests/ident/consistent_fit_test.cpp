@@ -16,7 +16,7 @@
 namespace exoid::ident {
 namespace {
 
-constexpr double kLt = 0.45;
+constexpr double kFitLt_m = 0.45;
 
 
 // Set B (docs/paper.md) as standard parameters: the thigh 13 kg, COM (-0.2, 0, -0.31), Iyy 0.28
@@ -72,7 +72,7 @@ TEST(LogCholesky, RoundTripAndJacobian) {
 }
 
 TEST(ConsistentFit, EqualsLeastSquaresWhenLeastSquaresIsConsistent) {
-  const ChainModel model = testing::apalChain(kLt);
+  const ChainModel model = testing::apalChain(kFitLt_m);
   const BaseParameters base = baseParameters(model);
   const Eigen::VectorXd truth = setB();
   const Record rec = exactRecord(model, truth, 400, 1);
@@ -94,7 +94,7 @@ ParamVector toX(const Eigen::VectorXd& beta) {
 }
 
 TEST(ConsistentFit, AgreesWithThePlanarLegsConstrainedLeastSquares) {
-  const ChainModel model = testing::apalChain(kLt);
+  const ChainModel model = testing::apalChain(kFitLt_m);
   const BaseParameters base = baseParameters(model);
   std::mt19937_64 gen(9);
   std::normal_distribution<double> noise(0.0, 1.0);
@@ -120,7 +120,7 @@ TEST(ConsistentFit, AgreesWithThePlanarLegsConstrainedLeastSquares) {
     const Eigen::MatrixXd H = Wb * T.inverse();
     const Eigen::VectorXd x_ls = H.colPivHouseholderQr().solve(rec.y);
     const Eigen::MatrixXd cov = Eigen::MatrixXd::Identity(10, 10);
-    const ConsistentEstimate planar = solveConsistentLeastSquares(H, rec.y, kLt, x_ls, cov);
+    const ConsistentEstimate planar = solveConsistentLeastSquares(H, rec.y, kFitLt_m, x_ls, cov);
     ASSERT_TRUE(planar.constrained) << c.what;
     const ParamVector x = toX(fit.beta);
     // The planar solver's cone is the closure of the consistent set (it lets the thigh's mass,
@@ -174,7 +174,7 @@ TEST(ConsistentFit, NeverReturnsAnInconsistentLink) {
 }
 
 TEST(ConsistentFit, RejectsBadInput) {
-  const ChainModel model = testing::apalChain(kLt);
+  const ChainModel model = testing::apalChain(kFitLt_m);
   const BaseParameters base = baseParameters(model);
   const Record rec = exactRecord(model, setB(), 5, 1);
   EXPECT_THROW(consistentFit(model, base, rec.W.leftCols(20), rec.y, setB()), std::invalid_argument);

@@ -14,7 +14,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 // The paper's trajectory 3 (hip -30 - 30 sin, knee 75 - 30 sin, 1 Hz) as a Fourier trajectory.
 FourierTrajectory paperTrajectory3() {
@@ -51,7 +50,7 @@ TEST(Excitation, DerivativesMatchDifferencesOfTheAngles) {
 TEST(Excitation, LimitsAreReportedByNameAndSize) {
   ExcitationLimits lim;
   lim.qd_max_radps << 3.0, 1.0;  // trajectory 3 reaches 30 deg * 2 pi = 3.29 rad/s on both joints
-  const ExcitationScore s = scoreExcitation(paperTrajectory3(), kC, toParamVector(defaultLeg()), lim);
+  const ExcitationScore s = scoreExcitation(paperTrajectory3(), test::kLeg, toParamVector(defaultLeg()), lim);
   EXPECT_NEAR(s.qd_max_radps[1], 30.0 * M_PI / 180.0 * 2 * M_PI, 1e-3);
   EXPECT_EQ(s.worst_violation_name, "qd[knee]");
   EXPECT_NEAR(s.worst_violation, s.qd_max_radps[1] / 1.0 - 1.0, 1e-12);
@@ -66,7 +65,7 @@ TEST(Excitation, CrbFloorBoundsEveryColumnInsideTheLimits) {
   lim.qd_max_radps << 3.0, 4.0;
   lim.qdd_max_radps2 << 20.0, 25.0;
   // sigma = 1, rows = 1: floor_i = 1 / sqrt(b_hip_i^2 + b_knee_i^2).
-  const Eigen::VectorXd floor = crbFloor(lim, kC, false, 0.0, 1.0, 1.0);
+  const Eigen::VectorXd floor = crbFloor(lim, test::kLeg, false, 0.0, 1.0, 1.0);
   ASSERT_EQ(floor.size(), kNumParams);
   EXPECT_DOUBLE_EQ(floor[kFc1], 1.0);
   EXPECT_DOUBLE_EQ(floor[kFc2], 1.0);
@@ -83,7 +82,7 @@ TEST(Excitation, CrbFloorBoundsEveryColumnInsideTheLimits) {
       qdd[j] = rng.uniform(-lim.qdd_max_radps2[j], lim.qdd_max_radps2[j]);
     }
     RegressorRow hip, knee;
-    regressorRows(kC, q, qd, qdd, hip, knee);
+    regressorRows(test::kLeg, q, qd, qdd, hip, knee);
     for (int p = 0; p < kNumParams; ++p) reached[p] = std::max(reached[p], std::hypot(hip[p], knee[p]) * floor[p]);
   }
   // <= 1: a bound; the friction and inertia columns come close to it (random states do not hit
@@ -98,8 +97,8 @@ TEST(Excitation, DesignBeatsThePapersTrajectoryAndRespectsItsLimits) {
   const ParamVector nominal = toParamVector(defaultLeg());
   const ExcitationLimits lim;
   ExcitationOptions o;  // defaults: criterion crb, N = 5, f0 = 0.2 Hz, 8 restarts
-  const ExcitationDesign d = designExcitation(o, kC, nominal, lim);
-  const ExcitationScore paper = scoreExcitation(paperTrajectory3(), kC, nominal, lim);
+  const ExcitationDesign d = designExcitation(o, test::kLeg, nominal, lim);
+  const ExcitationScore paper = scoreExcitation(paperTrajectory3(), test::kLeg, nominal, lim);
   std::printf("[ info ] condition number: design %.3g (paper's trajectory 3: %.3g), %ld evaluations, %.2f s\n",
               d.score.condition_number, paper.condition_number, d.evaluations, d.wall_time_s);
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
@@ -109,9 +108,9 @@ TEST(Excitation, DesignBeatsThePapersTrajectoryAndRespectsItsLimits) {
   // are each scored on 1000 samples, so compare per-row information: std scales as 1/sqrt(rows)).
   EXPECT_LT(d.score.sum_log_std, paper.sum_log_std);
   // Nor the floor: no trajectory inside the limits beats it (1000 rows of unit noise per equation).
-  const Eigen::MatrixXd H = excitationRegressor(d.trajectory, kC, 1000);
+  const Eigen::MatrixXd H = excitationRegressor(d.trajectory, test::kLeg, 1000);
   const Eigen::MatrixXd cov = (H.transpose() * H).inverse();
-  const Eigen::VectorXd floor = crbFloor(lim, kC, false, 0.0, 1000.0, 1.0);
+  const Eigen::VectorXd floor = crbFloor(lim, test::kLeg, false, 0.0, 1000.0, 1.0);
   for (int p = 0; p < kNumParams; ++p) EXPECT_GE(std::sqrt(cov(p, p)), floor[p]) << paramName(p);
   // At rest at the period's ends.
   Eigen::Vector2d q, qd, qdd;
@@ -125,20 +124,20 @@ TEST(Excitation, SameSeedSameDesign) {
   o.restarts = 2;
   o.max_evaluations = 800;
   const ParamVector nominal = toParamVector(defaultLeg());
-  const ExcitationDesign a = designExcitation(o, kC, nominal, ExcitationLimits{});
-  const ExcitationDesign b = designExcitation(o, kC, nominal, ExcitationLimits{});
+  const ExcitationDesign a = designExcitation(o, test::kLeg, nominal, ExcitationLimits{});
+  const ExcitationDesign b = designExcitation(o, test::kLeg, nominal, ExcitationLimits{});
   EXPECT_EQ(a.trajectory.a_rad, b.trajectory.a_rad);
   EXPECT_EQ(a.trajectory.b_rad, b.trajectory.b_rad);
   EXPECT_EQ(a.trajectory.offset_rad, b.trajectory.offset_rad);
   o.seed = 2;
-  EXPECT_NE(designExcitation(o, kC, nominal, ExcitationLimits{}).trajectory.b_rad, a.trajectory.b_rad);
+  EXPECT_NE(designExcitation(o, test::kLeg, nominal, ExcitationLimits{}).trajectory.b_rad, a.trajectory.b_rad);
 }
 
 TEST(Excitation, ConditionNumberCriterionMeetsItsTargetToo) {
   ExcitationOptions o;
   o.criterion = ExcitationCriterion::kConditionNumber;
   o.restarts = 3;
-  const ExcitationDesign d = designExcitation(o, kC, toParamVector(defaultLeg()), ExcitationLimits{});
+  const ExcitationDesign d = designExcitation(o, test::kLeg, toParamVector(defaultLeg()), ExcitationLimits{});
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
   EXPECT_LE(d.score.condition_number, 25.0);
   EXPECT_EQ(parseExcitationCriterion("cond"), ExcitationCriterion::kConditionNumber);
@@ -150,12 +149,12 @@ TEST(Excitation, KneeOnlyDesignKeepsTheHipAtItsLock) {
   ExcitationOptions o;
   o.hip_locked = true;
   o.restarts = 3;
-  const ExcitationDesign d = designExcitation(o, kC, toParamVector(defaultLeg()), ExcitationLimits{});
+  const ExcitationDesign d = designExcitation(o, test::kLeg, toParamVector(defaultLeg()), ExcitationLimits{});
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
   EXPECT_EQ(d.trajectory.a_rad.col(0).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(d.trajectory.offset_rad[0], o.hip_locked_at_rad);
-  EXPECT_EQ(excitationRegressor(d.trajectory, kC, 100).cols(), kGroupSize);
-  EXPECT_EQ(crbFloor(ExcitationLimits{}, kC, true, o.hip_locked_at_rad, 1.0, 1.0).size(), kGroupSize);
+  EXPECT_EQ(excitationRegressor(d.trajectory, test::kLeg, 100).cols(), kGroupSize);
+  EXPECT_EQ(crbFloor(ExcitationLimits{}, test::kLeg, true, o.hip_locked_at_rad, 1.0, 1.0).size(), kGroupSize);
   std::printf("[ info ] knee-only design: condition number %.3g\n", d.score.condition_number);
 }
 

@@ -12,7 +12,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -21,8 +20,8 @@ std::string joined(const std::vector<std::string>& v) {
 }
 
 TEST(IdentifiabilityAdvice, AFixedHipLeavesTheThighUnidentifiable) {
-  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2, 4.0);
-  const Eigen::MatrixXd H = stackedRegressor(s, kC);
+  const JointSignals s = test::exactRecord(1, defaultLeg(), test::kLeg.gravity_mps2, 4.0);
+  const Eigen::MatrixXd H = stackedRegressor(s, test::kLeg);
   const IdentifiabilityReport r = analyzeIdentifiability(H, stackedTorque(s), 0.5);
   const std::string a = joined(identifiabilityAdvice(H, r, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
   EXPECT_NE(a.find("cannot be identified from this record"), std::string::npos) << a;
@@ -32,8 +31,8 @@ TEST(IdentifiabilityAdvice, AFixedHipLeavesTheThighUnidentifiable) {
 
 TEST(IdentifiabilityAdvice, ThePapersSineIsPoorlyConditionedAndSaysWhatToDo) {
   // Trajectory 3's hip equation: one 1 Hz sine, scaled condition number ~250.
-  const JointSignals s = test::exactRecord(3, defaultLeg(), kC.gravity_mps2, 4.0);
-  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, kC).leftCols(5);
+  const JointSignals s = test::exactRecord(3, defaultLeg(), test::kLeg.gravity_mps2, 4.0);
+  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, test::kLeg).leftCols(5);
   const IdentifiabilityReport r = analyzeIdentifiability(H, s.tau_Nm.col(0), 0.5);
   ASSERT_GT(r.condition_number, 100.0);
   const std::string a = joined(identifiabilityAdvice(H, r, {0, 1, 2, 3, 4}));

@@ -11,7 +11,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 Eigen::MatrixXd cols(const Eigen::MatrixXd& H, int first, int n) { return H.middleCols(first, n); }
 
@@ -19,8 +18,8 @@ Eigen::MatrixXd cols(const Eigen::MatrixXd& H, int first, int n) { return H.midd
 TEST(Identifiability, PaperTrajectoriesRankFindings) {
   const LegPhysical leg = defaultLeg();
   for (int id = 1; id <= 4; ++id) {
-    const JointSignals s = test::exactRecord(id, leg, kC.gravity_mps2);
-    const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, kC), Hk = jointRegressor(s, Joint::kKnee, kC);
+    const JointSignals s = test::exactRecord(id, leg, test::kLeg.gravity_mps2);
+    const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, test::kLeg), Hk = jointRegressor(s, Joint::kKnee, test::kLeg);
     const auto hip = analyzeIdentifiability(cols(Hh, 0, 5), s.tau_Nm.col(0), 0.5);
     const auto knee = analyzeIdentifiability(cols(Hk, 5, 5), s.tau_Nm.col(1), 0.5);
     SCOPED_TRACE("trajectory " + std::to_string(id));
@@ -45,8 +44,8 @@ TEST(Identifiability, PaperTrajectoriesRankFindings) {
 }
 
 TEST(Identifiability, SingleFrequencyMakesInertiaNearlyCollinearWithGravity) {
-  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2);
-  const Eigen::MatrixXd Hk = jointRegressor(s, Joint::kKnee, kC);
+  const JointSignals s = test::exactRecord(1, defaultLeg(), test::kLeg.gravity_mps2);
+  const Eigen::MatrixXd Hk = jointRegressor(s, Joint::kKnee, test::kLeg);
   Eigen::MatrixXd H(Hk.rows(), 3);
   H << Hk.col(kMxs), Hk.col(kMys), Hk.col(kJs);  // qdd2 vs [g s12, g c12] (+ Lt terms, zero here)
   const auto r = analyzeIdentifiability(H, s.tau_Nm.col(1), 0.5);
@@ -57,8 +56,8 @@ TEST(Identifiability, CramerRaoMatchesMonteCarloLsScatter) {
   // The LS std over many noise draws must match sigma sqrt(diag((H^T H)^-1)). With 400 draws the
   // sample std has relative standard error 1/sqrt(2 * 399) = 3.5 %: allow 5 sigma, 18 %.
   const LegPhysical leg = defaultLeg();
-  const JointSignals s = test::exactRecord(1, leg, kC.gravity_mps2, 2.0);
-  const SegmentalProblem pr = kneeStage(s, kC);
+  const JointSignals s = test::exactRecord(1, leg, test::kLeg.gravity_mps2, 2.0);
+  const SegmentalProblem pr = kneeStage(s, test::kLeg);
   const double sigma = 0.5;
   const auto r = analyzeIdentifiability(pr.H, pr.y, sigma);
   std::mt19937_64 gen(99);

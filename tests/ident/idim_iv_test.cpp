@@ -14,7 +14,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 TEST(InstrumentalVariables, WithTheRegressorAsInstrumentIsLeastSquares) {
   std::mt19937_64 rng(11);
@@ -110,14 +109,14 @@ TEST(IdimIv, IsExactOnExactClosedLoopRecords) {
   const ClosedLoopRecord knee = closedLoopRecord(true, 0, 0, 1, true);
   const ClosedLoopRecord both = closedLoopRecord(false, 0, 0, 2, true);
   const ParamVector truth = toParamVector(defaultLeg());
-  const SegmentalResult r = identifySegmentalIv(knee, both, kC, parallel(), {});
+  const SegmentalResult r = identifySegmentalIv(knee, both, test::kLeg, parallel(), {});
   ASSERT_EQ(r.knee.summary.status, Status::kConverged) << r.knee.summary.message;
   ASSERT_EQ(r.hip.summary.status, Status::kConverged) << r.hip.summary.message;
   // tau = Y x holds exactly at the recorded states: any instruments give the truth, to rounding
   // times conditioning (< 1e3).
   EXPECT_LT(((r.x - truth).cwiseQuotient(truth)).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LE(r.knee.summary.iterations, 2);
-  const Estimate all = identifyAllIv(both, kC, parallel(), {});
+  const Estimate all = identifyAllIv(both, test::kLeg, parallel(), {});
   ASSERT_EQ(all.summary.status, Status::kConverged) << all.summary.message;
   EXPECT_LT(((all.x - truth).cwiseQuotient(truth)).cwiseAbs().maxCoeff(), 1e-9);
 }
@@ -127,7 +126,7 @@ TEST(IdimIv, ConvergesInAFewIterationsOnNoisyRecordsAndStaysWithinItsStandardErr
   const ParamVector truth = toParamVector(defaultLeg());
   const ClosedLoopRecord knee = closedLoopRecord(true, 1.745e-4, 0.5, 3, false);
   const ClosedLoopRecord both = closedLoopRecord(false, 1.745e-4, 0.5, 4, false);
-  const SegmentalResult r = identifySegmentalIv(knee, both, kC, parallel(), {});
+  const SegmentalResult r = identifySegmentalIv(knee, both, test::kLeg, parallel(), {});
   ASSERT_EQ(r.knee.summary.status, Status::kConverged) << r.knee.summary.message;
   ASSERT_EQ(r.hip.summary.status, Status::kConverged) << r.hip.summary.message;
   EXPECT_LE(r.knee.summary.iterations, 5);
@@ -145,7 +144,7 @@ TEST(IdimIv, AModelThatCannotBeSimulatedFallsBackToReferenceInstruments) {
   ParamVector bad = toParamVector(defaultLeg());
   bad[kJs] = -0.2;
   ProcessedRecord instr;
-  const Instruments z = instrumentRecord(bad, kC, both, parallel(), instr);
+  const Instruments z = instrumentRecord(bad, test::kLeg, both, parallel(), instr);
   ASSERT_TRUE(z.ok);
   EXPECT_TRUE(z.fixed);
   EXPECT_NE(z.message.find("instruments from the reference"), std::string::npos) << z.message;
@@ -166,7 +165,7 @@ TEST(IdimIv, AModelThatCannotBeSimulatedFallsBackToReferenceInstruments) {
 
 TEST(IdimIv, NeedsTheParallelProcessing) {
   const ClosedLoopRecord both = closedLoopRecord(false, 0, 0, 2, true);
-  test::expectInvalidArgumentMentioning([&] { identifyAllIv(both, kC, SignalOptions{}, {}); }, "parallel processing");
+  test::expectInvalidArgumentMentioning([&] { identifyAllIv(both, test::kLeg, SignalOptions{}, {}); }, "parallel processing");
   test::expectInvalidArgumentMentioning(
       [&] { estimate(Method::kIdimIv, both.measured.hip, both.measured.tau_Nm.col(0), MethodOptions{}); }, "not a method over y = H x");
   EXPECT_EQ(parseMethod("idim-iv"), Method::kIdimIv);

@@ -8,15 +8,14 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 // Noise-free data from an independent dynamics: LS must return X to roundoff amplified by the
 // condition number (~1e3 for the stacked record): 1e-16 * 1e3 * margin << 1e-8.
 TEST(LeastSquares, RecoversTruthFromExactTwoJointRecord) {
   const LegPhysical leg = defaultLeg();
   const ParamVector truth = toParamVector(leg);
-  const JointSignals s = test::exactRecord(3, leg, kC.gravity_mps2);
-  const LsResult r = solveLeastSquares(stackedRegressor(s, kC), stackedTorque(s));
+  const JointSignals s = test::exactRecord(3, leg, test::kLeg.gravity_mps2);
+  const LsResult r = solveLeastSquares(stackedRegressor(s, test::kLeg), stackedTorque(s));
   ASSERT_EQ(r.summary.status, Status::kConverged) << r.summary.message;
   EXPECT_EQ(r.rank, 10);
   for (int i = 0; i < kNumParams; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-8 * std::abs(truth[i])) << paramName(i);
@@ -25,8 +24,8 @@ TEST(LeastSquares, RecoversTruthFromExactTwoJointRecord) {
 
 TEST(LeastSquares, ReportsRankDeficiencyNamingColumns) {
   // Trajectory 1 fixes the hip: the hip equation's thigh columns are constant or zero.
-  const JointSignals s = test::exactRecord(1, defaultLeg(), kC.gravity_mps2);
-  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, kC).leftCols(5);
+  const JointSignals s = test::exactRecord(1, defaultLeg(), test::kLeg.gravity_mps2);
+  const Eigen::MatrixXd H = jointRegressor(s, Joint::kHip, test::kLeg).leftCols(5);
   const LsResult r = solveLeastSquares(H, s.tau_Nm.col(0));
   EXPECT_EQ(r.summary.status, Status::kRankDeficient);
   EXPECT_LT(r.rank, 5);
@@ -98,10 +97,10 @@ TEST(LeastSquares, RejectsBadInput) {
 TEST(Segmental, RecoversTruthFromExactRecords) {
   const LegPhysical leg = defaultLeg();
   const ParamVector truth = toParamVector(leg);
-  const JointSignals knee = test::exactRecord(1, leg, kC.gravity_mps2);
-  const JointSignals both = test::exactRecord(3, leg, kC.gravity_mps2);
+  const JointSignals knee = test::exactRecord(1, leg, test::kLeg.gravity_mps2);
+  const JointSignals both = test::exactRecord(3, leg, test::kLeg.gravity_mps2);
   MethodOptions o;
-  const SegmentalResult r = identifySegmental(Method::kLs, knee, both, kC, o);
+  const SegmentalResult r = identifySegmental(Method::kLs, knee, both, test::kLeg, o);
   ASSERT_TRUE(usable(r.knee.summary.status) && usable(r.hip.summary.status));
   for (int i = 0; i < kNumParams; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-8 * std::abs(truth[i])) << paramName(i);
 }

@@ -13,15 +13,14 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 class EveryMethod : public ::testing::TestWithParam<Method> {};
 
 TEST_P(EveryMethod, MeetsItsContractOnExactKneeData) {
   const LegPhysical leg = defaultLeg();
   const ParamVector truth = toParamVector(leg);
-  const JointSignals s = test::exactRecord(1, leg, kC.gravity_mps2, 2.0);
-  const SegmentalProblem pr = kneeStage(s, kC);
+  const JointSignals s = test::exactRecord(1, leg, test::kLeg.gravity_mps2, 2.0);
+  const SegmentalProblem pr = kneeStage(s, test::kLeg);
   const Eigen::VectorXd x_true = truth.segment<5>(kShankFirst);
   MethodOptions o;
   o.rls_pso.rls.initial_covariance = 1e10;

@@ -19,7 +19,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 constexpr double kSigma = 0.5;  // N m, the reproduce default
 constexpr int kDraws = 300;
 // Every comparison in this file shares a family-wise false-alarm rate of 1e-3 (Bonferroni over
@@ -89,11 +88,11 @@ NoiseChannel channel(const Eigen::MatrixXd& H, const Dataset& d, const SignalOpt
 void checkStacked(const SignalOptions& o, std::uint64_t seed, const std::string& what) {
   const Dataset d = test::multisineRecord(5.0, true);
   const JointSignals s = prepareSignals(d, o);
-  const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, kC), Hk = jointRegressor(s, Joint::kKnee, kC);
+  const Eigen::MatrixXd Hh = jointRegressor(s, Joint::kHip, test::kLeg), Hk = jointRegressor(s, Joint::kKnee, test::kLeg);
   const Eigen::VectorXd predicted = stdOf(lsNoiseCovariance({channel(Hh, d, o), channel(Hk, d, o)}));
   const Eigen::MatrixXd draws = monteCarlo(d, [&](const Dataset& noisy) {
     const JointSignals sn = prepareSignals(noisy, o);
-    return solveLeastSquares(stackedRegressor(sn, kC), stackedTorque(sn)).x;
+    return solveLeastSquares(stackedRegressor(sn, test::kLeg), stackedTorque(sn)).x;
   }, seed);
   expectStdInBand(draws, predicted, what);
 }
@@ -116,8 +115,8 @@ TEST(NoiseCovariance, PaperProcessingSegmentalMatchesMonteCarlo) {
   const SignalOptions o = paperProcessing();
   const Dataset knee_rec = test::multisineRecord(5.0, false), both_rec = test::multisineRecord(5.0, true);
   const JointSignals sk = prepareSignals(knee_rec, o), sb = prepareSignals(both_rec, o);
-  const SegmentalProblem knee = kneeStage(sk, kC);
-  const Eigen::MatrixXd Hh = jointRegressor(sb, Joint::kHip, kC);
+  const SegmentalProblem knee = kneeStage(sk, test::kLeg);
+  const Eigen::MatrixXd Hh = jointRegressor(sb, Joint::kHip, test::kLeg);
   const Eigen::VectorXd predicted = stdOf(segmentalNoiseCovariance(
       channel(knee.H, knee_rec, o), channel(Hh.leftCols(5), both_rec, o), Hh.rightCols(5)));
   // Both records get independent noise: draw the knee record's noise, then the hip record's.
@@ -130,7 +129,7 @@ TEST(NoiseCovariance, PaperProcessingSegmentalMatchesMonteCarlo) {
     Dataset nk = knee_rec, nb = both_rec;
     nk.tau_Nm += Eigen::MatrixX2d::NullaryExpr(nk.size(), 2, [&] { return noise(gen); });
     nb.tau_Nm += Eigen::MatrixX2d::NullaryExpr(nb.size(), 2, [&] { return noise(gen); });
-    draws.col(k) = identifySegmental(Method::kLs, prepareSignals(nk, o), prepareSignals(nb, o), kC, mo).x;
+    draws.col(k) = identifySegmental(Method::kLs, prepareSignals(nk, o), prepareSignals(nb, o), test::kLeg, mo).x;
   }
   expectStdInBand(draws, predicted, "paper, segmental");
 }

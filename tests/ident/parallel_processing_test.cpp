@@ -16,7 +16,6 @@
 namespace exoid::ident {
 namespace {
 
-const LegConstants kC{0.45, 9.81};
 
 SignalOptions parallel() {
   SignalOptions o;
@@ -39,7 +38,7 @@ double maxRelError(const Eigen::VectorXd& x, const ParamVector& truth) {
 TEST(ParallelProcessing, ExactDataGiveExactParametersWithRecordedDerivatives) {
   // filter(tau) = filter(Y) x exactly: only rounding, amplified by the condition number (~1e3).
   const ParamVector truth = toParamVector(defaultLeg());
-  const ProcessedRecord r = processRecord(test::multisineRecord(10.0, true, true), kC, parallel());
+  const ProcessedRecord r = processRecord(test::multisineRecord(10.0, true, true), test::kLeg, parallel());
   EXPECT_EQ(r.size(), (10000 - 2 * 300 + 19) / 20);  // trimmed 0.3 s each end, every 20th row
   EXPECT_LT(maxRelError(stackedLs(r), truth), 1e-8);
 }
@@ -53,7 +52,7 @@ TEST(ParallelProcessing, ExactDataGiveExactParametersFromAnglesAlone) {
   const Dataset d = test::multisineRecord(10.0, true, false);
   ASSERT_GT(test::multisineRecord(10.0, true, true).qd_radps->cwiseAbs().minCoeff(), 1e-5);
   const ParamVector truth = toParamVector(defaultLeg());
-  EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, parallel())), truth), 1e-6);
+  EXPECT_LT(maxRelError(stackedLs(processRecord(d, test::kLeg, parallel())), truth), 1e-6);
 }
 
 // A long log is processed a block at a time (bounded memory): the same rows as the whole record
@@ -66,7 +65,7 @@ TEST(ParallelProcessing, BlocksOfALongLogGiveTheWholeRecordsRows) {
   whole.block_samples = 1000000;
   blocks.block_samples = 1;  // -> 4 margins (8032 samples at 10 Hz, 1 kHz): four blocks of 30000
   ASSERT_GT(d.size(), 4 * parallelBlockMargin(blocks, 1000.0) + 2 * parallelBlockMargin(blocks, 1000.0));
-  const ProcessedRecord a = processRecord(d, kC, whole), b = processRecord(d, kC, blocks);
+  const ProcessedRecord a = processRecord(d, test::kLeg, whole), b = processRecord(d, test::kLeg, blocks);
   ASSERT_EQ(a.size(), b.size());
   const double scale = a.hip.cwiseAbs().maxCoeff() + a.knee.cwiseAbs().maxCoeff();
   EXPECT_LT((a.hip - b.hip).cwiseAbs().maxCoeff(), 1e-12 * scale);
@@ -84,17 +83,17 @@ TEST(ParallelProcessing, BlocksOnSeveralThreadsAreTheSameBytesAsOnOne) {
   SignalOptions one = parallel();
   one.block_samples = 1;  // four blocks of 30000
   one.threads = 1;
-  const ProcessedRecord a = processRecord(d, kC, one);
+  const ProcessedRecord a = processRecord(d, test::kLeg, one);
   for (int threads : {2, 3, 0}) {
     SignalOptions many = one;
     many.threads = threads;
-    const ProcessedRecord b = processRecord(d, kC, many);
+    const ProcessedRecord b = processRecord(d, test::kLeg, many);
     EXPECT_TRUE(a.hip == b.hip && a.knee == b.knee && a.tau_Nm == b.tau_Nm) << threads << " threads";
     EXPECT_TRUE(a.states.qdd_radps2 == b.states.qdd_radps2 && a.states.t_s == b.states.t_s) << threads << " threads";
   }
   SignalOptions bad = one;
   bad.threads = -1;
-  EXPECT_THROW(processRecord(d, kC, bad), std::invalid_argument);
+  EXPECT_THROW(processRecord(d, test::kLeg, bad), std::invalid_argument);
 }
 
 // Recorded velocities without accelerations are used (their derivative gives qdd), not silently
@@ -104,17 +103,17 @@ TEST(ParallelProcessing, RecordedVelocitiesAloneAreUsed) {
   Dataset d = test::multisineRecord(10.0, true, true);
   d.qdd_radps2.reset();
   const ParamVector truth = toParamVector(defaultLeg());
-  EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, parallel())), truth), 1e-6);
+  EXPECT_LT(maxRelError(stackedLs(processRecord(d, test::kLeg, parallel())), truth), 1e-6);
   Dataset wrong = d;
   *wrong.qd_radps *= 1.1;
-  EXPECT_GT(maxRelError(stackedLs(processRecord(wrong, kC, parallel())), truth), 1e-3);
+  EXPECT_GT(maxRelError(stackedLs(processRecord(wrong, test::kLeg, parallel())), truth), 1e-3);
 }
 
 TEST(ParallelProcessing, ThePapersProcessingIsBiasedOnTheSameExactData) {
   // The reason for the parallel processing: the paper's filters the signals, then builds the
   // nonlinear columns, which are then not the filtered columns.
   const ParamVector truth = toParamVector(defaultLeg());
-  EXPECT_GT(maxRelError(stackedLs(processRecord(test::multisineRecord(10.0, true, true), kC, SignalOptions{})), truth), 1e-3);
+  EXPECT_GT(maxRelError(stackedLs(processRecord(test::multisineRecord(10.0, true, true), test::kLeg, SignalOptions{})), truth), 1e-3);
 }
 
 TEST(ParallelProcessing, NoisyTorquesScatterAsTheNoiseCovarianceSays) {
@@ -122,7 +121,7 @@ TEST(ParallelProcessing, NoisyTorquesScatterAsTheNoiseCovarianceSays) {
   // chi-square band of its predicted std (z = 3.89, probability 1e-4 per parameter).
   const Dataset d = test::multisineRecord(5.0, true, true);
   const SignalOptions o = parallel();
-  const ProcessedRecord r0 = processRecord(d, kC, o);
+  const ProcessedRecord r0 = processRecord(d, test::kLeg, o);
   const TorqueNoisePath path = torqueNoisePath(o, 1000.0, d.size());
   const Eigen::VectorXd predicted = stdOf(lsNoiseCovariance({{r0.hip, path, 0.5}, {r0.knee, path, 0.5}}));
   std::mt19937_64 gen(21);
@@ -132,7 +131,7 @@ TEST(ParallelProcessing, NoisyTorquesScatterAsTheNoiseCovarianceSays) {
   for (int k = 0; k < n; ++k) {
     Dataset noisy = d;
     noisy.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d.size(), 2, [&] { return noise(gen); });
-    draws.col(k) = stackedLs(processRecord(noisy, kC, o));
+    draws.col(k) = stackedLs(processRecord(noisy, test::kLeg, o));
   }
   const double z = 3.89, dof = n - 1.0, v = 2.0 / (9.0 * dof);
   const double lo = std::pow(1.0 - v - z * std::sqrt(v), 1.5), hi = std::pow(1.0 - v + z * std::sqrt(v), 1.5);
@@ -151,7 +150,7 @@ TEST(ParallelProcessing, OptionsAreValidated) {
   o = parallel();
   o.decimation = 400;  // 10 s at 1 kHz leaves 24 rows: fine; 1 s leaves 1: refused
   Dataset d = test::multisineRecord(1.0, true, true);
-  EXPECT_THROW(processRecord(d, kC, o), std::invalid_argument);
+  EXPECT_THROW(processRecord(d, test::kLeg, o), std::invalid_argument);
 }
 
 }  // namespace
@@ -188,24 +187,24 @@ TEST(BaseTerms, ExactDataOnAMovingBaseGiveExactParametersWithTheBaseTerms) {
   const ParamVector truth = toParamVector(defaultLeg());
   SignalOptions o = parallel();
   o.base_terms = BaseTerms::kAuto;
-  EXPECT_LT(maxRelError(stackedLs(processRecord(d, kC, o)), truth), 1e-6);
+  EXPECT_LT(maxRelError(stackedLs(processRecord(d, test::kLeg, o)), truth), 1e-6);
   // Without them the shaking is unexplained torque, correlated with the motion's columns.
   o.base_terms = BaseTerms::kOff;
-  EXPECT_GT(maxRelError(stackedLs(processRecord(d, kC, o)), truth), 1e-3);
+  EXPECT_GT(maxRelError(stackedLs(processRecord(d, test::kLeg, o)), truth), 1e-3);
 }
 
 TEST(BaseTerms, StillBaseIsTheRegressorAndTheFieldRotatesWithTheLeg) {
   RegressorRow h0, k0, h1, k1;
   const Eigen::Vector2d q(-0.4, 0.9), qd(0.7, -1.1), qdd(3.0, -5.0);
-  regressorRows(kC, q, qd, qdd, h0, k0);
-  regressorRows(kC, q, qd, qdd, BaseMotion::still(kC.gravity_mps2), h1, k1);
+  regressorRows(test::kLeg, q, qd, qdd, h0, k0);
+  regressorRows(test::kLeg, q, qd, qdd, BaseMotion::still(test::kLeg.gravity_mps2), h1, k1);
   EXPECT_EQ(h0, h1);
   EXPECT_EQ(k0, k1);
   // A field tilted by beta acts on the still links like gravity on links turned by beta.
   const double beta = 0.3;
-  const BaseMotion tilted{-kC.gravity_mps2 * std::sin(beta), kC.gravity_mps2 * std::cos(beta), 0.0, 0.0};
-  regressorRows(kC, q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), tilted, h0, k0);
-  regressorRows(kC, Eigen::Vector2d(q[0] + beta, q[1]), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), h1, k1);
+  const BaseMotion tilted{-test::kLeg.gravity_mps2 * std::sin(beta), test::kLeg.gravity_mps2 * std::cos(beta), 0.0, 0.0};
+  regressorRows(test::kLeg, q, Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), tilted, h0, k0);
+  regressorRows(test::kLeg, Eigen::Vector2d(q[0] + beta, q[1]), Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), h1, k1);
   EXPECT_LT((h0 - h1).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT((k0 - k1).cwiseAbs().maxCoeff(), 1e-12);
 }
@@ -213,7 +212,7 @@ TEST(BaseTerms, StillBaseIsTheRegressorAndTheFieldRotatesWithTheLeg) {
 TEST(BaseTerms, RequiredTermsWithoutImuColumnsAreAnError) {
   SignalOptions o = parallel();
   o.base_terms = BaseTerms::kOn;
-  test::expectInvalidArgumentMentioning([&] { processRecord(test::multisineRecord(2.0), kC, o); }, "base_acc_x");
+  test::expectInvalidArgumentMentioning([&] { processRecord(test::multisineRecord(2.0), test::kLeg, o); }, "base_acc_x");
   o.processing = Processing::kPaper;
   test::expectInvalidArgumentMentioning([&] { o.validate(); }, "needs the parallel processing");
 }
@@ -235,7 +234,7 @@ TEST(KneeArmature, BothEquationsSeparateItFromJs) {
   // M22 = Js + Ia2 but M12 = Js: the hip equation holds Js alone, so both equations of a record
   // where the hip moves give each. Exact data, parallel processing: exact to rounding.
   const double ia2 = 0.08;
-  const ProcessedRecord r = processRecord(armatureRecord(ia2), kC, parallel());
+  const ProcessedRecord r = processRecord(armatureRecord(ia2), test::kLeg, parallel());
   const SegmentalProblem with = bothEquations(r, true);
   ASSERT_EQ(with.H.cols(), kNumParams + 1);
   const LsResult ls = solveLeastSquares(with.H, with.y);
@@ -251,7 +250,7 @@ TEST(KneeArmature, BothEquationsSeparateItFromJs) {
 TEST(KneeArmature, WithTheHipFixedOnlyJsPlusIa2IsIdentifiable) {
   // The knee-only record: Js's knee column is qdd1 + qdd2 = qdd2, the armature's too.
   Dataset d = test::multisineRecord(10.0, false, true);
-  const ProcessedRecord r = processRecord(d, kC, parallel());
+  const ProcessedRecord r = processRecord(d, test::kLeg, parallel());
   Eigen::MatrixXd H(r.size(), 6);
   H << r.knee.middleCols(kShankFirst, kGroupSize), r.knee_armature;
   EXPECT_EQ(solveLeastSquares(H, r.tau_Nm.col(1)).rank, 5);

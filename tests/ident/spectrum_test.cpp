@@ -26,10 +26,10 @@ namespace {
 
 using test::expectInvalidArgumentMentioning;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kSpectrumPi = 3.14159265358979323846;
+constexpr double kSpectrumEps = std::numeric_limits<double>::epsilon();
 // A 10 s log at 1 kHz with the default 2 s segments: nperseg 2000, step 1000, 9 segments.
-constexpr double kFs_Hz = 1000.0;
+constexpr double kSpectrumFs_Hz = 1000.0;
 constexpr Eigen::Index kN = 10000;
 constexpr Eigen::Index kSegment = 2000;
 constexpr Eigen::Index kSegments = 9;
@@ -47,7 +47,7 @@ constexpr double kSigmas = 5.0;
 // segments: (N/2 + K) eps (worst case of naive summation).
 double tonesRounding(Eigen::Index nperseg, Eigen::Index segments, double sum_abs_amplitude) {
   const double n = static_cast<double>(nperseg);
-  return (44.0 + 6.0 * std::log2(n) + n / 2.0 + static_cast<double>(segments)) * kEps * sum_abs_amplitude *
+  return (44.0 + 6.0 * std::log2(n) + n / 2.0 + static_cast<double>(segments)) * kSpectrumEps * sum_abs_amplitude *
          sum_abs_amplitude;
 }
 
@@ -83,7 +83,7 @@ double whiteFractionSd(double fraction, double bins_above, double bins_below, Ei
 // and the negative-frequency image's cross term (2 sqrt(its own tail beyond 2b - K bins), ~1e-7
 // for the case below).
 double hannLeakageBeyond(double nearest_left_out) {
-  return 100.0 * (2.0 / 3.0) * 2.0 * (16.0 / 9.0) / (5.0 * kPi * kPi * std::pow(nearest_left_out - 1.0, 5.0));
+  return 100.0 * (2.0 / 3.0) * 2.0 * (16.0 / 9.0) / (5.0 * kSpectrumPi * kSpectrumPi * std::pow(nearest_left_out - 1.0, 5.0));
 }
 }  // namespace tol
 
@@ -102,7 +102,7 @@ Eigen::VectorXd tones(Eigen::Index n, Eigen::Index nperseg, const std::vector<To
   for (const Tone& t : ts) {
     for (Eigen::Index i = 0; i < n; ++i) {
       const double r = static_cast<double>((t.bin * i) % nperseg);
-      x[i] += t.amplitude * std::sin(2.0 * kPi * r / static_cast<double>(nperseg) + t.phase);
+      x[i] += t.amplitude * std::sin(2.0 * kSpectrumPi * r / static_cast<double>(nperseg) + t.phase);
     }
   }
   return x;
@@ -133,7 +133,7 @@ Eigen::VectorXd whiteNoise(Eigen::Index n, double sigma, std::uint64_t seed) {
   Eigen::VectorXd x(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double u1 = 1.0 - rng.uniform(), u2 = rng.uniform();  // u1 in (0, 1]
-    x[i] = sigma * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+    x[i] = sigma * std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kSpectrumPi * u2);
   }
   return x;
 }
@@ -149,14 +149,14 @@ TEST(WelchPsd, DefaultsGiveHalfHertzBinsUpToNyquistAndUseAShortRecordWhole) {
   const WelchOptions defaults;
   EXPECT_EQ(defaults.segment_s, 2.0);
   EXPECT_EQ(defaults.overlap, 0.5);
-  const PowerSpectrum p = welchPsd(whiteNoise(kN, 1.0, 1), kFs_Hz);
+  const PowerSpectrum p = welchPsd(whiteNoise(kN, 1.0, 1), kSpectrumFs_Hz);
   EXPECT_EQ(p.df_Hz, 0.5);
   ASSERT_EQ(p.frequency_Hz.size(), kSegment / 2 + 1);
   ASSERT_EQ(p.density.size(), p.frequency_Hz.size());
   for (Eigen::Index k = 0; k < p.frequency_Hz.size(); ++k) EXPECT_EQ(p.frequency_Hz[k], 0.5 * static_cast<double>(k)) << k;
   // 1.5 s < one segment: a single segment of all 1500 samples (odd bin count 751, df = 2/3 Hz).
-  const PowerSpectrum short_p = welchPsd(whiteNoise(1500, 1.0, 2), kFs_Hz);
-  EXPECT_EQ(short_p.df_Hz, kFs_Hz / 1500.0);
+  const PowerSpectrum short_p = welchPsd(whiteNoise(1500, 1.0, 2), kSpectrumFs_Hz);
+  EXPECT_EQ(short_p.df_Hz, kSpectrumFs_Hz / 1500.0);
   EXPECT_EQ(short_p.density.size(), 751);
 }
 
@@ -168,7 +168,7 @@ TEST(WelchPsd, ParsevalIsExactToRoundingForTonesThatFitTheSegments) {
   ASSERT_TRUE(tonesAddUp(ts, kSegment));
   double variance = 0.0;
   for (const Tone& t : ts) variance += t.amplitude * t.amplitude / 2.0;
-  const PowerSpectrum p = welchPsd(tones(kN, kSegment, ts), kFs_Hz);
+  const PowerSpectrum p = welchPsd(tones(kN, kSegment, ts), kSpectrumFs_Hz);
   const double tol = tol::tonesRounding(kSegment, kSegments, sumAbsAmplitude(ts));
   EXPECT_NEAR(p.density.sum() * p.df_Hz, variance, tol);
   EXPECT_LT(tol / variance, 1e-11);  // rounding level indeed
@@ -178,7 +178,7 @@ TEST(WelchPsd, ParsevalHoldsForWhiteNoiseWithinTheEstimatorsSpread) {
   // E[integral] = sigma^2 (1 - 1/N): mean removal takes one of N degrees of freedom per segment.
   const double sigma = 1.5;
   for (const std::uint64_t seed : {11u, 12u, 13u}) {
-    const PowerSpectrum p = welchPsd(whiteNoise(kN, sigma, seed), kFs_Hz);
+    const PowerSpectrum p = welchPsd(whiteNoise(kN, sigma, seed), kSpectrumFs_Hz);
     const double expected = sigma * sigma * (1.0 - 1.0 / static_cast<double>(kSegment));
     EXPECT_NEAR(p.density.sum() * p.df_Hz, expected,
                 tol::kSigmas * sigma * sigma * tol::whiteIntegralSd(kSegments, kSegment))
@@ -191,7 +191,7 @@ TEST(WelchPsd, ToneOnABinHasASquaredOverTwoInItsThreeBinsInTheRatio1To4To1) {
   // bin m puts 1/6, 4/6, 1/6 of its power A^2/2 into bins m-1, m, m+1 and nothing elsewhere.
   const double a = 2.5;
   const std::vector<Tone> ts = {{80, a, 0.4}};  // 40 Hz
-  const PowerSpectrum p = welchPsd(tones(kN, kSegment, ts), kFs_Hz);
+  const PowerSpectrum p = welchPsd(tones(kN, kSegment, ts), kSpectrumFs_Hz);
   const double power = a * a / 2.0, tol = tol::tonesRounding(kSegment, kSegments, a);
   EXPECT_EQ(p.frequency_Hz[80], 40.0);
   EXPECT_NEAR(bandPower(p, 79, 81), power, tol);
@@ -211,9 +211,9 @@ TEST(WelchPsd, ToneHalfwayBetweenBinsStillIntegratesToASquaredOverTwo) {
   for (Eigen::Index i = 0; i < kN; ++i) {
     // 100.25 Hz = 401 cycles per 4 s: reduce the argument exactly, as in tones().
     const double r = static_cast<double>((401 * i) % 4000);
-    x[i] = a * std::sin(2.0 * kPi * r / 4000.0 + 0.9);
+    x[i] = a * std::sin(2.0 * kSpectrumPi * r / 4000.0 + 0.9);
   }
-  const PowerSpectrum p = welchPsd(x, kFs_Hz);
+  const PowerSpectrum p = welchPsd(x, kSpectrumFs_Hz);
   // Bins 181 .. 220 lie within 19.5 bins of f0; the nearest ones left out are 20.5 bins away.
   const Eigen::Index below = 200, half_width = 20;
   ASSERT_EQ(p.frequency_Hz[below], f0 - 0.25);
@@ -238,7 +238,7 @@ DirectWelch directWelch(const Eigen::VectorXd& x, double fs, Eigen::Index nperse
   const Eigen::Index bins = nperseg / 2 + 1;
   const double n = static_cast<double>(nperseg);
   Eigen::VectorXd w(nperseg);
-  for (Eigen::Index i = 0; i < nperseg; ++i) w[i] = std::pow(std::sin(kPi * static_cast<double>(i) / n), 2);
+  for (Eigen::Index i = 0; i < nperseg; ++i) w[i] = std::pow(std::sin(kSpectrumPi * static_cast<double>(i) / n), 2);
   DirectWelch out;
   out.density = Eigen::VectorXd::Zero(bins);
   double max_l1 = 0.0;
@@ -249,7 +249,7 @@ DirectWelch directWelch(const Eigen::VectorXd& x, double fs, Eigen::Index nperse
     for (Eigen::Index k = 0; k < bins; ++k) {
       std::complex<double> sum = 0.0;
       for (Eigen::Index i = 0; i < nperseg; ++i)
-        sum += d[i] * w[i] * std::polar(1.0, -2.0 * kPi * static_cast<double>((k * i) % nperseg) / n);
+        sum += d[i] * w[i] * std::polar(1.0, -2.0 * kSpectrumPi * static_cast<double>((k * i) % nperseg) / n);
       out.density[k] += std::norm(sum);
     }
   }
@@ -260,7 +260,7 @@ DirectWelch directWelch(const Eigen::VectorXd& x, double fs, Eigen::Index nperse
   // Each DFT sum: N products and additions plus the twiddle's rounding, (N + 6) eps sum|d w|;
   // the FFT adds ~3 eps per stage. |X|^2 doubles the relative error, and |X| <= sum|d|; doubled
   // bins twice that.
-  out.tol = 2.0 * 2.0 * (n + 6.0 + 3.0 * std::log2(n)) * kEps * max_l1 * max_l1 * scale;
+  out.tol = 2.0 * 2.0 * (n + 6.0 + 3.0 * std::log2(n)) * kSpectrumEps * max_l1 * max_l1 * scale;
   return out;
 }
 
@@ -314,19 +314,19 @@ TEST(WelchPsd, RejectsBadArguments) {
   expectInvalidArgumentMentioning([&] { welchPsd(x, std::numeric_limits<double>::infinity()); }, "got inf");
   Eigen::VectorXd bad = x;
   bad[7] = std::nan("");
-  expectInvalidArgumentMentioning([&] { welchPsd(bad, kFs_Hz); }, "x[7] must be finite, got nan");
+  expectInvalidArgumentMentioning([&] { welchPsd(bad, kSpectrumFs_Hz); }, "x[7] must be finite, got nan");
   bad[7] = -std::numeric_limits<double>::infinity();
-  expectInvalidArgumentMentioning([&] { welchPsd(bad, kFs_Hz); }, "x[7] must be finite, got -inf");
-  expectInvalidArgumentMentioning([&] { welchPsd(x.head(7), kFs_Hz); }, "at least 8 samples, got 7");
-  EXPECT_NO_THROW(welchPsd(x.head(8), kFs_Hz));
-  expectInvalidArgumentMentioning([&] { welchPsd(x, kFs_Hz, WelchOptions{0.005, 0.5}); },
+  expectInvalidArgumentMentioning([&] { welchPsd(bad, kSpectrumFs_Hz); }, "x[7] must be finite, got -inf");
+  expectInvalidArgumentMentioning([&] { welchPsd(x.head(7), kSpectrumFs_Hz); }, "at least 8 samples, got 7");
+  EXPECT_NO_THROW(welchPsd(x.head(8), kSpectrumFs_Hz));
+  expectInvalidArgumentMentioning([&] { welchPsd(x, kSpectrumFs_Hz, WelchOptions{0.005, 0.5}); },
                                   "segment_s * sample_rate_hz must round to at least 8 samples, got 5");
-  expectInvalidArgumentMentioning([&] { welchPsd(x, kFs_Hz, WelchOptions{0.0, 0.5}); },
+  expectInvalidArgumentMentioning([&] { welchPsd(x, kSpectrumFs_Hz, WelchOptions{0.0, 0.5}); },
                                   "'segment_s' must be positive and finite, got 0");
-  expectInvalidArgumentMentioning([&] { welchPsd(x, kFs_Hz, WelchOptions{std::nan(""), 0.5}); }, "got nan");
-  expectInvalidArgumentMentioning([&] { welchPsd(x, kFs_Hz, WelchOptions{2.0, 1.0}); },
+  expectInvalidArgumentMentioning([&] { welchPsd(x, kSpectrumFs_Hz, WelchOptions{std::nan(""), 0.5}); }, "got nan");
+  expectInvalidArgumentMentioning([&] { welchPsd(x, kSpectrumFs_Hz, WelchOptions{2.0, 1.0}); },
                                   "'overlap' must be in [0, 1), got 1");
-  expectInvalidArgumentMentioning([&] { welchPsd(x, kFs_Hz, WelchOptions{2.0, -0.1}); }, "got -0.1");
+  expectInvalidArgumentMentioning([&] { welchPsd(x, kSpectrumFs_Hz, WelchOptions{2.0, -0.1}); }, "got -0.1");
 }
 
 // ---- varianceFractionAbove --------------------------------------------------------------------
@@ -344,12 +344,12 @@ TEST(SpectrumVarianceFraction, MotionPlusChatterSplitsAsBSquaredOverTotal) {
   const double tol = 2.0 * tol::tonesRounding(kSegment, kSegments, a + b) / total;
   const double chatter = b * b / (a * a + b * b);  // 3.8 %
   for (const double f : {1.75, 2.3, 10.0, 25.0, 39.25}) {
-    EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, f), chatter, tol) << f << " Hz";
+    EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, f), chatter, tol) << f << " Hz";
   }
-  EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, 1.0), (a * a / 2.0 + b * b) / (a * a + b * b), tol);
-  EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, 40.0), chatter / 2.0, tol);
-  EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, 40.75), 0.0, tol);
-  EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, 499.0), 0.0, tol);
+  EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, 1.0), (a * a / 2.0 + b * b) / (a * a + b * b), tol);
+  EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, 40.0), chatter / 2.0, tol);
+  EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, 40.75), 0.0, tol);
+  EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, 499.0), 0.0, tol);
   EXPECT_LT(tol, 1e-11);
 }
 
@@ -362,7 +362,7 @@ TEST(SpectrumVarianceFraction, SplitsAStraddlingBinLinearly) {
   const double tol = 2.0 * tol::tonesRounding(kSegment, kSegments, a + b) / ((a * a + b * b) / 2.0);
   for (const double s : {0.0, 0.1, 0.25, 0.6, 1.0}) {
     const double f = 39.75 + 0.5 * s;
-    EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, f), chatter * ((1.0 - s) * 4.0 / 6.0 + 1.0 / 6.0), tol)
+    EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, f), chatter * ((1.0 - s) * 4.0 / 6.0 + 1.0 / 6.0), tol)
         << f << " Hz";
   }
 }
@@ -371,39 +371,39 @@ TEST(SpectrumVarianceFraction, WhiteNoiseIsSplitInProportionToTheBand) {
   // Flat density 2 sigma^2 / fs: E[above] = sigma^2 (fs/2 - f) / (fs/2). The total loses the DC
   // bin (sigma^2 / (3N), its window-weighted share after mean removal) and a sixth of bin 1
   // (mean removal cancels the window's bin-1 component): E[total] = sigma^2 (1 - 4 / (3N)).
-  const double sigma = 0.7, df = kFs_Hz / static_cast<double>(kSegment);
-  const double nyquist = kFs_Hz / 2.0;
+  const double sigma = 0.7, df = kSpectrumFs_Hz / static_cast<double>(kSegment);
+  const double nyquist = kSpectrumFs_Hz / 2.0;
   const Eigen::VectorXd x = whiteNoise(kN, sigma, 21);
   for (const double f : {10.0, 100.0, 250.0, 450.0}) {
     const double share = (nyquist - f) / nyquist;
     const double expected = share / (1.0 - 4.0 / (3.0 * static_cast<double>(kSegment)));
     const double sd = tol::whiteFractionSd(share, (nyquist - f) / df, f / df - 0.5, kSegments);
-    EXPECT_NEAR(varianceFractionAbove(x, kFs_Hz, f), expected, tol::kSigmas * sd) << f << " Hz";
+    EXPECT_NEAR(varianceFractionAbove(x, kSpectrumFs_Hz, f), expected, tol::kSigmas * sd) << f << " Hz";
   }
 }
 
 TEST(SpectrumVarianceFraction, AConstantSignalHasNothingAbove) {
   // 3.7 is not a binary fraction: the segment means round, leaving ~eps-sized residues.
-  EXPECT_EQ(varianceFractionAbove(Eigen::VectorXd::Constant(kN, 3.7), kFs_Hz, 10.0), 0.0);
-  EXPECT_EQ(varianceFractionAbove(Eigen::VectorXd::Zero(kN), kFs_Hz, 10.0), 0.0);
+  EXPECT_EQ(varianceFractionAbove(Eigen::VectorXd::Constant(kN, 3.7), kSpectrumFs_Hz, 10.0), 0.0);
+  EXPECT_EQ(varianceFractionAbove(Eigen::VectorXd::Zero(kN), kSpectrumFs_Hz, 10.0), 0.0);
 }
 
 TEST(SpectrumVarianceFraction, RejectsBadArguments) {
   const Eigen::VectorXd x = whiteNoise(100, 1.0, 4);
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, 600.0); },
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, 600.0); },
                                   "f_hz must be in (0, 500) Hz, got 600");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, 500.0); }, "got 500");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, 0.0); }, "got 0");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, -1.0); }, "got -1");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, std::nan("")); }, "got nan");
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, 500.0); }, "got 500");
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, 0.0); }, "got 0");
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, -1.0); }, "got -1");
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, std::nan("")); }, "got nan");
   expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, 0.0, 10.0); },
                                   "sample_rate_hz must be positive and finite, got 0");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x.head(5), kFs_Hz, 10.0); },
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x.head(5), kSpectrumFs_Hz, 10.0); },
                                   "at least 8 samples, got 5");
   Eigen::VectorXd bad = x;
   bad[42] = std::numeric_limits<double>::infinity();
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(bad, kFs_Hz, 10.0); }, "x[42] must be finite, got inf");
-  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kFs_Hz, 10.0, WelchOptions{2.0, 1.5}); },
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(bad, kSpectrumFs_Hz, 10.0); }, "x[42] must be finite, got inf");
+  expectInvalidArgumentMentioning([&] { varianceFractionAbove(x, kSpectrumFs_Hz, 10.0, WelchOptions{2.0, 1.5}); },
                                   "'overlap' must be in [0, 1), got 1.5");
 }
 

@@ -16,6 +16,9 @@
 
 namespace exoid::test {
 
+/// The APAL leg's constants (Lt 0.45 m, g 9.81 m/s^2), as most ident tests use them.
+inline const ident::LegConstants kLeg{0.45, 9.81};
+
 // Link direction and its perpendicular in the sagittal (x anterior, z up) plane for a link at
 // absolute angle th (0 = hanging down, + = distal end moves posterior).
 inline Eigen::Vector2d along(double th) { return {-std::sin(th), -std::cos(th)}; }

@@ -43,7 +43,6 @@ nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::V
   return j;
 }
 
-std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
 // An output file's folder made (as the other commands do), and the file checked writable in it.
 void prepareOutput(const std::string& path) {
@@ -53,6 +52,8 @@ void prepareOutput(const std::string& path) {
 }
 
 }  // namespace
+
+std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
 bool isApalLegModel(const std::string& path) {
   if (endsWith(path, ".urdf")) return false;

@@ -463,23 +463,23 @@ nlohmann::json statisticsJson() {
       {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
 }
 
-nlohmann::json toJson(const stats::ConfidenceInterval& ci) {
+nlohmann::json summaryJson(const stats::ConfidenceInterval& ci) {
   return {{"mean", jnum(ci.mean)}, {"std", jnum(ci.std)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}};
 }
 
-nlohmann::json toJson(const PairedComparison& p) {
+nlohmann::json summaryJson(const PairedComparison& p) {
   return {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
           {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}, {"p_holm", jnum(p.p_holm)}};
 }
 
-nlohmann::json toJson(const VersusPaper& v) {
-  nlohmann::json j = toJson(v.test);
+nlohmann::json summaryJson(const VersusPaper& v) {
+  nlohmann::json j = summaryJson(v.test);
   j["optimised_mean"] = jnum(v.optimised_mean);
   j["paper_mean"] = jnum(v.paper_mean);
   return j;
 }
 
-nlohmann::json toJson(const ParameterStatistics& p) {
+nlohmann::json summaryJson(const ParameterStatistics& p) {
   return {{"rel_err", {{"mean", jnum(p.rel_err.mean)}, {"ci95_low", jnum(p.rel_err.low)}, {"ci95_high", jnum(p.rel_err.high)}}},
           {"abs_rel_err_median", jnum(p.abs_rel_err_median)},
           {"abs_rel_err_max", jnum(p.abs_rel_err_max)},
@@ -491,37 +491,37 @@ nlohmann::json toJson(const ParameterStatistics& p) {
 template <typename T>
 nlohmann::json byParameter(const std::array<T, kNumParams>& entries) {
   nlohmann::json j;
-  for (int i = 0; i < kNumParams; ++i) j[std::string(ident::paramName(i))] = toJson(entries[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < kNumParams; ++i) j[std::string(ident::paramName(i))] = summaryJson(entries[static_cast<std::size_t>(i)]);
   return j;
 }
 
-nlohmann::json toJson(const TrajectoryComparison& t) {
+nlohmann::json summaryJson(const TrajectoryComparison& t) {
   nlohmann::json j;
   j["paper_cell"] = t.paper_cell;
-  for (const PaperPaired& p : kVersusPaper) j[metricName(p.metric)] = toJson(t.*p.field);
+  for (const PaperPaired& p : kVersusPaper) j[metricName(p.metric)] = summaryJson(t.*p.field);
   j["parameters"] = byParameter(t.parameters);
   return j;
 }
 
-nlohmann::json toJson(const MethodSummary& m) {
+nlohmann::json summaryJson(const MethodSummary& m) {
   nlohmann::json j;
   j["n"] = m.n;
   j["n_failed"] = m.n_failed;
-  for (const Metric& metric : kMetrics) j["metrics"][metric.name] = toJson(m.metric(metric.id));
+  for (const Metric& metric : kMetrics) j["metrics"][metric.name] = summaryJson(m.metric(metric.id));
   if (m.vs_ls) {
-    for (const LsPaired& p : kVersusLs) j["vs_ls"][metricName(p.metric)] = toJson((*m.vs_ls).*p.field);
+    for (const LsPaired& p : kVersusLs) j["vs_ls"][metricName(p.metric)] = summaryJson((*m.vs_ls).*p.field);
   }
   j["parameters"] = byParameter(m.parameters);
   j["rms_error_over_crb_max"] = jnum(m.rms_error_over_crb_max);
-  if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = toJson(*m.vs_paper_trajectories);
+  if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = summaryJson(*m.vs_paper_trajectories);
   return j;
 }
 
-nlohmann::json toJson(const CellSummary& c) {
+nlohmann::json summaryJson(const CellSummary& c) {
   nlohmann::json j;
   j["cell"] = c.cell;
   j["condition"] = toJson(c.condition);
-  for (const MethodSummary& m : c.methods) j["methods"][toString(m.method)] = toJson(m);
+  for (const MethodSummary& m : c.methods) j["methods"][toString(m.method)] = summaryJson(m);
   return j;
 }
 
@@ -814,7 +814,7 @@ nlohmann::json toJson(const SweepSummary& s) {
   out["config"] = s.layout.resolved;
   out["statistics"] = statisticsJson();
   nlohmann::json conditions = nlohmann::json::array();
-  for (const CellSummary& c : s.cells) conditions.push_back(toJson(c));
+  for (const CellSummary& c : s.cells) conditions.push_back(summaryJson(c));
   out["conditions"] = conditions;
   return out;
 }

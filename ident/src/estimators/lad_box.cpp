@@ -43,7 +43,7 @@ namespace {
 using lad_detail::l1Cost;
 using lad_detail::roundingLevel;
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 /// A coordinate this close to a bound, relative to the box width, is tried on it (see intoBox):
 /// far above the rounding of a vertex solve, far below any distance PSO resolves.
 constexpr double kSnapTolerance = 1e-9;
@@ -225,7 +225,7 @@ Certificate certify(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, const Bo
   };
   const Eigen::VectorXd r = b - A * x;
   const Eigen::VectorXd scale = b.cwiseAbs() + A.cwiseAbs() * x.cwiseAbs();
-  const double factor = 8.0 * static_cast<double>(A.cols() + 1) * kEps;
+  const double factor = 8.0 * static_cast<double>(A.cols() + 1) * kEpsilon;
   Eigen::VectorXd u(r.size());
   for (Eigen::Index i = 0; i < r.size(); ++i) {
     u[i] = std::abs(r[i]) > factor * scale[i] ? (r[i] > 0.0 ? 1.0 : -1.0) : best.u[i];
@@ -300,7 +300,7 @@ std::vector<int> nextActiveSet(const Eigen::MatrixXd& A, const Box& box, const C
     if (at[j] != 0) held.push_back(static_cast<Eigen::Index>(j));
   }
   const Eigen::VectorXd g = columnDot(A, held, c.cert.u);
-  const double factor = 8.0 * static_cast<double>(A.cols() + 1) * kEps;
+  const double factor = 8.0 * static_cast<double>(A.cols() + 1) * kEpsilon;
   for (std::size_t k = 0; k < held.size(); ++k) {
     int& side = at[static_cast<std::size_t>(held[k])];
     const double roundoff = factor * A.col(held[k]).lpNorm<1>();

@@ -43,6 +43,9 @@ void truthOfChain(const std::string& model_path, const std::string& json_out);
 
 /// `exoid excite`'s overrides of the limits a design respects (--q-min-deg ... --tau-max), one
 /// value per joint; an empty one keeps the model's (or the envelope's) limit.
+/// An Eigen vector as a std::vector (for JSON).
+std::vector<double> toVector(const Eigen::VectorXd& v);
+
 struct LimitOverrides {
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
   bool empty() const { return q_min_deg.empty() && q_max_deg.empty() && qd_max.empty() && qdd_max.empty() && tau_max.empty(); }
