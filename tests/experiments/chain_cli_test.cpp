@@ -13,12 +13,9 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
+using exoid::test::readJson;
 
 std::string stderrOf(const std::vector<std::string>& args, int expected_code) {
   testing::internal::CaptureStderr();

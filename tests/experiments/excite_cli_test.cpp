@@ -14,12 +14,9 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
+using exoid::test::readJson;
 
 TEST(ExciteCli, DesignFileSimulatesInsideItsLimits) {
   const std::string dir = ::testing::TempDir();

@@ -15,7 +15,7 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
 std::string writeRecord(int trajectory, bool with_derivatives, const std::string& name,
                         const ident::LegPhysical& leg = ident::defaultLeg()) {
@@ -34,10 +34,7 @@ std::string writeRecord(int trajectory, bool with_derivatives, const std::string
   return path;
 }
 
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
+using exoid::test::readJson;
 
 TEST(IdentifyCli, RecoversTrajectory3ParametersFromExactDerivativeColumns) {
   const std::string csv = writeRecord(3, true, "traj3_exact.csv");

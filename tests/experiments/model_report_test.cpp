@@ -9,7 +9,7 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
 nlohmann::json reportOf(const std::string& model) {
   const std::string json = ::testing::TempDir() + "/model_report_" + model + ".json";

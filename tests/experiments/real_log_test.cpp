@@ -14,7 +14,7 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
 const std::string kDir = std::string(EXOID_SOURCE_DIR) + "/data/real/dfki_double_pendulum/";
 

@@ -22,14 +22,9 @@
 namespace exoid::experiments {
 namespace {
 
-using test::runExoid;
+using exoid::test::runExoid;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using exoid::test::slurp;
 
 TEST(Reproduce, ShortProtocolWritesEveryTableAndFigure) {
   const std::string dir = ::testing::TempDir() + "/exoid_reproduce_short";

@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the sweep tests: a tiny grid (2 s records, G = 200, 2 cells x 2 seeds), running
 // `exoid` in-process or as a child, and comparing sweep folders.
+#include "cli_test_support.hpp"
 #include "exoid/experiments/commands/cli.hpp"
 
 #include <gtest/gtest.h>
@@ -20,20 +21,8 @@ inline std::vector<std::string> tinySweepArgs(const std::string& out) {
           "--no-plots"};
 }
 
-inline int runExoid(std::vector<std::string> args) {
-  args.insert(args.begin(), "exoid");
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  return runCli(static_cast<int>(argv.size()), argv.data());
-}
-
-inline std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in.good()) << "missing " << path;
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using exoid::test::runExoid;
+using exoid::test::slurp;
 
 /// runs.csv without its last column (wall_time_s, the one non-deterministic value).
 inline std::string runsWithoutWallTime(const std::string& dir) {
