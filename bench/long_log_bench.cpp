@@ -16,11 +16,11 @@
 #include "exoid/ident/estimators/lad.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/core/heap.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 
 #include <benchmark/benchmark.h>
-#include <malloc.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -36,10 +36,9 @@ namespace {
 
 constexpr long kRows = 1000000;
 
-// As exoid's main: keep freed block buffers in the heap for the next block.
+// As exoid's main: freed block buffers kept in the heap, the heap on transparent huge pages.
 const bool kMallocTuned = [] {
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  exoid::core::tuneHeapForLongLogs(true);
   return true;
 }();
 

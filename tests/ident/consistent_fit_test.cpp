@@ -167,7 +167,9 @@ TEST(ConsistentFit, NeverReturnsAnInconsistentLink) {
         EXPECT_GT(fit.phi[l.friction], 0.0) << trial;
         EXPECT_GT(fit.phi[l.friction + 1], 0.0) << trial;
       }
-      if (l.armature >= 0) EXPECT_GT(fit.phi[l.armature], 0.0) << trial;
+      if (l.armature >= 0) {
+        EXPECT_GT(fit.phi[l.armature], 0.0) << trial;
+      }
     }
     EXPECT_LE((base.combination * fit.phi - fit.beta).cwiseAbs().maxCoeff(), 1e-12 * fit.beta.cwiseAbs().maxCoeff()) << trial;
   }

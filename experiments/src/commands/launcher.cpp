@@ -1,18 +1,16 @@
 #include "exoid/experiments/commands/launcher.hpp"
 
 #include "exoid/experiments/commands/cli.hpp"
+#include "exoid/core/heap.hpp"
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdlib>  // defines __GLIBC__ on glibc systems
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <unistd.h>
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 namespace exoid::experiments {
 
@@ -69,16 +67,6 @@ std::string fullBinaryPath(std::string* looked) {
   return {};
 }
 
-void tuneHeapForLongLogs() {
-#ifdef __GLIBC__
-  // Long logs are processed a block at a time (~15-45 MB of buffers per block): keep freed
-  // blocks in the heap for the next one instead of unmapping and faulting them in again
-  // (1M-row LS: 0.51-0.57 s instead of 0.70-0.84 s, peak memory +2 %).
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-#endif
-}
-
 int runLauncher(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (needsFullBinary(args)) {
@@ -98,7 +86,7 @@ int runLauncher(int argc, char** argv) {
     // Without exoid-full this exoid answers what it can: help, --version, its own commands'
     // refusals of what needs a model.
   }
-  tuneHeapForLongLogs();
+  core::tuneHeapForLongLogs(true);  // the log commands: a long log's blocks on every thread, from one heap
   return runCli(argc, argv);
 }
 

@@ -119,6 +119,17 @@ void jointRegressors(const JointSignals& s, const LegConstants& c, Eigen::Ref<Ei
   });
 }
 
+void nonzeroRegressorColumns(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> out) {
+  constexpr int kKneeColumns = kNumParams - kKneeFirstColumn;
+  if (out.rows() != s.size() || out.cols() != kHipColumns + kKneeColumns) {
+    throw std::invalid_argument("nonzeroRegressorColumns: the output must be " + core::toText(s.size()) + " x 13");
+  }
+  forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {
+    out.row(i).head<kHipColumns>() = hip.head<kHipColumns>();
+    out.row(i).tail<kKneeColumns>() = knee.tail<kKneeColumns>();
+  });
+}
+
 Eigen::MatrixXd stackedRegressor(const JointSignals& s, const LegConstants& c) {
   Eigen::MatrixXd y(2 * s.size(), kNumParams);
   forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {

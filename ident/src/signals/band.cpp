@@ -1,6 +1,7 @@
 #include "exoid/ident/signals/band.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/core/parallel_for.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
@@ -107,10 +108,11 @@ SignalOptions atCutoff(const SignalOptions& base, double cutoff_hz, const BandRu
 }
 
 // Each joint's angle spectrum (Welch, default options).
-std::vector<PowerSpectrum> angleSpectra(const Dataset& d) {
+// Each joint's on its own thread (up to `threads`, 0 = the machine's cores), into its own slot.
+std::vector<PowerSpectrum> angleSpectra(const Dataset& d, int threads = 0) {
   const double fs = 1.0 / d.sampleInterval_s();
-  std::vector<PowerSpectrum> out;
-  for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) out.push_back(welchPsd(d.q_rad.col(j), fs, WelchOptions{}));
+  std::vector<PowerSpectrum> out(static_cast<std::size_t>(d.q_rad.cols()));
+  core::parallelFor(out.size(), threads, [&](std::size_t j) { out[j] = welchPsd(d.q_rad.col(static_cast<Eigen::Index>(j)), fs, WelchOptions{}); });
   return out;
 }
 
@@ -163,7 +165,7 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   out.motion_fraction = rule.motion_fraction;
   out.max_factor = rule.max_factor;
   out.joints = d.joints;
-  const std::vector<PowerSpectrum> angles = angleSpectra(d);
+  const std::vector<PowerSpectrum> angles = angleSpectra(d, base.threads);
   out.joint_motion_bandwidth_hz.resize(d.q_rad.cols());
   for (Eigen::Index j = 0; j < d.q_rad.cols(); ++j) {
     out.joint_motion_bandwidth_hz[j] = bandwidthAt(angles[static_cast<std::size_t>(j)], rule.motion_fraction);
@@ -197,12 +199,17 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   const PilotTorques torques = out.pilot_samples == d.size()
                                    ? pilot_fit(d, pilot)
                                    : pilot_fit(rowWindow(d, (d.size() - out.pilot_samples) / 2, out.pilot_samples), pilot);
-  const WelchOptions w;
-  PowerSpectrum predicted = welchPsd(torques.predicted_Nm.col(0), fs, w);
-  PowerSpectrum measured = welchPsd(torques.measured_Nm.col(0), fs, w);
-  for (Eigen::Index j = 1; j < torques.predicted_Nm.cols(); ++j) {
-    predicted.density += welchPsd(torques.predicted_Nm.col(j), fs, w).density;
-    measured.density += welchPsd(torques.measured_Nm.col(j), fs, w).density;
+  // Every joint's predicted and measured torque spectrum on its own thread, summed in joint order.
+  const Eigen::Index joints = torques.predicted_Nm.cols();
+  std::vector<PowerSpectrum> spectra(static_cast<std::size_t>(2 * joints));
+  core::parallelFor(spectra.size(), base.threads, [&](std::size_t k) {
+    const Eigen::MatrixXd& torque = k % 2 == 0 ? torques.predicted_Nm : torques.measured_Nm;
+    spectra[k] = welchPsd(torque.col(static_cast<Eigen::Index>(k / 2)), fs, WelchOptions{});
+  });
+  PowerSpectrum predicted = spectra[0], measured = spectra[1];
+  for (Eigen::Index j = 1; j < joints; ++j) {
+    predicted.density += spectra[static_cast<std::size_t>(2 * j)].density;
+    measured.density += spectra[static_cast<std::size_t>(2 * j + 1)].density;
   }
   out.cutoff_hz = cap;
   for (double from = first; from < cap - 1e-9; from += rule.scan_band_hz) {

@@ -234,36 +234,48 @@ ProcessedRecord allocated(Eigen::Index n, bool base) {
   return out;
 }
 
-// Hip rows, knee rows, torques and the armature column side by side, through the parallel filter
-// (one pass over all): N x 23.
-Eigen::MatrixXd filteredRows(const JointSignals& s, const LegConstants& c, const SignalOptions& o, double fs) {
-  Eigen::MatrixXd all(s.size(), 2 * kNumParams + 3);
-  jointRegressors(s, c, all.leftCols(kNumParams), all.middleCols(kNumParams, kNumParams));
-  all.middleCols(2 * kNumParams, 2) = s.tau_Nm;
-  all.col(2 * kNumParams + 2) = s.qdd_radps2.col(1);
-  if (o.filter) filtfiltInPlace(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+// The regressor columns that are not zero by construction (13: nonzeroRegressorColumns) and the
+// torques side by side, N x 15, for the parallel filter (one pass over all). The zero columns
+// would filter to zero and the knee armature's (qdd2) is the hip's Js column, so neither is held
+// (a block's largest buffer, a third smaller).
+constexpr int kRegressorColumns = kHipColumns + kNumParams - kKneeFirstColumn;
+Eigen::MatrixXd regressorColumns(const JointSignals& s, const LegConstants& c) {
+  Eigen::MatrixXd all(s.size(), kRegressorColumns + 2);
+  nonzeroRegressorColumns(s, c, all.leftCols(kRegressorColumns));
+  all.rightCols(2) = s.tau_Nm;
   return all;
 }
 
-// The rows of `all` (and the states) at local indices first, first + r, ... <= last.
-ProcessedRecord selectRows(const Eigen::MatrixXd& all, const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
+// A record of the states at local indices first, first + r, ... <= last; its rows come later.
+ProcessedRecord keptStates(const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
   const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
   ProcessedRecord out = allocated(m, s.base.rows() > 0);
   JointSignals& st = out.states;
   for (Eigen::Index k = 0; k < m; ++k) {
     const Eigen::Index i = first + k * r;
-    out.hip.row(k) = all.row(i).segment(0, kNumParams);
-    out.knee.row(k) = all.row(i).segment(kNumParams, kNumParams);
-    out.tau_Nm.row(k) = all.row(i).segment(2 * kNumParams, 2);
-    out.knee_armature[k] = all(i, 2 * kNumParams + 2);
     st.t_s[k] = s.t_s[i];
     st.q_rad.row(k) = s.q_rad.row(i);
     st.qd_radps.row(k) = s.qd_radps.row(i);
     st.qdd_radps2.row(k) = s.qdd_radps2.row(i);
     if (s.base.rows() > 0) st.base.row(k) = s.base.row(i);
   }
-  st.tau_Nm = out.tau_Nm;
   return out;
+}
+
+// `all` filtered (in place), and its rows at the same indices as keptStates' into out.
+void filteredRows(Eigen::MatrixXd& all, const SignalOptions& o, double fs, Eigen::Index first, int r, ProcessedRecord& out) {
+  constexpr int kKneeColumns = kNumParams - kKneeFirstColumn;
+  if (o.filter) filtfiltInPlace(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
+  out.hip.rightCols(kNumParams - kHipColumns).setZero();
+  out.knee.leftCols(kKneeFirstColumn).setZero();
+  for (Eigen::Index k = 0; k < out.size(); ++k) {
+    const Eigen::Index i = first + k * r;
+    out.hip.row(k).head<kHipColumns>() = all.row(i).head<kHipColumns>();
+    out.knee.row(k).tail<kKneeColumns>() = all.row(i).segment<kKneeColumns>(kHipColumns);
+    out.tau_Nm.row(k) = all.row(i).tail<2>();
+    out.knee_armature[k] = all(i, kHipColumns - 1);  // qdd2: the hip's Js column
+  }
+  out.states.tau_Nm = out.tau_Nm;
 }
 
 }  // namespace
@@ -310,8 +322,11 @@ ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const Sig
   std::vector<ProcessedRecord> parts(blocks.size());
   const auto processBlock = [&](std::size_t k) {
     const Block& bk = blocks[k];
-    const JointSignals s = parallelStates(d, o, fs, bk.lo, bk.hi);
-    parts[k] = selectRows(filteredRows(s, c, o, fs), s, bk.first - bk.lo, bk.last - bk.lo, r);
+    JointSignals s = parallelStates(d, o, fs, bk.lo, bk.hi);
+    Eigen::MatrixXd all = regressorColumns(s, c);
+    parts[k] = keptStates(s, bk.first - bk.lo, bk.last - bk.lo, r);
+    s = JointSignals{};  // the block's states freed before the filter takes its buffer
+    filteredRows(all, o, fs, bk.first - bk.lo, r, parts[k]);
   };
   core::parallelFor(blocks.size(), o.threads, processBlock);
   return stackRecords(parts);
@@ -324,7 +339,10 @@ ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, co
   const Eigen::Index trim = o.edgeTrimSamples(fs);
   const int r = o.decimationFactor(fs);
   checkLength(s.size(), trim, r);
-  return selectRows(filteredRows(s, c, o, fs), s, trim, s.size() - trim - 1, r);
+  Eigen::MatrixXd all = regressorColumns(s, c);
+  ProcessedRecord out = keptStates(s, trim, s.size() - trim - 1, r);
+  filteredRows(all, o, fs, trim, r, out);
+  return out;
 }
 
 ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {

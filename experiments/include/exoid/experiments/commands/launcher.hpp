@@ -23,7 +23,4 @@ std::string fullBinaryPath(std::string* looked = nullptr);
 /// main() of `exoid`: runs the light commands here, replaces itself with exoid-full for the rest.
 int runLauncher(int argc, char** argv);
 
-/// Heap settings for long logs (both binaries' main()).
-void tuneHeapForLongLogs();
-
 }  // namespace exoid::experiments

@@ -16,6 +16,7 @@
 // a uniform grid (SamplingMode).
 #include <Eigen/Core>
 
+#include <cstddef>
 #include <iosfwd>
 #include <optional>
 #include <stdexcept>
@@ -122,6 +123,11 @@ struct CsvReadOptions {
   /// its low-pass filter's period (10 ms at 10 Hz).
   double max_gap_s = 0.0;
   LogFormat format;
+  /// Threads parsing the data rows (0 = the machine's cores): a long log's rows are cut into
+  /// ranges of about range_bytes, each parsed on its own; the result, and the first error in the
+  /// file when there is one, are the same whatever the number.
+  int threads = 0;
+  std::size_t range_bytes = std::size_t(4) << 20;
 };
 
 /// Reads a dataset; throws DatasetError (file, line, column) on anything malformed.

@@ -1,0 +1,129 @@
+// The reader cuts a log's data rows into ranges parsed in parallel: whatever the range size and
+// the number of threads, the dataset is the one a single pass reads, and an error is the first in
+// the file (its line and column).
+#include "exoid/ident/io/dataset.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace exoid::ident {
+namespace {
+
+// 200 rows at 1 kHz with what lab tools write: a byte-order mark, comments before and among the
+// rows, blank lines, a trailing comma, a numeric extra column and one that turns to text late.
+std::string labLog(const std::string& eol) {
+  std::string s = "\xEF\xBB\xBF# rig: test" + eol + "t,q_hip,q_knee,tau_hip,tau_knee,temp,mode," + eol;
+  for (int i = 0; i < 200; ++i) {
+    if (i % 37 == 5) s += "# note at row " + std::to_string(i) + eol;
+    if (i % 53 == 9) s += "  " + eol;
+    char row[200];
+    std::snprintf(row, sizeof row, "%.17g,%.17g,%.17g,%.17g,%.17g,%.3f,%s,", 0.001 * i, 0.5 * std::sin(0.01 * i), 1.0 + 0.001 * i,
+                  2.0 - 0.01 * i, -0.5 * i, 36.5 + 0.01 * i, i < 170 ? "1" : "RUN");
+    s += row + eol;
+  }
+  return s + "# end" + eol;
+}
+
+void expectSameDataset(const Dataset& a, const Dataset& b) {
+  EXPECT_EQ(a.t_s, b.t_s);
+  EXPECT_EQ(a.q_rad, b.q_rad);
+  EXPECT_EQ(a.tau_Nm, b.tau_Nm);
+  EXPECT_EQ(a.extra, b.extra);
+  EXPECT_EQ(a.extra_names, b.extra_names);
+  EXPECT_EQ(a.text_columns, b.text_columns);
+  EXPECT_EQ(a.comments, b.comments);
+  EXPECT_EQ(a.sampling.rows_read, b.sampling.rows_read);
+  EXPECT_EQ(a.sampling.max_dt_line, b.sampling.max_dt_line);
+}
+
+CsvReadOptions inRanges(std::size_t bytes, int threads) {
+  CsvReadOptions o;
+  o.range_bytes = bytes;
+  o.threads = threads;
+  return o;
+}
+
+TEST(DatasetRanges, EveryRangeSizeAndThreadCountReadsTheSameDataset) {
+  for (const std::string eol : {"\n", "\r\n", "\r"}) {
+    const std::string text = labLog(eol);
+    CsvReadOptions whole;
+    whole.range_bytes = text.size() + 1;  // one range: a single pass
+    whole.threads = 1;
+    const Dataset one = parseDatasetText(text, "log.csv", whole);
+    ASSERT_EQ(one.size(), 200);
+    EXPECT_EQ(one.text_columns, std::vector<std::string>{"mode"});  // text in the last rows only
+    EXPECT_EQ(one.extra_names, std::vector<std::string>{"temp"});
+    EXPECT_EQ(one.comments.size(), 8u);  // before the header, 6 among the rows, at the end
+    for (std::size_t bytes : {std::size_t(1), std::size_t(7), std::size_t(300), std::size_t(4096)}) {
+      for (int threads : {1, 3}) {
+        SCOPED_TRACE("range " + std::to_string(bytes) + " B, " + std::to_string(threads) + " threads, eol " +
+                     std::to_string(static_cast<int>(eol.back())));
+        expectSameDataset(parseDatasetText(text, "log.csv", inRanges(bytes, threads)), one);
+      }
+    }
+  }
+}
+
+TEST(DatasetRanges, AFileReadInRangesIsTheTextReadWhole) {
+  const std::string text = labLog("\r\n");
+  const std::string path = (std::filesystem::temp_directory_path() / "exoid_dataset_ranges_test.csv").string();
+  std::ofstream(path, std::ios::binary) << text;
+  const Dataset from_file = readDatasetCsv(path, inRanges(100, 2));
+  std::filesystem::remove(path);
+  expectSameDataset(from_file, parseDatasetText(text, path, inRanges(text.size() + 1, 1)));
+}
+
+TEST(DatasetRanges, TheFirstErrorInTheFileWhateverTheRanges) {
+  std::string text = labLog("\n");
+  // Two bad cells: tau_hip on the data line 60 and q_knee on the data line 150 (file lines 2 +
+  // comments and blanks before them); the first in the file is the one named.
+  const auto bad = [&](int row, int cell, const std::string& value) {
+    std::size_t at = text.find("\n" + [&] {
+      char b[40];
+      std::snprintf(b, sizeof b, "%.17g,", 0.001 * row);
+      return std::string(b);
+    }());
+    ASSERT_NE(at, std::string::npos);
+    ++at;
+    for (int c = 0; c < cell; ++c) at = text.find(',', at) + 1;
+    text.replace(at, text.find(',', at) - at, value);
+  };
+  bad(150, 2, "x");
+  bad(60, 3, "oops");
+  std::string single;
+  try {
+    parseDatasetText(text, "log.csv", inRanges(text.size() + 1, 1));
+  } catch (const DatasetError& e) {
+    single = e.what();
+  }
+  ASSERT_NE(single.find("tau_hip"), std::string::npos) << single;
+  for (std::size_t bytes : {std::size_t(1), std::size_t(64), std::size_t(2000)}) {
+    for (int threads : {1, 4}) {
+      try {
+        parseDatasetText(text, "log.csv", inRanges(bytes, threads));
+        ADD_FAILURE() << "read a log with two bad cells";
+      } catch (const DatasetError& e) {
+        EXPECT_EQ(std::string(e.what()), single);
+      }
+    }
+  }
+}
+
+TEST(DatasetRanges, NegativeThreadsAreRefusedByName) {
+  CsvReadOptions o;
+  o.threads = -1;
+  try {
+    parseDatasetText(labLog("\n"), "log.csv", o);
+    ADD_FAILURE() << "accepted threads = -1";
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("'threads' must be >= 0"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace exoid::ident
