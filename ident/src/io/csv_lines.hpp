@@ -34,6 +34,7 @@ struct Start {
   long line_number = 1;  ///< number of the first line read
   char eol = 0;          ///< '\n' or '\r' when known; 0: from the first line end seen
   bool at_file_start = true;  ///< a UTF-8 byte-order mark is skipped only here
+  std::size_t bytes = std::size_t(-1);  ///< the text's length when known (a short one: a small buffer)
 };
 
 /// Thrown for a malformed cell (an unclosed quote, text after a closing quote).
@@ -101,7 +102,8 @@ inline char* LineSplitter::reserve(std::size_t keep, std::size_t more) {
 
 template <typename Read, typename Visit>
 void LineSplitter::run(Read&& read, Visit&& visit, bool split_cells, const Start& start) {
-  char* buf = reserve(0, kChunkBytes);
+  const std::size_t chunk = std::min(kChunkBytes, start.bytes == std::size_t(-1) ? kChunkBytes : start.bytes + 1);
+  char* buf = reserve(0, chunk);
   std::size_t size = 0, pos = 0;
   std::int64_t consumed = 0;  // bytes of the text moved out of the front of buf
   long number = start.line_number - 1;
@@ -131,8 +133,8 @@ void LineSplitter::run(Read&& read, Visit&& visit, bool split_cells, const Start
       size -= pos;
       consumed += static_cast<std::int64_t>(pos);
       pos = 0;
-      buf = reserve(size, kChunkBytes);
-      const std::size_t got = read(buf + size, kChunkBytes);
+      buf = reserve(size, chunk);
+      const std::size_t got = read(buf + size, chunk);
       size += got;
       eof = got == 0;
       if (first && size >= 3 && static_cast<unsigned char>(buf[0]) == 0xEF && static_cast<unsigned char>(buf[1]) == 0xBB &&

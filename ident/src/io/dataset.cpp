@@ -579,12 +579,12 @@ class LogParser {
 // total_bytes.
 template <typename Open>
 std::int64_t lineStartFrom(Open& open, std::int64_t from, std::int64_t total_bytes, char eol) {
-  constexpr std::size_t kScan = std::size_t(64) << 10;
-  std::unique_ptr<char[]> chunk(new char[kScan]);
+  const auto scan_bytes = static_cast<std::size_t>(std::min<std::int64_t>(std::int64_t(64) << 10, total_bytes - from + 2));
+  std::unique_ptr<char[]> chunk(new char[scan_bytes]);
   auto read = open(from - 1, -1);
   std::int64_t at = from - 1;  // the text's offset of chunk[0]
   bool after_cr = false;       // CR file: the last chunk ended on a line's CR
-  while (const std::size_t n = read(chunk.get(), kScan)) {
+  while (const std::size_t n = read(chunk.get(), scan_bytes)) {
     if (after_cr) return chunk[0] == '\n' ? at + 1 : at;
     if (const void* hit = std::memchr(chunk.get(), eol, n)) {
       const auto e = static_cast<std::size_t>(static_cast<const char*>(hit) - chunk.get());
@@ -629,7 +629,7 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
       data_offset = line.offset;
       data_line = line.number;
       splitter.stop();
-    });
+    }, true, csv::Start{1, 0, true, static_cast<std::size_t>(total_bytes)});
     const char eol = splitter.eol();
     // The data cut into pieces of about range_bytes at line starts; each piece's lines counted on
     // its own (in parallel), then numbered in order.
@@ -658,7 +658,7 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
         } else {
           ++p.rows;
         }
-      }, false, csv::Start{1, eol, false});
+      }, false, csv::Start{1, eol, false, static_cast<std::size_t>(p.end - p.begin)});
       p.lines = counter.lines();
     });
     std::vector<LogParser::Range> ranges;
@@ -680,7 +680,7 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
       state = parser.rangeStart(k);
       csv::LineSplitter range_splitter;
       range_splitter.run(open(r.offset, pieces[k].end), [&](const csv::Line& line) { parser.parseRange(k, line, state); },
-                         true, csv::Start{r.line_number, eol, false});
+                         true, csv::Start{r.line_number, eol, false, static_cast<std::size_t>(pieces[k].end - r.offset)});
       if (state.row != parser.rangeEnd(k)) parser.changedWhileRead();
     });
     parser.merge(states);
