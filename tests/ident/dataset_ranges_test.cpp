@@ -114,6 +114,52 @@ TEST(DatasetRanges, TheFirstErrorInTheFileWhateverTheRanges) {
   }
 }
 
+// The time axis's errors name the file's line of the offending row (comments and blank lines
+// counted), in ranges as whole.
+TEST(DatasetRanges, TimeAxisErrorsNameTheFileLineInRangesAsWhole) {
+  const auto log = [](double t_at_100, double t_at_101) {
+    std::string s = "# a comment\n\nt,q_hip,q_knee,tau_hip,tau_knee\n";  // the header is line 3
+    for (int i = 0; i < 150; ++i) {
+      if (i == 50) s += "# note\n";  // rows 50.. are one line further down
+      const double t = i == 100 ? t_at_100 : i == 101 ? t_at_101 : 0.001 * i + (i > 101 ? 0.05 : 0.0);
+      s += std::to_string(t) + ",0.1,0.2,1.5,2.5\n";
+    }
+    return s;
+  };
+  struct Case {
+    std::string text;
+    bool strict;
+    std::string expected;  // how the message starts
+  };
+  const std::vector<Case> cases = {
+      {log(0.099, 0.1), false, "log.csv:105:1: time must be strictly increasing"},    // row 100 (t = 0.099 after 0.099)
+      {log(0.1, 0.151), false, "log.csv:106:1: a gap of 0.051 s between lines 105 and 106"},  // row 101: 51 ms after row 100
+      {log(0.1, 0.101), true, "log.csv:107:1: sampling is not uniform"},           // row 102 jumps by 51 ms
+  };
+  for (const Case& c : cases) {
+    std::string whole;
+    CsvReadOptions o;
+    if (c.strict) o.sampling = SamplingMode::kStrict;
+    o.range_bytes = c.text.size() + 1;
+    try {
+      parseDatasetText(c.text, "log.csv", o);
+    } catch (const DatasetError& e) {
+      whole = e.what();
+    }
+    EXPECT_EQ(whole.rfind(c.expected, 0), 0u) << whole;
+    for (std::size_t bytes : {std::size_t(1), std::size_t(40), std::size_t(700)}) {
+      o.range_bytes = bytes;
+      o.threads = 2;
+      try {
+        parseDatasetText(c.text, "log.csv", o);
+        ADD_FAILURE() << "read: " << c.expected;
+      } catch (const DatasetError& e) {
+        EXPECT_EQ(std::string(e.what()), whole);
+      }
+    }
+  }
+}
+
 TEST(DatasetRanges, NegativeThreadsAreRefusedByName) {
   CsvReadOptions o;
   o.threads = -1;
