@@ -10,6 +10,10 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
+
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace exoid::ident {
 namespace {
@@ -76,6 +80,18 @@ TEST(DatasetRanges, AFileReadInRangesIsTheTextReadWhole) {
   const Dataset from_file = readDatasetCsv(path, inRanges(100, 2));
   std::filesystem::remove(path);
   expectSameDataset(from_file, parseDatasetText(text, path, inRanges(text.size() + 1, 1)));
+}
+
+// A file without a size to cut (a pipe, e.g. --data <(zcat log.gz)) is read as a stream.
+TEST(DatasetRanges, APipeIsReadWhole) {
+  const std::string text = labLog("\n");
+  const std::string path = (std::filesystem::temp_directory_path() / ("exoid_dataset_pipe_" + std::to_string(::getpid()))).string();
+  ASSERT_EQ(::mkfifo(path.c_str(), 0600), 0);
+  std::thread writer([&] { std::ofstream(path, std::ios::binary) << text; });
+  const Dataset from_pipe = readDatasetCsv(path, inRanges(100, 2));
+  writer.join();
+  std::filesystem::remove(path);
+  expectSameDataset(from_pipe, parseDatasetText(text, path, inRanges(text.size() + 1, 1)));
 }
 
 TEST(DatasetRanges, TheFirstErrorInTheFileWhateverTheRanges) {

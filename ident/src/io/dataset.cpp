@@ -737,7 +737,13 @@ Dataset readDatasetCsv(const std::string& path, const CsvReadOptions& options) {
   };
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(path, ec);
-  if (ec) throw DatasetError(path, 0, 0, "cannot read the file's size: " + ec.message());
+  if (ec || bytes == 0) {
+    // No size to cut into ranges (a pipe, a process substitution, /proc, an empty file; or no
+    // such file): read as a stream, whole.
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw DatasetError(path, 0, 0, "cannot open file for reading");
+    return parseDatasetCsv(in, path, options);
+  }
   return parseLog(open, static_cast<std::int64_t>(bytes), path, options);
 }
 
