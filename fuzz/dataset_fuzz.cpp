@@ -44,6 +44,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   };
   EXOID_FUZZ_CHECK(same(d.t_s, in_ranges.t_s) && same(d.q_rad, in_ranges.q_rad) && same(d.tau_Nm, in_ranges.tau_Nm) && same(d.extra, in_ranges.extra) &&
                    d.comments == in_ranges.comments && d.extra_names == in_ranges.extra_names && d.text_columns == in_ranges.text_columns &&
+                   d.qd_radps.has_value() == in_ranges.qd_radps.has_value() &&
+                   (!d.qd_radps || same(*d.qd_radps, *in_ranges.qd_radps)) &&
+                   d.qdd_radps2.has_value() == in_ranges.qdd_radps2.has_value() &&
+                   (!d.qdd_radps2 || same(*d.qdd_radps2, *in_ranges.qdd_radps2)) &&
+                   d.sampling.rows_read == in_ranges.sampling.rows_read &&
+                   d.sampling.intervals_off == in_ranges.sampling.intervals_off &&
+                   d.sampling.resampled == in_ranges.sampling.resampled &&
                    d.sampling.max_dt_line == in_ranges.sampling.max_dt_line);
   if (!error.empty()) return 0;
   const Eigen::Index n = d.size();

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <thread>
 
@@ -173,6 +174,36 @@ TEST(DatasetRanges, TimeAxisErrorsNameTheFileLineInRangesAsWhole) {
         EXPECT_EQ(std::string(e.what()), whole);
       }
     }
+  }
+}
+
+// Any range size, the largest included, and an empty text.
+TEST(DatasetRanges, AnyRangeSizeAndAnEmptyText) {
+  const std::string text = labLog("\n");
+  const Dataset one = parseDatasetText(text, "log.csv", inRanges(text.size() + 1, 1));
+  for (std::size_t bytes : {std::size_t(0), std::numeric_limits<std::size_t>::max(), std::size_t(1) << 63}) {
+    expectSameDataset(parseDatasetText(text, "log.csv", inRanges(bytes, 2)), one);
+  }
+  try {
+    parseDatasetText(std::string_view{}, "empty.csv");
+    ADD_FAILURE() << "read an empty text";
+  } catch (const DatasetError& e) {
+    EXPECT_NE(std::string(e.what()).find("empty file"), std::string::npos) << e.what();
+  }
+}
+
+// A text's line end is decided on all of it, as one pass would: a CR text with one LF past the
+// reader's first MiB is read by LF.
+TEST(DatasetRanges, ATextsLineEndIsDecidedOnAllOfIt) {
+  std::string text = "t,q_hip,q_knee,tau_hip,tau_knee\r";
+  while (text.size() < (std::size_t(3) << 19)) text += "0.001,0.1,0.2,1.5,2.5\r";
+  const std::string lf = text.substr(0, text.size() - 1) + "\n";
+  try {
+    parseDatasetText(lf, "log.csv");
+    ADD_FAILURE() << "read a CR file with an LF as LF lines";
+  } catch (const DatasetError& e) {
+    // One line of LF-separated text: its cells are the header's 5 and every row's.
+    EXPECT_NE(std::string(e.what()).find("log.csv:1:"), std::string::npos) << e.what();
   }
 }
 

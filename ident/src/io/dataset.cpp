@@ -14,6 +14,7 @@
 #include <string_view>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -569,11 +570,6 @@ class LogParser {
   Eigen::Index row_ = 0;
 };
 
-// `open(offset, end)` returns a chunk reader (read(buffer) -> bool) of the text's bytes [offset,
-// end), end < 0 for all the rest. The first pass reads all of it: the header, and the data rows
-// counted and cut into ranges, so every column is allocated once at its final size; the second
-// parses the ranges on up to options.threads threads, each into its own rows (the same bytes
-// whatever the number; an error is the first in the file, as a single pass would report it).
 // The first line start at or after byte `from` of a text of total_bytes whose lines end in `eol`:
 // just after the first line end at or after from - 1 (in a CR file, a CR LF pair is one end), or
 // total_bytes.
@@ -600,8 +596,15 @@ std::int64_t lineStartFrom(Open& open, std::int64_t from, std::int64_t total_byt
   return after_cr ? at : total_bytes;
 }
 
+// `open(offset, end)` returns a chunk reader (read(dst, max) -> bytes, 0 at the end) of the text's
+// bytes [offset, end), end < 0 for all the rest; `eol` is its line end when known (0: from the
+// first chunk). The header is read first; the data rows are cut into ranges at line starts, each
+// range counted, then parsed into its own rows, on up to options.threads threads (the same
+// dataset whatever the number and the range size; an error is the first in the file, as a single
+// pass would report it).
 template <typename Open>
-Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& source, const CsvReadOptions& options) {
+Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& source, const CsvReadOptions& options,
+                 char eol_known = 0) {
   try {
     options.format.validate();
     if (options.joints.empty()) throw std::invalid_argument("dataset: the model names no joints");
@@ -629,7 +632,7 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
       data_offset = line.offset;
       data_line = line.number;
       splitter.stop();
-    }, true, csv::Start{1, 0, true, static_cast<std::size_t>(total_bytes)});
+    }, true, csv::Start{1, eol_known, true, static_cast<std::size_t>(total_bytes)});
     const char eol = splitter.eol();
     // The data cut into pieces of about range_bytes at line starts; each piece's lines counted on
     // its own (in parallel), then numbered in order.
@@ -641,10 +644,10 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
     };
     std::vector<Piece> pieces;
     if (data_offset >= 0) {
-      const auto step = static_cast<std::int64_t>(std::max<std::size_t>(options.range_bytes, 1));
+      const std::size_t step = std::max<std::size_t>(options.range_bytes, 1);
       for (std::int64_t begin = data_offset; begin < total_bytes;) {
-        const std::int64_t cut = begin + step;
-        const std::int64_t end = cut >= total_bytes ? total_bytes : lineStartFrom(open, cut, total_bytes, eol);
+        const bool last = step >= static_cast<std::uint64_t>(total_bytes - begin);  // unsigned: any range_bytes
+        const std::int64_t end = last ? total_bytes : lineStartFrom(open, begin + static_cast<std::int64_t>(step), total_bytes, eol);
         pieces.push_back({begin, end, 0, 0, {}});
         begin = end;
       }
@@ -692,6 +695,16 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
 
 }  // namespace
 
+namespace {
+// A text's line end as one pass over all of it decides: LF when it has one (after a byte-order
+// mark), else CR, else none.
+char textLineEnd(std::string_view text) {
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
+  if (text.find('\n') != std::string_view::npos) return '\n';
+  return text.find('\r') != std::string_view::npos ? '\r' : 0;
+}
+}  // namespace
+
 Dataset parseDatasetText(std::string_view text, const std::string& source, const CsvReadOptions& options) {
   return parseLog(
       [text](std::int64_t offset, std::int64_t end) {
@@ -699,12 +712,12 @@ Dataset parseDatasetText(std::string_view text, const std::string& source, const
         std::string_view left = text.substr(from, end < 0 ? std::string_view::npos : static_cast<std::size_t>(end - offset));
         return [left](char* dst, std::size_t max) mutable {
           const std::size_t n = std::min(max, left.size());
-          std::memcpy(dst, left.data(), n);
+          if (n > 0) std::memcpy(dst, left.data(), n);  // an empty view's data() may be null
           left.remove_prefix(n);
           return n;
         };
       },
-      static_cast<std::int64_t>(text.size()), source, options);
+      static_cast<std::int64_t>(text.size()), source, options, textLineEnd(text));
 }
 
 Dataset parseDatasetCsv(std::istream& in, const std::string& source, const CsvReadOptions& options) {
