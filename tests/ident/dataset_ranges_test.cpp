@@ -53,6 +53,16 @@ CsvReadOptions inRanges(std::size_t bytes, int threads) {
   return o;
 }
 
+// The reader's DatasetError message for this text, or "" when it reads.
+std::string readError(std::string_view text, const CsvReadOptions& o = {}) {
+  try {
+    parseDatasetText(text, "log.csv", o);
+  } catch (const DatasetError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(DatasetRanges, EveryRangeSizeAndThreadCountReadsTheSameDataset) {
   for (const std::string eol : {"\n", "\r\n", "\r"}) {
     const std::string text = labLog(eol);
@@ -112,21 +122,11 @@ TEST(DatasetRanges, TheFirstErrorInTheFileWhateverTheRanges) {
   };
   bad(150, 2, "x");
   bad(60, 3, "oops");
-  std::string single;
-  try {
-    parseDatasetText(text, "log.csv", inRanges(text.size() + 1, 1));
-  } catch (const DatasetError& e) {
-    single = e.what();
-  }
+  const std::string single = readError(text, inRanges(text.size() + 1, 1));
   ASSERT_NE(single.find("tau_hip"), std::string::npos) << single;
   for (std::size_t bytes : {std::size_t(1), std::size_t(64), std::size_t(2000)}) {
     for (int threads : {1, 4}) {
-      try {
-        parseDatasetText(text, "log.csv", inRanges(bytes, threads));
-        ADD_FAILURE() << "read a log with two bad cells";
-      } catch (const DatasetError& e) {
-        EXPECT_EQ(std::string(e.what()), single);
-      }
+      EXPECT_EQ(readError(text, inRanges(bytes, threads)), single) << "a log with two bad cells";
     }
   }
 }
@@ -154,25 +154,15 @@ TEST(DatasetRanges, TimeAxisErrorsNameTheFileLineInRangesAsWhole) {
       {log(0.1, 0.101), true, "log.csv:107:1: sampling is not uniform"},           // row 102 jumps by 51 ms
   };
   for (const Case& c : cases) {
-    std::string whole;
     CsvReadOptions o;
     if (c.strict) o.sampling = SamplingMode::kStrict;
     o.range_bytes = c.text.size() + 1;
-    try {
-      parseDatasetText(c.text, "log.csv", o);
-    } catch (const DatasetError& e) {
-      whole = e.what();
-    }
+    const std::string whole = readError(c.text, o);
     EXPECT_EQ(whole.rfind(c.expected, 0), 0u) << whole;
     for (std::size_t bytes : {std::size_t(1), std::size_t(40), std::size_t(700)}) {
       o.range_bytes = bytes;
       o.threads = 2;
-      try {
-        parseDatasetText(c.text, "log.csv", o);
-        ADD_FAILURE() << "read: " << c.expected;
-      } catch (const DatasetError& e) {
-        EXPECT_EQ(std::string(e.what()), whole);
-      }
+      EXPECT_EQ(readError(c.text, o), whole) << c.expected;
     }
   }
 }
@@ -184,12 +174,8 @@ TEST(DatasetRanges, AnyRangeSizeAndAnEmptyText) {
   for (std::size_t bytes : {std::size_t(0), std::numeric_limits<std::size_t>::max(), std::size_t(1) << 63}) {
     expectSameDataset(parseDatasetText(text, "log.csv", inRanges(bytes, 2)), one);
   }
-  try {
-    parseDatasetText(std::string_view{}, "empty.csv");
-    ADD_FAILURE() << "read an empty text";
-  } catch (const DatasetError& e) {
-    EXPECT_NE(std::string(e.what()).find("empty file"), std::string::npos) << e.what();
-  }
+  const std::string empty = readError(std::string_view{});
+  EXPECT_NE(empty.find("empty file"), std::string::npos) << "an empty text: " << empty;
 }
 
 // A text's line end is decided on all of it, as one pass would: a CR text with one LF past the
@@ -198,24 +184,16 @@ TEST(DatasetRanges, ATextsLineEndIsDecidedOnAllOfIt) {
   std::string text = "t,q_hip,q_knee,tau_hip,tau_knee\r";
   while (text.size() < (std::size_t(3) << 19)) text += "0.001,0.1,0.2,1.5,2.5\r";
   const std::string lf = text.substr(0, text.size() - 1) + "\n";
-  try {
-    parseDatasetText(lf, "log.csv");
-    ADD_FAILURE() << "read a CR file with an LF as LF lines";
-  } catch (const DatasetError& e) {
-    // One line of LF-separated text: its cells are the header's 5 and every row's.
-    EXPECT_NE(std::string(e.what()).find("log.csv:1:"), std::string::npos) << e.what();
-  }
+  // One line of LF-separated text: its cells are the header's 5 and every row's.
+  const std::string error = readError(lf);
+  EXPECT_NE(error.find("log.csv:1:"), std::string::npos) << "a CR file with an LF, read as LF lines: " << error;
 }
 
 TEST(DatasetRanges, NegativeThreadsAreRefusedByName) {
   CsvReadOptions o;
   o.threads = -1;
-  try {
-    parseDatasetText(labLog("\n"), "log.csv", o);
-    ADD_FAILURE() << "accepted threads = -1";
-  } catch (const DatasetError& e) {
-    EXPECT_NE(std::string(e.what()).find("'threads' must be >= 0"), std::string::npos) << e.what();
-  }
+  const std::string error = readError(labLog("\n"), o);
+  EXPECT_NE(error.find("'threads' must be >= 0"), std::string::npos) << "threads = -1: " << error;
 }
 
 }  // namespace
