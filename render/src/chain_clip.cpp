@@ -18,6 +18,7 @@ namespace exoid::render {
 
 void ChainClipOptions::validate() const {
   render.validate();
+  overlay.validate();
   if (!std::isfinite(fps) || fps <= 0.0 || fps > 240.0) throw std::invalid_argument("'fps' must be in (0, 240], got " + core::toText(fps));
 }
 
@@ -67,16 +68,23 @@ SweptBox chainSweptBox(ChainPoser& p, const Eigen::MatrixXd& q) {
 
 void renderChain(const std::string& model_path, const std::vector<std::string>& joints, const Eigen::VectorXd& t_s,
                  const Eigen::MatrixXd& q_rad, const std::string& out, const ChainClipOptions& options_in,
-                 std::optional<double> frame_s) {
+                 std::optional<double> frame_s, const OverlayTrack* overlay) {
   options_in.validate();
   if (q_rad.cols() != static_cast<Eigen::Index>(joints.size()) || q_rad.rows() != t_s.size() || t_s.size() < 2) {
     throw std::invalid_argument("render: expected angles of " + core::toText(joints.size()) + " joints at each of >= 2 times");
   }
+  if (overlay && static_cast<Eigen::Index>(overlay->t_s.size()) != t_s.size()) {
+    throw std::invalid_argument("render: the overlay's track has " + core::toText(overlay->t_s.size()) + " samples, the record " +
+                                core::toText(t_s.size()));
+  }
+  const std::optional<OverlayBuilder> builder = overlay ? std::optional<OverlayBuilder>(OverlayBuilder(*overlay, options_in.overlay)) : std::nullopt;
   ChainPoser poser(model_path, joints);
   ChainClipOptions o = options_in;
   if (o.auto_frame) {
+    // The plots take the lower right: the leg keeps to the rest of the view (as the APAL leg's clip).
+    const bool plots = overlay && o.overlay.plot && overlay->hasTorque();
     o.render.camera = frameBox(chainSweptBox(poser, q_rad), o.render.camera, poser.model->vis.global.fovy,
-                               double(o.render.width) / double(o.render.height), 1.0);
+                               double(o.render.width) / double(o.render.height), plots ? 0.55 : 1.0);
   }
   OffscreenRenderer renderer(poser.model.get(), o.render);
   const double t0 = t_s[0], t1 = t_s[t_s.size() - 1];
@@ -84,19 +92,21 @@ void renderChain(const std::string& model_path, const std::vector<std::string>& 
     const auto it = std::lower_bound(t_s.data(), t_s.data() + t_s.size(), t);
     return std::min<Eigen::Index>(static_cast<Eigen::Index>(it - t_s.data()), t_s.size() - 1);
   };
+  const auto draw = [&](Eigen::Index row) -> const Image& {
+    poser.pose(q_rad, row);
+    if (!builder) return renderer.render(poser.model.get(), poser.data.get());
+    const Overlay ov = builder->at(static_cast<std::size_t>(row));
+    return renderer.render(poser.model.get(), poser.data.get(), &ov);
+  };
   if (frame_s) {
     if (!(*frame_s >= t0 && *frame_s <= t1)) {
       throw std::invalid_argument("--frame " + core::toText(*frame_s) + " is outside the record [" + core::toText(t0) + ", " + core::toText(t1) + "] s");
     }
-    poser.pose(q_rad, rowAt(*frame_s));
-    core::writeFileAtomically(out, encodePng(renderer.render(poser.model.get(), poser.data.get())));
+    core::writeFileAtomically(out, encodePng(draw(rowAt(*frame_s))));
     return;
   }
   VideoWriter video(out, o.render.width, o.render.height, o.fps, o.ffmpeg);
-  for (long k = 0; t0 + double(k) / o.fps <= t1 + 1e-12; ++k) {  // frames at k / fps, no accumulated rounding
-    poser.pose(q_rad, rowAt(t0 + double(k) / o.fps));
-    video.write(renderer.render(poser.model.get(), poser.data.get()));
-  }
+  for (long k = 0; t0 + double(k) / o.fps <= t1 + 1e-12; ++k) video.write(draw(rowAt(t0 + double(k) / o.fps)));  // frames at k / fps, no accumulated rounding
   video.finish();
 }
 

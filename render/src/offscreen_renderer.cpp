@@ -178,9 +178,10 @@ const Image& OffscreenRenderer::render(const mjModel* m, mjData* d, const Overla
       mjv_defaultFigure(f.get());
       s.figures.push_back(std::move(f));
     }
-    // Panels stacked in the lower right corner (below the text), first panel on top.
+    // Panels stacked in the lower right corner, below the text's band (a chain's many joints
+    // make both taller), first panel on top.
     const int pw = s.width * 45 / 100;
-    const int ph = n > 0 ? std::min(s.height * 28 / 100, s.height * 80 / 100 / n) : 0;
+    const int ph = n > 0 ? std::min({s.height * 28 / 100, s.height * 80 / 100 / n, (s.height - band) / n}) : 0;
     for (int i = 0; i < n; ++i) {
       const PlotPanel& p = overlay->panels[static_cast<std::size_t>(i)];
       mjvFigure& f = *s.figures[static_cast<std::size_t>(i)];

@@ -48,52 +48,83 @@ void OverlayOptions::validate() const {
   }
 }
 
-OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options) : track_(track), options_(options) {
-  options_.validate();
-  if (!track_.hasTorque()) return;
-  std::vector<double> err_hip, err_knee;
-  if (track_.hasPrediction()) {
-    for (std::size_t i = 0; i < track_.size(); ++i) {
-      err_hip.push_back(track_.tau_hip_Nm[i] - track_.tau_hip_pred_Nm[i]);
-      err_knee.push_back(track_.tau_knee_Nm[i] - track_.tau_knee_pred_Nm[i]);
+void OverlayTrack::validate() const {
+  if (t_s.size() < 2) throw std::invalid_argument("overlay: expected at least 2 samples, got " + core::toText(t_s.size()));
+  const auto check = [&](const std::vector<double>& v, const std::string& what, bool may_be_empty) {
+    if (v.size() != t_s.size() && !(may_be_empty && v.empty())) {
+      throw std::invalid_argument("overlay: " + what + " has " + core::toText(v.size()) + " samples, the time axis " + core::toText(t_s.size()));
     }
-    y_range_[0] = rangeOf({&track_.tau_hip_Nm, &track_.tau_hip_pred_Nm, &err_hip});
-    y_range_[1] = rangeOf({&track_.tau_knee_Nm, &track_.tau_knee_pred_Nm, &err_knee});
-  } else {
-    y_range_[0] = rangeOf({&track_.tau_hip_Nm});
-    y_range_[1] = rangeOf({&track_.tau_knee_Nm});
+  };
+  for (const OverlayJoint& j : joints) {
+    check(j.q_rad, j.name + " angle", false);
+    check(j.tau_Nm, j.name + " torque", !hasTorque());
+    check(j.tau_pred_Nm, j.name + " predicted torque", !hasPrediction());
+  }
+  check(base_x_m, "pedestal x", true);
+  check(base_z_m, "pedestal z", base_x_m.empty());
+}
+
+OverlayTrack overlayTrackOf(const Track& t) {
+  OverlayTrack o;
+  o.title = t.title;
+  o.t_s = t.t_s;
+  o.joints = {{"hip", t.q_hip_rad, t.tau_hip_Nm, t.tau_hip_pred_Nm}, {"knee", t.q_knee_rad, t.tau_knee_Nm, t.tau_knee_pred_Nm}};
+  o.base_x_m = t.base_x_m;
+  o.base_z_m = t.base_z_m;
+  o.torque_name = t.torque_name;
+  o.prediction_name = t.prediction_name;
+  return o;
+}
+
+OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options) : OverlayBuilder(overlayTrackOf(track), options) {}
+
+OverlayBuilder::OverlayBuilder(OverlayTrack track, const OverlayOptions& options) : track_(std::move(track)), options_(options) {
+  options_.validate();
+  track_.validate();
+  y_range_.assign(track_.joints.size(), {0.0, 0.0});
+  if (!track_.hasTorque()) return;
+  for (std::size_t j = 0; j < track_.joints.size(); ++j) {
+    const OverlayJoint& jt = track_.joints[j];
+    if (track_.hasPrediction()) {
+      std::vector<double> err;
+      for (std::size_t i = 0; i < track_.t_s.size(); ++i) err.push_back(jt.tau_Nm[i] - jt.tau_pred_Nm[i]);
+      y_range_[j] = rangeOf({&jt.tau_Nm, &jt.tau_pred_Nm, &err});
+    } else {
+      y_range_[j] = rangeOf({&jt.tau_Nm});
+    }
   }
 }
 
 namespace {
 
 // The text block's torque lines at `row`: measured, or measured / predicted / error.
-void addTorqueText(const Track& tr, std::size_t row, std::string& l, std::string& r) {
-  const double th = tr.tau_hip_Nm[row], tk = tr.tau_knee_Nm[row];
+void addTorqueText(const OverlayTrack& tr, std::size_t row, std::string& l, std::string& r) {
   if (tr.hasPrediction()) {
-    const double ph = tr.tau_hip_pred_Nm[row], pk = tr.tau_knee_pred_Nm[row];
     const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
-    l += "\nhip torque " + cols + "\nknee torque " + cols;
     const auto line = [](double meas, double p) {
       return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
                            : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
     };
-    r += "\n" + line(th, ph) + "\n" + line(tk, pk);
+    for (const OverlayJoint& j : tr.joints) l += "\n" + j.name + " torque " + cols;
+    for (const OverlayJoint& j : tr.joints) r += "\n" + line(j.tau_Nm[row], j.tau_pred_Nm[row]);
   } else {
-    l += "\nhip torque (" + tr.torque_name + ")\nknee torque (" + tr.torque_name + ")";
-    r += "\n" + format("%+.2f N m", th) + "\n" + format("%+.2f N m", tk);
+    for (const OverlayJoint& j : tr.joints) l += "\n" + j.name + " torque (" + tr.torque_name + ")";
+    for (const OverlayJoint& j : tr.joints) r += "\n" + format("%+.2f N m", j.tau_Nm[row]);
   }
 }
 
 // The text block at `row`: labels on the left, values on the right.
-void addText(const Track& tr, const OverlayOptions& options, std::size_t row, Overlay& o) {
+void addText(const OverlayTrack& tr, const OverlayOptions& options, std::size_t row, Overlay& o) {
   std::string& l = o.text_left;
   std::string& r = o.text_right;
   l = tr.title.empty() ? std::string(" ") : tr.title;
   r = " ";
-  l += "\ntime\nhip angle\nknee angle";
-  r += "\n" + format("%.3f s", tr.t_s[row]) + "\n" + format("%+.1f deg", tr.q_hip_rad[row] * kRadToDeg) + "\n" +
-       format("%+.1f deg", tr.q_knee_rad[row] * kRadToDeg);
+  l += "\ntime";
+  r += "\n" + format("%.3f s", tr.t_s[row]);
+  for (const OverlayJoint& j : tr.joints) {
+    l += "\n" + j.name + " angle";
+    r += "\n" + format("%+.1f deg", j.q_rad[row] * kRadToDeg);
+  }
   if (tr.hasTorque()) addTorqueText(tr, row, l, r);
   if (options.plot && tr.hasTorque()) {
     l += "\nplots";
@@ -111,8 +142,8 @@ struct PlotWindow {
   std::vector<std::size_t> rows;
 };
 
-PlotWindow plotWindow(const Track& tr, const OverlayOptions& options, std::size_t row) {
-  const double dt = tr.sampleInterval_s();
+PlotWindow plotWindow(const OverlayTrack& tr, const OverlayOptions& options, std::size_t row) {
+  const double dt = (tr.t_s.back() - tr.t_s.front()) / static_cast<double>(tr.t_s.size() - 1);  // as Track::sampleInterval_s
   const double t0 = tr.t_s.front();
   const double t = tr.t_s[row];
   const double w = options.plot_window_s;
@@ -129,14 +160,13 @@ PlotWindow plotWindow(const Track& tr, const OverlayOptions& options, std::size_
   return win;
 }
 
-// Joint j's torque panel over the window: measured, and with a prediction, predicted and error.
-PlotPanel torquePanel(const Track& tr, int j, const PlotWindow& win, const std::array<double, 2>& y_range) {
-  const char* joint_name[2] = {"hip torque (N m)", "knee torque (N m)"};
-  const std::vector<double>& meas = j == 0 ? tr.tau_hip_Nm : tr.tau_knee_Nm;
-  const std::vector<double>& prd = j == 0 ? tr.tau_hip_pred_Nm : tr.tau_knee_pred_Nm;
+// A joint's torque panel over the window: measured, and with a prediction, predicted and error.
+PlotPanel torquePanel(const OverlayTrack& tr, const OverlayJoint& joint, const PlotWindow& win, const std::array<double, 2>& y_range) {
+  const std::vector<double>& meas = joint.tau_Nm;
+  const std::vector<double>& prd = joint.tau_pred_Nm;
   const bool pred = tr.hasPrediction();
   PlotPanel p;
-  p.title = joint_name[j];
+  p.title = joint.name + " torque (N m)";
   p.x_range = win.x_range;
   p.y_range = y_range;
   PlotLine m{tr.torque_name, kMeasuredRgb, {}, {}};
@@ -165,12 +195,12 @@ PlotPanel torquePanel(const Track& tr, int j, const PlotWindow& win, const std::
 
 Overlay OverlayBuilder::at(std::size_t row) const {
   Overlay o;
-  const Track& tr = track_;
-  if (row >= tr.size()) throw std::invalid_argument("overlay row " + core::toText(row) + " >= " + core::toText(tr.size()));
+  const OverlayTrack& tr = track_;
+  if (row >= tr.t_s.size()) throw std::invalid_argument("overlay row " + core::toText(row) + " >= " + core::toText(tr.t_s.size()));
   if (options_.text) addText(tr, options_, row, o);
   if (options_.plot && tr.hasTorque()) {
     const PlotWindow win = plotWindow(tr, options_, row);
-    for (int j = 0; j < 2; ++j) o.panels.push_back(torquePanel(tr, j, win, y_range_[static_cast<std::size_t>(j)]));
+    for (std::size_t j = 0; j < tr.joints.size(); ++j) o.panels.push_back(torquePanel(tr, tr.joints[j], win, y_range_[j]));
   }
   return o;
 }

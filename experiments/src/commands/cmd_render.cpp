@@ -13,6 +13,8 @@
 #include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
 #include "exoid/render/chain_clip.hpp"
 #include "exoid/render/clip.hpp"
 #include "exoid/sim/serial_chain.hpp"
@@ -45,6 +47,7 @@ struct RenderArgs {
   render::ClipOptions clip;
   double frame_s = 0.0;
   CLI::Option* frame_opt = nullptr;
+  CLI::Option* height_opt = nullptr;
   bool antialias = false;
   bool no_overlay = false, no_plot = false;
   ident::SignalOptions signals;
@@ -140,27 +143,90 @@ render::Track trackFromSimulation(const RenderArgs& a) {
   return tr;
 }
 
+// A chain's identify JSON (`exoid identify --model ... --json`): its least-squares base
+// parameters, checked against the model's.
+Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChain& loaded) {
+  std::ifstream in(json_path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("base_parameters") || !j["base_parameters"].contains("ls") ||
+      !j["base_parameters"].contains("names")) {
+    throw std::invalid_argument("--ident '" + json_path + "': expected the JSON of `exoid identify --model " + loaded.path +
+                                " --json FILE` (base_parameters.names and .ls)");
+  }
+  const std::vector<std::string> names = j["base_parameters"]["names"];
+  const std::vector<double> ls = j["base_parameters"]["ls"];
+  if (names != loaded.base.names || ls.size() != names.size()) {
+    throw std::invalid_argument("--ident '" + json_path + "': its base parameters are not those of " + loaded.path + " (" +
+                                core::toText(loaded.base.rank) + " base parameters; identified with another model or --armature?)");
+  }
+  return Eigen::Map<const Eigen::VectorXd>(ls.data(), static_cast<Eigen::Index>(ls.size()));
+}
+
+// The identified chain's predicted torques on `d` (signals prepared as identification does with
+// `signals`), placed by time, NaN where the processing trimmed the edges.
+void addChainPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals,
+                        const LoadedChain& loaded, render::OverlayTrack& track) {
+  const Eigen::VectorXd beta = chainEstimateFrom(json_path, loaded);
+  const ident::JointSignals s = ident::prepareSignals(d, signals);
+  const ident::ChainRecord rows = ident::chainRows(loaded.model, s);
+  const Eigen::VectorXd tau = loaded.base.baseRegressor(rows.W) * beta;
+  const std::size_t n = static_cast<std::size_t>(d.size());
+  for (render::OverlayJoint& j : track.joints) j.tau_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
+  if (s.size() > 0) {
+    const long offset = std::lround((s.t_s[0] - d.t_s[0]) / d.sampleInterval_s());
+    const Eigen::Index dof = rows.dof;
+    for (Eigen::Index i = 0; i < s.size(); ++i) {
+      const long row = offset + static_cast<long>(i);
+      if (row < 0 || row >= static_cast<long>(n)) continue;
+      for (Eigen::Index k = 0; k < dof; ++k) track.joints[static_cast<std::size_t>(k)].tau_pred_Nm[static_cast<std::size_t>(row)] = tau[i * dof + k];
+    }
+  }
+  track.prediction_name = "LS";
+}
+
 // A model other than the APAL leg: its chain posed along the record (--data, read with the
-// model's joints) or along a simulation of it (exoid simulate --model's), without the overlay.
+// model's joints) or along a simulation of it (exoid simulate --model's), with the overlay of
+// every joint's angle and torque (and, with --ident, the identified prediction and its error).
 void runChain(const RenderArgs& a, bool still) {
-  if (!a.ident_json.empty()) throw CLI::ValidationError("--ident", "draws the APAL leg's identified torques; a chain model is drawn without overlay");
+  const LoadedChain loaded = loadChain(a.sim.model_path);
   ident::Dataset d;
+  std::string title;
   if (!a.data.empty()) {
-    const sim::SerialChain chain = sim::serialChainFromMjcfFile(a.sim.model_path);
     ident::CsvReadOptions o;
-    o.joints.clear();
-    for (const sim::ChainLinkBody& l : chain.links) o.joints.push_back(l.joint);
+    o.joints = loaded.model.jointNames();
     d = ident::readDatasetCsv(a.data, o);
+    title = "recorded: " + baseName(a.data);
   } else {
     d = chainDataset(sim::simulateChain(chainSimConfig(a.sim)));
+    title = loaded.chain.name + " simulated (seed " + core::toText(a.sim.seed) + ")";
   }
   render::ChainClipOptions o;
   o.render = a.clip.render;
   if (a.antialias) o.render.multisamples = 4;
   o.fps = a.clip.fps;
   o.ffmpeg = a.clip.ffmpeg;
+  o.overlay = a.clip.overlay;
+  o.overlay.plot = !a.no_plot;
+  // A torque panel per joint below the text's band: 560 px (the tallest image with the small
+  // font) keep three panels ~110 px each (480 px: 85); two get the APAL leg's ~145.
+  if (!a.no_overlay && o.overlay.plot && a.height_opt->count() == 0 && d.joints.size() > 2) o.render.height = std::max(o.render.height, 560);
+  render::OverlayTrack track;
+  track.title = title;
+  track.t_s = toVector(d.t_s);
+  for (std::size_t j = 0; j < d.joints.size(); ++j) {
+    const auto k = static_cast<Eigen::Index>(j);
+    track.joints.push_back({d.joints[j], toVector(d.q_rad.col(k)), toVector(d.tau_Nm.col(k)), {}});
+  }
+  if (!a.ident_json.empty()) {
+    if (a.signals.cutoff_from_data || a.signals.derivative_cutoff_from_data) {
+      throw std::invalid_argument("render's predicted torque uses the paper's signal processing: give --cutoff-hz and "
+                                  "--derivative-cutoff-hz as numbers, not auto");
+    }
+    addChainPrediction(a.ident_json, d, a.signals, loaded, track);
+  }
   const auto t0 = std::chrono::steady_clock::now();
-  render::renderChain(a.sim.model_path, d.joints, d.t_s, d.q_rad, a.out, o, still ? std::optional<double>(a.frame_s) : std::nullopt);
+  render::renderChain(a.sim.model_path, d.joints, d.t_s, d.q_rad, a.out, o, still ? std::optional<double>(a.frame_s) : std::nullopt,
+                      a.no_overlay ? nullptr : &track);
   std::cout << "wrote " << a.out << " (" << d.joints.size() << " joints of " << a.sim.model_path << ", "
             << core::formatNumber(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3) << " s)\n";
 }
@@ -227,10 +293,13 @@ void addRenderCommand(CLI::App& app) {
       "columns move the pedestal). The camera looks at the sagittal plane (x anterior to the right).\n"
       "Overlay: time, joint angles, measured torques and scrolling torque plots; with --ident, the\n"
       "identified model's predicted torques and the error (measured - predicted).\n"
+      "--model leg3|FILE.xml: any serial chain, posed along its record or simulation, with the same overlay\n"
+      "per joint (--ident: the JSON of `exoid identify --model ... --json`).\n"
       "Examples:\n"
       "  exoid render --trajectory 3 --duration 5 --out traj3.mp4\n"
       "  exoid render --data rec.csv --ident result.json --out rec.mp4\n"
-      "  exoid render --trajectory 4 --frame 2.25 --out still.png");
+      "  exoid render --trajectory 4 --frame 2.25 --out still.png\n"
+      "  exoid render --model leg3 --data log.csv --ident fit.json --frame 2.5 --out leg3.png");
   cmd->add_option("--out", args->out, "Output: FILE.mp4 (video) or FILE.png (with --frame); written atomically")
       ->required()->group("Output");
   args->frame_opt = cmd->add_option("--frame", args->frame_s,
@@ -238,7 +307,8 @@ void addRenderCommand(CLI::App& app) {
                         ->group("Output");
   cmd->add_option("--width", args->clip.render.width, "Image width (pixels; even for video)")
       ->capture_default_str()->check(CLI::Range(16, 8192))->group("Output");
-  cmd->add_option("--height", args->clip.render.height, "Image height (pixels; even for video)")
+  args->height_opt = cmd->add_option("--height", args->clip.render.height,
+                                     "Image height (pixels; even for video; default 480, 560 for a chain of 3+ joints with torque plots)")
       ->capture_default_str()->check(CLI::Range(16, 8192))->group("Output");
   cmd->add_option("--fps", args->clip.fps, "Video frames per second; frames sample the record at k/fps")
       ->capture_default_str()->check(CLI::Range(1e-3, 240.0))->group("Output");
