@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace exoid::sim {
@@ -266,6 +267,8 @@ class ChainRig {
     advance(t);
   }
 
+  const Eigen::VectorXd& kp() const { return kp_; }
+  const Eigen::VectorXd& kd() const { return kd_; }
   double trackingRms(Eigen::Index n) const { return std::sqrt(tracking_ss_ / static_cast<double>(std::max<Eigen::Index>(1, n * dof_))); }
 
  private:
@@ -394,11 +397,30 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   r.table.values.resize(n, static_cast<Eigen::Index>(r.table.names.size()));
   for (Eigen::Index k = 0; k < n; ++k) rig.sample(k, r.table);
   r.tracking_rms_rad = rig.trackingRms(n);
+  r.kp_Nm_per_rad = rig.kp();
+  r.kd_Nms_per_rad = rig.kd();
+  // The controller as IDIM-IV reads it (a real rig's comes from a --controller file instead).
+  const auto list = [](const Eigen::VectorXd& v) {
+    std::string out;
+    char buf[32];
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      std::snprintf(buf, sizeof buf, "%.17g", v[i]);
+      out += (i ? "," : "") + std::string(buf);
+    }
+    return out;
+  };
+  char bw[32];
+  std::snprintf(bw, sizeof bw, "%.17g", config.actuator_bandwidth_hz);
   r.table.metadata = {{"exoid", "chain simulation"},
                       {"model", r.chain.name},
                       {"model_path", config.model_path},
                       {"seed", std::to_string(config.seed)},
-                      {"mujoco", r.mujoco_version}};
+                      {"mujoco", r.mujoco_version},
+                      {"controller_kp_Nm_per_rad", list(r.kp_Nm_per_rad)},
+                      {"controller_kd_Nms_per_rad", list(r.kd_Nms_per_rad)},
+                      {"controller_law", "pd_measured_velocity"},
+                      {"feedforward", "true"},
+                      {"actuator_bandwidth_Hz", bw}};
   return r;
 }
 

@@ -1,6 +1,7 @@
 // The commands on the built-in hip-knee-ankle leg, through the CLI as a user runs them: excite
 // designs for it, simulate runs the design, identify recovers the base parameters of the exact
-// record; what the chain path does not take is refused by name.
+// record (every method, IDIM-IV with the controller the record carries); what the chain path does
+// not take is refused by name.
 #include "cli_test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -52,10 +53,12 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
   // RLS (P0 = 1e6 I) within its prior's pull, 1e-6 of the largest parameter.
   const std::string out3 = dir + "/leg3_methods.json";
   testing::internal::CaptureStdout();
-  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "ls,rls,lad,iv-band", "--json", out3}), 0);
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "ls,rls,lad,iv-band,idim-iv", "--json", out3}), 0);
   testing::internal::GetCapturedStdout();
   const nlohmann::json mth = readJson(out3)["methods"];
-  for (const char* m : {"rls", "lad", "iv-band"}) {
+  // IDIM-IV's instruments simulate ident's own model of the closed loop, not MuJoCo's: on exact rows
+  // the estimate is exact whatever the instruments.
+  for (const char* m : {"rls", "lad", "iv-band", "idim-iv"}) {
     ASSERT_TRUE(mth.contains(m)) << m;
     for (std::size_t i = 0; i < 17; ++i) {
       EXPECT_NEAR(mth[m]["beta"][i].get<double>(), b["truth"][i].get<double>(), 1e-6 * 5.5) << m << " " << b["names"][i].get<std::string>();
@@ -182,12 +185,67 @@ TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBasePa
   EXPECT_NE(stderrOf({"reproduce", "--model", "leg3", "--vibration", "1", "--out", dir + "_x"}, 105).find("--vibration"), std::string::npos);
 }
 
+// IDIM-IV on a chain: the controller from the record's metadata (exoid simulate writes it) or from
+// a file of the same gains gives the same estimate; a file of the wrong size and a record without
+// its reference are refused by name.
+TEST(ChainCli, IdimIvReadsTheRigsControllerFromTheRecordOrAFile) {
+  const std::string dir = ::testing::TempDir() + "/chain_idim_iv";
+  std::filesystem::create_directories(dir);
+  const std::string csv = dir + "/rec.csv", side = dir + "/rec.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "8", "--noise-q-deg", "0.02", "--noise-tau", "0.2", "--seed", "5",
+                      "--out", csv}),
+            0);
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--method", "ls,idim-iv", "--json", dir + "/meta.json"}), 0);
+  const nlohmann::json c = readJson(side)["controller"];
+  std::ofstream(dir + "/controller.json") << nlohmann::json{{"kp", c["kp_Nm_per_rad"]}, {"kd", c["kd_Nms_per_rad"]}, {"feedforward", "model"},
+                                                            {"actuator_bandwidth_hz", c["actuator_bandwidth_hz"]}}.dump();
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--method", "ls,idim-iv", "--controller", dir + "/controller.json",
+                      "--json", dir + "/file.json"}),
+            0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json a = readJson(dir + "/meta.json")["methods"]["idim-iv"], b = readJson(dir + "/file.json")["methods"]["idim-iv"];
+  EXPECT_EQ(a["status"], "converged") << a["message"];
+  EXPECT_EQ(a["beta"], b["beta"]);  // %.17g in the metadata: the same gains, the same bytes
+  std::ofstream(dir + "/two.json") << R"({"kp": [1, 2], "kd": [1, 2]})";
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", csv, "--method", "idim-iv", "--controller", dir + "/two.json"}, 1)
+                .find("'kp' must be an array of 3 numbers"),
+            std::string::npos);
+  // The record without q_ankle_ref: refused naming the column.
+  std::ifstream in(csv);
+  std::ofstream out(dir + "/no_ref.csv");
+  std::string line;
+  long drop = -1;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') {
+      out << line << "\n";
+      continue;
+    }
+    std::vector<std::string> cells;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1) cells.push_back(line.substr(start, comma - start));
+    cells.push_back(line.substr(start));
+    if (drop < 0) drop = std::find(cells.begin(), cells.end(), "q_ankle_ref") - cells.begin();
+    std::string joined;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (static_cast<long>(i) != drop) joined += (joined.empty() ? "" : ",") + cells[i];
+    }
+    out << joined << "\n";
+  }
+  out.close();
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", dir + "/no_ref.csv", "--method", "idim-iv"}, 1).find("no 'q_ankle_ref' column"),
+            std::string::npos);
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--vibration", "1", "--out", dir + "/x.csv"}, 105).find("--vibration"), std::string::npos);
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--knee-data", dir + "/x.csv"}, 105).find("--knee-data"), std::string::npos);
-  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--method", "idim-iv", "--data", std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf"}, 105).find("idim-iv is not available"),
+  // IDIM-IV fits one record whole (its instruments simulate that record's closed loop): not stage by stage.
+  const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--method", "idim-iv", "--stage", "knee=" + urdf, "--data", urdf}, 105)
+                .find("needs one fit of --data (no --stage)"),
             std::string::npos);
 }
 

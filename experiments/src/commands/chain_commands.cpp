@@ -12,6 +12,8 @@
 #include "exoid/ident/model/chain_band_iv.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
 #include "exoid/ident/model/chain_excitation.hpp"
+#include "exoid/ident/model/chain_idim_iv.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/ident/model/chain_processing.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
@@ -109,6 +111,12 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
     j["config"]["trajectory"]["cos_rad"].push_back(toVector(c.trajectory.cos_rad.row(i).transpose()));
   }
   j["tracking_rms_rad"] = r.tracking_rms_rad;
+  // The rig's controller, as IDIM-IV reads it (also the CSV's controller_* metadata lines).
+  j["controller"] = {{"law", "u = tau_ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd)"},
+                     {"kp_Nm_per_rad", toVector(r.kp_Nm_per_rad)},
+                     {"kd_Nms_per_rad", toVector(r.kd_Nms_per_rad)},
+                     {"feedforward", "model"},
+                     {"actuator_bandwidth_hz", c.actuator_bandwidth_hz}};
   j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},
                 {"base_parameters", namedValues(base.names, base.combination * phi)},
                 {"coulomb", (c.coulomb_v0_radps > 0.0 ? "fc tanh(qd / v0)" : "fc sgn(qd)")},
@@ -286,11 +294,27 @@ struct ChainFitRecords {
   nlohmann::json json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
+  std::vector<ident::ChainClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
+
+// What IDIM-IV needs of a record besides its rows: its reference (q_<joint>_ref), the controller
+// (--controller or the record's metadata), the processing with its band fixed.
+ident::ChainClosedLoopRecord closedLoopOf(const ChainIdentifyArgs& a, const ident::Dataset& d, const std::string& file,
+                                          const ident::ChainModel& model, const ident::ChainRecord& rows,
+                                          const std::optional<ident::BandChoice>& band) {
+  ident::ChainClosedLoopRecord r;
+  r.measured = rows;
+  r.signals = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, ident::LegConstants{}, a.signals);
+  r.reference = chainReferenceOf(d, file);
+  r.controller = a.controller.empty() ? chainControllerFromMetadata(d, file) : readChainControllerJson(a.controller, model.dof());
+  r.recorded_derivatives = d.qd_radps.has_value() && a.signals.use_recorded_derivatives;
+  return r;
+}
 
 ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
   const ident::ChainModel& model = loaded.model;
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
+  const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
   ChainFitRecords fit;
   for (const std::string& file : a.data) {
     const ident::Dataset d = readLog(file, log);
@@ -301,6 +325,7 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
       fit.iv_rows.push_back(ident::chainBandIvRows(d, model, loaded.base, band ? ident::withBand(a.signals, *band) : a.signals, fm));
     }
+    if (idim_iv) fit.closed_loop.push_back(closedLoopOf(a, d, file, model, fit.records.back(), band));
     if (!fit.fit_signals) fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}};
     if (band) {
@@ -324,14 +349,21 @@ ident::MethodOptions chainMethodOptions(const ChainIdentifyArgs& a, const ident:
 }
 
 // The paper's methods over the same rows, in base parameters (LS, the reference, is not among them).
-MethodEstimates otherMethods(const ChainIdentifyArgs& a, const ident::BaseParameters& base, const ident::ChainRecord& stacked,
-                             const std::vector<ident::BandIvRows>& iv_rows, const ident::MethodOptions& mo) {
+MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainRecord& stacked,
+                             const ChainFitRecords& fit, const ident::MethodOptions& mo) {
+  const ident::BaseParameters& base = loaded.base;
   const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
   MethodEstimates others;
   for (ident::Method m : a.methods) {
     if (m == ident::Method::kLs) continue;
     if (m == ident::Method::kIvBand) {
-      others.emplace_back(m, ident::solveBandIv(iv_rows, mo.ls));
+      others.emplace_back(m, ident::solveBandIv(fit.iv_rows, mo.ls));
+      continue;
+    }
+    if (m == ident::Method::kIdimIv) {
+      ident::IvOptions iv = a.iv;
+      iv.ls = mo.ls;
+      others.emplace_back(m, ident::identifyChainIdimIv(loaded.model, base, fit.closed_loop, iv));
       continue;
     }
     others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
@@ -537,7 +569,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   const ident::ChainRecord stacked = ident::stackChainRecords(fit.records);
   const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, loaded.phi, eo);
   const ident::MethodOptions mo = chainMethodOptions(a, est);
-  const MethodEstimates others = otherMethods(a, base, stacked, fit.iv_rows, mo);
+  const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
   const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others);
   if (!a.plot.empty()) plotChainFit(a, loaded, est, validation.first ? *validation.first : fit.records.front());
 

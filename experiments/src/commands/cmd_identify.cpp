@@ -526,19 +526,16 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 // consistent estimate). What that path does not do yet is refused by name, never ignored.
 bool runChainModel(const IdentifyArgs& a) {
   if (a.model.empty() || isApalLegModel(sim::modelPathFor(a.model))) return false;
-  for (const char* apal_only : {"--knee-data", "--both-data", "--controller", "--knee-armature", "--thigh-length", "--gravity"}) {
+  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
     }
   }
   std::vector<ident::Method> methods;
   for (ident::Method m : resolveMethods(a.methods)) {
-    if (m == ident::Method::kIdimIv) {
-      throw CLI::ValidationError("--method", std::string(ident::toString(m)) + " is not available for a chain model yet (--model " + a.model +
-                                                 "): it needs the rig's controller simulated with the chain; ls, rls, pso, rls-pso, lad, iv-band are");
-    }
-    if (m == ident::Method::kIvBand && (!a.stages.empty() || a.signals.processing != ident::Processing::kParallel)) {
-      throw CLI::ValidationError("--method iv-band", "needs one fit of --data (no --stage) and the parallel processing (its instruments are processed like the rows)");
+    if ((m == ident::Method::kIvBand || m == ident::Method::kIdimIv) && (!a.stages.empty() || a.signals.processing != ident::Processing::kParallel)) {
+      throw CLI::ValidationError(std::string("--method ") + ident::toString(m),
+                                 "needs one fit of --data (no --stage) and the parallel processing (its instruments are processed like the rows)");
     }
     methods.push_back(m);
   }
@@ -568,6 +565,12 @@ bool runChainModel(const IdentifyArgs& a) {
   c.methods = methods;
   c.method_options = a.methods_options;
   c.wide_box_given = a.wide_box_option && a.wide_box_option->count() > 0;
+  c.controller = a.controller;
+  a.iv.validate();
+  c.iv = a.iv;
+  if (std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) == methods.end() && !a.controller.empty()) {
+    throw CLI::ValidationError("--controller", "is IDIM-IV's (--method idim-iv); no method given uses it");
+  }
   identifyChain(c);
   return true;
 }
@@ -718,13 +721,15 @@ void addInputOptions(CLI::App& cmd, IdentifyArgs& args) {
                  "ls (also ls-parallel: LS with the default parallel processing), rls, pso, rls-pso, lad, idim-iv, iv-band, or all\n"
                  "(= all but idim-iv and iv-band) (repeatable).\n"
                  "iv-band: instrumental variables from the motion's band, no controller model needed. idim-iv needs the\n"
-                 "records' q_hip_ref, q_knee_ref columns and their controller (--controller, or the\n"
-                 "'# controller_*' metadata exoid simulate writes)")
+                 "records' q_hip_ref, q_knee_ref columns (a chain's: q_<joint>_ref) and their controller (--controller, or\n"
+                 "the '# controller_*' metadata exoid simulate writes)")
       ->capture_default_str()->delimiter(',')->group("Input");
   cmd.add_option("--controller", args.controller,
                  "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
                  "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
-                 "\"hip_locked\": false}; default: the records' metadata")
+                 "\"hip_locked\": false}; a chain's (--model): {\"kp\": [one per joint], \"kd\": [..], \"feedforward\":\n"
+                 "\"model\"|\"none\", \"actuator_bandwidth_hz\": ..} (u = ff + kp (q_ref - q) + kd (qd_ref - qd)); default: the\n"
+                 "records' metadata")
       ->check(CLI::ExistingFile)->group("Input");
   cmd.add_option("--validate", args.validate, "Validation record(s): torque error per joint (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");

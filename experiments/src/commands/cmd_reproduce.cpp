@@ -58,9 +58,7 @@ void runChain(const Args& a) {
   if (!a.variants.empty()) {
     c.methods.clear();
     for (const std::string& v : a.variants) {
-      const ident::Method m = ident::parseMethod(v);
-      if (m == ident::Method::kIdimIv) throw CLI::ValidationError("--methods", "idim-iv is not available for a chain model yet");
-      c.methods.push_back(m);
+      c.methods.push_back(ident::parseMethod(v));
     }
   }
   reproduceChain(c);

@@ -1,9 +1,11 @@
 // `exoid sweep` and `exoid merge`: the grid of conditions x seeds x methods, and its shards.
+#include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
 #include "exoid/experiments/sweep/sweep_runner.hpp"
 #include "exoid/sim/data_dir.hpp"
+#include "exoid/sim/model.hpp"
 
 #include <iostream>
 #include <memory>
@@ -15,6 +17,8 @@ namespace {
 
 struct SweepArgs {
   std::string config = sim::dataPath("configs/default_sweep.toml");
+  CLI::Option* config_option = nullptr;
+  std::string model;  ///< --model: replaces the config's [sweep] model
   SweepRunOptions run;
   std::optional<int> seeds;
   std::optional<std::uint64_t> master_seed;
@@ -27,7 +31,12 @@ struct SweepArgs {
 };
 
 void runSweepCommand(const SweepArgs& a) {
-  SweepConfig c = loadSweepConfig(a.config);
+  std::string file = a.config;
+  // --model naming a chain without --config: the chain's default grid.
+  if (!a.model.empty() && a.config_option->count() == 0 && a.model != "apal" && !isApalLegModel(sim::modelPathFor(a.model))) {
+    file = sim::dataPath("configs/chain_sweep.toml");
+  }
+  SweepConfig c = loadSweepConfig(file, a.model);
   auto list = [&c](const std::vector<double>& v, std::vector<double>& target, const char* key, const char* flag) {
     if (v.empty()) return;
     target = v;
@@ -50,17 +59,7 @@ void runSweepCommand(const SweepArgs& a) {
     c.master_seed = *a.master_seed;
     c.origin["sweep.master_seed"] = "--master-seed";
   }
-  if (!a.methods.empty()) {
-    c.methods.clear();
-    for (const std::string& m : a.methods) {
-      try {
-        c.methods.push_back(parseVariant(m));
-      } catch (const std::invalid_argument& e) {
-        throw SweepConfigError(std::string("'sweep.methods' (--methods): ") + e.what());
-      }
-    }
-    c.origin["sweep.methods"] = "--methods";
-  }
+  if (!a.methods.empty()) c.setMethods(a.methods, "--methods");
   if (a.duration_s) c.base.sim.duration_s = *a.duration_s;
   if (a.pso_iterations) c.base.methods.rls_pso.pso.max_iterations = *a.pso_iterations;
   c.validate();
@@ -90,7 +89,10 @@ void addSweepCommand(CLI::App& app) {
       "quantisation, vibration, cylinder mass) x seeds x methods, and summarise with 95 % CIs, paired\n"
       "Wilcoxon tests against LS and the Cramer-Rao bound. Resumable (same command again), shardable\n"
       "(--shard K/N or a Slurm array), deterministic for any thread count. See experiments/SWEEP.md.");
-  cmd->add_option("--config", a->config, "Sweep TOML")->capture_default_str();
+  a->config_option = cmd->add_option("--config", a->config, "Sweep TOML (with --model naming a chain: configs/chain_sweep.toml)")->capture_default_str();
+  cmd->add_option("--model", a->model,
+                  "[sweep] model: apal (the paper's protocol), leg3 or an MJCF file (any serial chain: its base parameters, "
+                  "one fit per run; experiments/SWEEP.md)");
   cmd->add_option("--out", a->run.out, "Results folder (resumes when it holds the same sweep)")->capture_default_str();
   cmd->add_option("--threads", a->run.threads, "Worker threads (0 = all cores)")->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--shard", a->shard, "Run shard K/N: cells with cell % N == K (default: from SLURM_ARRAY_TASK_ID/COUNT)");
@@ -101,13 +103,13 @@ void addSweepCommand(CLI::App& app) {
   const char* o = "Overrides of the config file";
   cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell, 1 to 1e6")->check(CLI::Range(1, 1000000))->group(o);
   cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->check(seedValidator())->group(o);
-  cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults)")->delimiter(',')->group(o);
+  cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults); a chain's: ls, rls, pso, rls-pso, lad, iv-band")->delimiter(',')->group(o);
   cmd->add_option("--noise-tau", a->noise_tau, "[grid] torque_noise_Nm levels, e.g. 0,0.5")->delimiter(',')->group(o);
   cmd->add_option("--noise-q-deg", a->noise_q, "[grid] angle_noise_deg levels")->delimiter(',')->group(o);
   cmd->add_option("--quantisation-deg", a->quantisation, "[grid] quantisation_deg levels")->delimiter(',')->group(o);
   cmd->add_option("--vibration", a->vibration, "[grid] vibration_level levels")->delimiter(',')->group(o);
   cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
-  cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs)")
+  cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs); a chain's: optimised, default")
       ->delimiter(',')->group(o);
   cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(positiveNumber())->group(o);
   cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(positiveNumber())->group(o);

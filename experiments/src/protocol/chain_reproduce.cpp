@@ -112,7 +112,10 @@ ChainIdentifications identifyRecords(const ChainReproduceArgs& a, const std::str
   seg.plot.clear();
   seg.stages = records.stages;
   seg.json_out = dir + "segmental.json";
-  seg.methods.erase(std::remove(seg.methods.begin(), seg.methods.end(), ident::Method::kIvBand), seg.methods.end());
+  // The instrumental-variable methods fit one record whole (their instruments are the record's).
+  for (ident::Method iv : {ident::Method::kIvBand, ident::Method::kIdimIv}) {
+    seg.methods.erase(std::remove(seg.methods.begin(), seg.methods.end(), iv), seg.methods.end());
+  }
   notes.segmental_note = identifyNoting(seg);
   return notes;
 }

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -144,6 +145,103 @@ ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::str
   r.reference = referenceOf(d, source);
   if (knee_only_record) r.controller.locked = {true, false};
   return r;
+}
+
+namespace {
+
+Eigen::VectorXd listOf(const std::string& text, const std::string& where) {
+  std::vector<double> v;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    v.push_back(parseNumber(text.substr(start, comma == std::string::npos ? std::string::npos : comma - start), where));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+}  // namespace
+
+ident::ChainController chainControllerFromMetadata(const ident::Dataset& d, const std::string& source) {
+  ident::ChainController c;
+  const auto key = [&](const std::string& k) { return required(d, k, source); };
+  const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
+  c.kp_Nm_per_rad = listOf(key("controller_kp_Nm_per_rad"), where("controller_kp_Nm_per_rad"));
+  c.kd_Nms_per_rad = listOf(key("controller_kd_Nms_per_rad"), where("controller_kd_Nms_per_rad"));
+  c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
+  if (const auto bw = d.metadata("actuator_bandwidth_Hz")) c.actuator_bandwidth_hz = parseNumber(*bw, where("actuator_bandwidth_Hz"));
+  try {
+    c.validate(static_cast<int>(d.dof()));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": " + e.what());
+  }
+  return c;
+}
+
+ident::ChainController readChainControllerJson(const std::string& path, int dof) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
+  for (const auto& [k, v] : j.items()) {
+    if (k != "kp" && k != "kd" && k != "feedforward" && k != "actuator_bandwidth_hz") {
+      throw std::invalid_argument(path + ": unknown field '" + k + "' (a chain's controller: kp, kd, feedforward, actuator_bandwidth_hz)");
+    }
+  }
+  const auto gains = [&](const char* name) {
+    if (!j.contains(name)) throw std::invalid_argument(path + ": missing '" + name + "' (one number per joint, " + std::to_string(dof) + ")");
+    const auto& v = j[name];
+    if (!v.is_array() || static_cast<int>(v.size()) != dof) {
+      throw std::invalid_argument(path + ": '" + name + "' must be an array of " + std::to_string(dof) + " numbers (one per joint)");
+    }
+    Eigen::VectorXd g(dof);
+    for (int i = 0; i < dof; ++i) {
+      if (!v[static_cast<std::size_t>(i)].is_number()) throw std::invalid_argument(path + ": '" + name + "' must hold numbers");
+      g[i] = v[static_cast<std::size_t>(i)].get<double>();
+    }
+    return g;
+  };
+  ident::ChainController c;
+  c.kp_Nm_per_rad = gains("kp");
+  c.kd_Nms_per_rad = gains("kd");
+  c.feedforward = ident::Feedforward::kNone;
+  if (j.contains("feedforward")) {
+    if (!j["feedforward"].is_string()) throw std::invalid_argument(path + ": 'feedforward' must be \"model\" or \"none\"");
+    try {
+      c.feedforward = ident::parseFeedforward(j["feedforward"].get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(path + ": 'feedforward': " + e.what());
+    }
+  }
+  if (j.contains("actuator_bandwidth_hz")) {
+    if (!j["actuator_bandwidth_hz"].is_number()) throw std::invalid_argument(path + ": 'actuator_bandwidth_hz' must be a number");
+    c.actuator_bandwidth_hz = j["actuator_bandwidth_hz"].get<double>();
+  }
+  try {
+    c.validate(dof);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": " + e.what());
+  }
+  return c;
+}
+
+ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::string& source) {
+  Eigen::MatrixXd q(d.size(), d.dof());
+  for (Eigen::Index j = 0; j < d.dof(); ++j) {
+    const std::string name = "q_" + d.joints[static_cast<std::size_t>(j)] + "_ref";
+    if (std::find(d.extra_names.begin(), d.extra_names.end(), name) == d.extra_names.end()) {
+      throw std::invalid_argument(source + ": no '" + name + "' column; IDIM-IV simulates the controller tracking its reference and "
+                                  "needs q_<joint>_ref (rad) for every joint");
+    }
+    q.col(j) = d.extraColumn(name);
+  }
+  return ident::chainReferenceFromAngles(d.t_s, q);
 }
 
 }  // namespace exoid::experiments

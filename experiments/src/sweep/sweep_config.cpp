@@ -1,11 +1,15 @@
 #include "exoid/experiments/sweep/sweep_config.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
+#include "exoid/experiments/report/table.hpp"
 #include "exoid/core/random.hpp"
+#include "exoid/core/sha256.hpp"
+#include "exoid/sim/model.hpp"
 #include "exoid/sim/sidecar.hpp"
 
 #include <toml++/toml.h>
@@ -46,6 +50,9 @@ std::string at(const std::string& file, const toml::source_region& s) {
 struct Reader {
   const std::string& file;
   SweepConfig& c;
+  // Read after every key: the methods' names mean different things for the APAL leg and a chain.
+  std::optional<std::vector<std::string>> method_names;
+  std::optional<std::string> model;
 
   std::string loc(const toml::node& n) const { return at(file, n.source()); }
 
@@ -100,12 +107,139 @@ SweepConfig::SweepConfig() {
   // Every PSO and RLS-PSO result carries its optimality gaps (unconstrained and over its box).
 }
 
+void SweepConfig::setModel(const std::string& name_or_path, const std::string& origin_text) {
+  origin["sweep.model"] = origin_text;
+  model = name_or_path;
+  chain_model_path.clear();
+  if (name_or_path.empty() || name_or_path == "apal") return;
+  const std::string path = sim::modelPathFor(name_or_path);
+  if (endsWith(path, ".urdf")) {
+    throw SweepConfigError(where(*this, "sweep.model") + ": '" + path + "' is a URDF; a sweep simulates the robot, give its MJCF " +
+                           "(motors on its hinge joints, as models/leg3.xml)");
+  }
+  try {
+    if (isApalLegModel(path)) return;
+  } catch (const std::exception& e) {
+    throw SweepConfigError(where(*this, "sweep.model") + ": " + e.what());
+  }
+  chain_model_path = path;
+  // The chain rig has neither the APAL pedestal's compliant mount nor its cylinder, nor the
+  // paper's records: the grid's defaults become the chain's where the file left them.
+  if (!origin.count("grid.vibration_level")) vibration_level = {0.0};
+  if (!origin.count("grid.cylinder_mass_scale")) cylinder_mass_scale = {0.0};
+  if (!origin.count("grid.trajectories")) trajectories = {"optimised"};
+}
+
+void SweepConfig::setMethods(const std::vector<std::string>& names, const std::string& origin_text) {
+  origin["sweep.methods"] = origin_text;
+  const std::string key = "'sweep.methods' (" + origin_text + "): ";
+  if (isChain()) {
+    chain_methods.clear();
+    for (const std::string& m : names) {
+      try {
+        chain_methods.push_back(ident::parseMethod(m));
+      } catch (const std::invalid_argument& e) {
+        throw SweepConfigError(key + e.what() + " (a chain model's sweep: ls, rls, pso, rls-pso, lad, iv-band, idim-iv)");
+      }
+    }
+    return;
+  }
+  methods.clear();
+  for (const std::string& m : names) {
+    try {
+      methods.push_back(parseVariant(m));
+    } catch (const std::invalid_argument& e) {
+      throw SweepConfigError(key + e.what());
+    }
+  }
+}
+
+std::vector<std::string> SweepConfig::methodNames() const {
+  std::vector<std::string> names;
+  if (isChain()) {
+    for (ident::Method m : chain_methods) names.emplace_back(ident::toString(m));
+  } else {
+    for (Variant v : methods) names.emplace_back(toString(v));
+  }
+  return names;
+}
+
+namespace {
+
+// What a chain sweep cannot take: the APAL rig's factors, records and processing keys.
+void validateChain(const SweepConfig& c) {
+  const std::string model = "a chain model's sweep (model " + c.model + ")";
+  for (const auto& [key, levels] : {std::pair<const char*, const std::vector<double>*>{"grid.vibration_level", &c.vibration_level},
+                                    {"grid.cylinder_mass_scale", &c.cylinder_mass_scale}}) {
+    if (*levels != std::vector<double>{0.0}) {
+      throw SweepConfigError(where(c, key) + ": " + model + " has no " +
+                             (std::string(key) == "grid.vibration_level" ? "compliant pedestal mount" : "hydraulic cylinder") +
+                             ": give [0] or leave the key out");
+    }
+  }
+  for (const char* key : {"simulation.ramp_s", "simulation.feedforward", "simulation.excitation_knee", "simulation.excitation_both",
+                          "identification.cutoff_hz", "identification.filter"}) {
+    if (c.origin.count(key)) {
+      throw SweepConfigError(where(c, key) + ": is the APAL leg's; " + model +
+                             " processes each record as `exoid identify --model` does (the band from the data) and takes "
+                             "[simulation] duration_s, dt_s, excitation");
+    }
+  }
+  if (c.trajectories.empty()) throw SweepConfigError(where(c, "grid.trajectories") + ": the grid list is empty (\"optimised\", \"default\")");
+  for (const std::string& t : c.trajectories) {
+    if (t != "optimised" && t != "default") {
+      throw SweepConfigError(where(c, "grid.trajectories") + ": " + model + " takes \"optimised\" (one design for the sweep) or " +
+                             "\"default\" (the simulator's motion of each run's seed), got \"" + t + "\"");
+    }
+  }
+  if (std::set<std::string>(c.trajectories.begin(), c.trajectories.end()).size() != c.trajectories.size()) {
+    throw SweepConfigError(where(c, "grid.trajectories") + ": levels must be distinct");
+  }
+  if (c.chain_methods.empty()) throw SweepConfigError(where(c, "sweep.methods") + ": name at least one method");
+  if (std::set<ident::Method>(c.chain_methods.begin(), c.chain_methods.end()).size() != c.chain_methods.size()) {
+    throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
+  }
+  sim::ChainSimConfig s;
+  s.model_path = c.chain_model_path;
+  s.duration_s = c.base.sim.duration_s;
+  s.dt_s = c.base.sim.dt_s;
+  try {
+    s.validate();
+    if (c.chain_design) c.chain_design->validate();
+  } catch (const std::invalid_argument& e) {
+    throw SweepConfigError(std::string("invalid [simulation] setting: ") + e.what());
+  }
+}
+
+}  // namespace
+
 void SweepConfig::validate() const {
+  if (origin.count("simulation.excitation") && !isChain()) {
+    throw SweepConfigError(where(*this, "simulation.excitation") + ": is a chain model's design ([sweep] model = \"leg3\" or a file); "
+                           "the APAL leg's are excitation_knee and excitation_both");
+  }
   checkList(*this, "grid.torque_noise_Nm", torque_noise_Nm, 0.0, 1e3);
   checkList(*this, "grid.angle_noise_deg", angle_noise_deg, 0.0, 90.0);
   checkList(*this, "grid.quantisation_deg", quantisation_deg, 0.0, 90.0);
   checkList(*this, "grid.vibration_level", vibration_level, 0.0, 20.0);
   checkList(*this, "grid.cylinder_mass_scale", cylinder_mass_scale, 0.0, 10.0);
+  if (isChain()) {
+    validateChain(*this);
+  } else {
+    validateApal();
+  }
+  if (seeds < 1 || seeds > 1000000) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + core::toText(seeds));
+  }
+  // Bounded before anything is allocated per run (a job list of 2^31 runs exhausts memory).
+  constexpr double kMaxRuns = 1e7;
+  if (static_cast<double>(numCells()) * seeds > kMaxRuns) {
+    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + core::toText(numCells()) + " cells x " +
+                           core::toText(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
+  }
+}
+
+void SweepConfig::validateApal() const {
   if (trajectories.empty()) throw SweepConfigError(where(*this, "grid.trajectories") + ": the grid list is empty (\"paper\", \"optimised\")");
   for (const std::string& t : trajectories) {
     if (t != "paper" && t != "optimised") {
@@ -122,15 +256,6 @@ void SweepConfig::validate() const {
                            "(exoid excite files; exoid ships experiments/configs/excitation_knee.json and excitation_both.json)");
   }
 
-  if (seeds < 1 || seeds > 1000000) {
-    throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + core::toText(seeds));
-  }
-  // Bounded before anything is allocated per run (a job list of 2^31 runs exhausts memory).
-  constexpr double kMaxRuns = 1e7;
-  if (static_cast<double>(numCells()) * seeds > kMaxRuns) {
-    throw SweepConfigError(where(*this, "sweep.seeds") + ": " + core::toText(numCells()) + " cells x " +
-                           core::toText(seeds) + " seeds is more than 1e7 runs; use fewer seeds or grid levels");
-  }
   if (methods.empty()) throw SweepConfigError(where(*this, "sweep.methods") + ": name at least one method");
   if (std::set<Variant>(methods.begin(), methods.end()).size() != methods.size()) {
     throw SweepConfigError(where(*this, "sweep.methods") + ": methods must be distinct");
@@ -186,7 +311,40 @@ nlohmann::json toJson(const SweepCondition& c) {
           {"trajectories", c.trajectories}};
 }
 
+nlohmann::json SweepConfig::chainJson() const {
+  nlohmann::json j;
+  j["grid"] = {{"torque_noise_Nm", torque_noise_Nm},
+               {"angle_noise_deg", angle_noise_deg},
+               {"quantisation_deg", quantisation_deg},
+               {"vibration_level", vibration_level},
+               {"cylinder_mass_scale", cylinder_mass_scale},
+               {"trajectories", trajectories}};
+  // The model by its name and its bytes (not its path: shards on other machines merge).
+  j["sweep"] = {{"seeds", seeds}, {"master_seed", master_seed}, {"methods", methodNames()}, {"cells", numCells()},
+                {"model", model}, {"model_sha256", core::sha256OfFile(chain_model_path)},
+                {"design", "full factorial of the grid lists; torque noise varies fastest; an optimised cell and its default-motion "
+                           "twin share seeds; each run: a fit record and a validation record (the default motion of another seed), "
+                           "identified as exoid identify --model does, one fit"}};
+  nlohmann::json simj = {{"duration_s", base.sim.duration_s}, {"dt_s", base.sim.dt_s}};
+  const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
+  if (optimised && chain_design) {
+    nlohmann::json d = {{"base_frequency_hz", chain_design->base_frequency_hz}, {"offset_rad", toVector(chain_design->offset_rad)},
+                        {"sin_rad", nlohmann::json::array()}, {"cos_rad", nlohmann::json::array()}};
+    for (Eigen::Index i = 0; i < chain_design->sin_rad.rows(); ++i) {
+      d["sin_rad"].push_back(toVector(chain_design->sin_rad.row(i).transpose()));
+      d["cos_rad"].push_back(toVector(chain_design->cos_rad.row(i).transpose()));
+    }
+    simj["excitation"] = d;
+  }
+  j["simulation"] = simj;
+  j["signal_options"] = experiments::toJson(defaultIdentifySignals());
+  j["method_options"] = experiments::toJson(base.methods);
+  j["method_options"]["pso_box"] = origin.count("identification.wide_box") ? "wide_box" : "10 x the largest |LS estimate|";
+  return j;
+}
+
 nlohmann::json SweepConfig::toJson() const {
+  if (isChain()) return chainJson();
   nlohmann::json j;
   j["grid"] = {{"torque_noise_Nm", torque_noise_Nm},
                {"angle_noise_deg", angle_noise_deg},
@@ -232,14 +390,15 @@ void readSweepKey(Reader& r, const std::string& full, const toml::node& v) {
     if (n < 0) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): must be >= 0");
     c.master_seed = static_cast<std::uint64_t>(n);
   } else if (full == "sweep.methods") {
-    c.methods.clear();
-    for (const std::string& m : r.strings(v, full)) {
-      try {
-        c.methods.push_back(parseVariant(m));
-      } catch (const std::invalid_argument& e) {
-        throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
-      }
-    }
+    r.method_names = r.strings(v, full);
+  } else if (full == "sweep.model") {
+    const std::optional<std::string> m = v.value<std::string>();
+    if (!m || !v.is_string()) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a model: \"apal\", \"leg3\" or an MJCF file");
+    c.origin[full] = r.loc(v);
+    const std::filesystem::path fp(*m);
+    // A file relative to the config file's folder (as the excitation files); the built-in names as they are.
+    const bool builtin = *m == "apal" || *m == "leg3" || m->empty();
+    r.model = builtin || fp.is_absolute() ? *m : (std::filesystem::path(r.file).parent_path() / fp).string();
   }
 }
 
@@ -288,6 +447,17 @@ void readSimulationKey(Reader& r, const std::string& full, const toml::node& v) 
     c.optimised_knee = readExcitationKey(r, full, v);
   } else if (full == "simulation.excitation_both") {
     c.optimised_both = readExcitationKey(r, full, v);
+  } else if (full == "simulation.excitation") {
+    const std::optional<std::string> file = v.value<std::string>();
+    if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
+    c.origin[full] = r.loc(v);
+    const std::filesystem::path fp(*file);
+    const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(r.file).parent_path() / fp).string();
+    try {
+      c.chain_design = readChainExcitation(resolved);
+    } catch (const std::exception& e) {
+      throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+    }
   }
 }
 
@@ -322,10 +492,10 @@ struct SectionReader {
 
 const std::map<std::string, SectionReader>& sectionReaders() {
   static const std::map<std::string, SectionReader> kSections = {
-      {"sweep", {{"seeds", "master_seed", "methods"}, readSweepKey}},
+      {"sweep", {{"seeds", "master_seed", "methods", "model"}, readSweepKey}},
       {"grid",
        {{"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}, readGridKey}},
-      {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both"}, readSimulationKey}},
+      {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both", "excitation"}, readSimulationKey}},
       {"identification",
        {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}, readIdentificationKey}}};
   return kSections;
@@ -353,11 +523,17 @@ void readSection(Reader& r, const std::string& s, const toml::node& node) {
 
 }  // namespace
 
-SweepConfig loadSweepConfig(const std::string& path) {
+SweepConfig loadSweepConfig(const std::string& path, const std::string& model_override) {
   const toml::table t = parseTomlFile(path);
   SweepConfig c;
-  Reader r{path, c};
+  Reader r{path, c, std::nullopt, std::nullopt};
   for (const auto& [section, node] : t) readSection(r, std::string(section.str()), node);
+  if (!model_override.empty()) {
+    c.setModel(model_override, "--model");
+  } else if (r.model) {
+    c.setModel(*r.model, c.origin["sweep.model"]);
+  }
+  if (r.method_names) c.setMethods(*r.method_names, c.origin["sweep.methods"]);
   c.validate();
   return c;
 }

@@ -1,5 +1,7 @@
 #include "exoid/experiments/sweep/sweep_job.hpp"
 
+#include "exoid/experiments/sweep/chain_sweep.hpp"
+
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
@@ -31,6 +33,7 @@ nlohmann::json gapsJson(const MethodOutcome& m) {
 }  // namespace
 
 nlohmann::json runSweepJob(const SweepConfig& config, JobId id) {
+  if (config.isChain()) return runChainSweepJob(config, id);
   ident::Stopwatch clock;
   const SweepCondition cond = config.conditions().at(static_cast<std::size_t>(id.cell));
   const std::uint64_t seed = config.jobSeed(id.cell, id.replicate);

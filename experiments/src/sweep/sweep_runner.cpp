@@ -9,6 +9,7 @@
 #include "exoid/experiments/sweep/progress.hpp"
 #include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/sweep/sweep_summary.hpp"
+#include "exoid/experiments/sweep/chain_sweep.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
 
@@ -126,9 +127,14 @@ RunFailures writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::
                          const nlohmann::json& timing, std::ostream& log) {
   std::error_code ec;
   fs::remove(dir / kMarker, ec);
-  writeSweepTables(layout, jobs, dir.string());
   bool plots_written = false;
-  if (plots) {
+  if (layout.chain) {
+    writeChainSweepTables(layout, jobs, dir.string());
+    plots_written = true;  // a chain sweep has no figures: its tables are the output
+  } else {
+    writeSweepTables(layout, jobs, dir.string());
+  }
+  if (plots && !layout.chain) {
     try {
       runPlotScript("sweep_plots.py", {(dir / "summary.json").string(), dir.string()});
       plots_written = true;
@@ -253,7 +259,8 @@ bool finishedBefore(const fs::path& dir, const SweepRunOptions& o, const SweepRu
 
 void announceSweep(const SweepConfig& config, const SweepRunOptions& o, const SweepRunReport& rep, bool pending, int threads,
                    const fs::path& dir, std::ostream& log) {
-  log << "exoid sweep: " << config.numCells() << " cells x " << config.seeds << " seeds x " << config.methods.size()
+  log << "exoid sweep" << (config.isChain() ? " --model " + config.model : std::string()) << ": " << config.numCells() << " cells x "
+      << config.seeds << " seeds x " << config.methodNames().size()
       << " methods; shard " << o.shard.text() << ": " << rep.jobs << " runs";
   if (rep.skipped) log << " (" << rep.skipped << " already finished, resuming)";
   if (!pending) log << "; writing the missing outputs";
@@ -314,19 +321,22 @@ nlohmann::json timingJson(const SweepConfig& config, const SweepRunOptions& o, c
   const double per_minute = runsPerMinute(rep);
   return {{"threads", threads}, {"shard", o.shard.text()}, {"runs", rep.jobs}, {"runs_this_invocation", rep.ran},
           {"runs_resumed", rep.skipped}, {"wall_time_s", rep.wall_time_s}, {"runs_per_minute", per_minute},
-          {"identifications_per_minute", per_minute * static_cast<double>(config.methods.size())},
+          {"identifications_per_minute", per_minute * static_cast<double>(config.methodNames().size())},
           {"sum_of_run_wall_times_s", job_time}};
 }
 
 }  // namespace
 
-SweepRunReport runSweep(const SweepConfig& config, const SweepRunOptions& o, std::ostream& log) {
-  config.validate();
+SweepRunReport runSweep(const SweepConfig& given, const SweepRunOptions& o, std::ostream& log) {
+  given.validate();
   ident::Stopwatch clock;
   const fs::path dir(o.out);
-  const SweepLayout layout = layoutOf(config);
   core::prepareOutputFolder((dir / "runs").string());
   const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
+  // A chain's optimised record is designed here when the config gives none (the same design
+  // again on a resume: it is deterministic, and config.json holds its coefficients).
+  const SweepConfig config = withChainDesign(given, (dir / "design.json").string(), log);
+  const SweepLayout layout = layoutOf(config);
   claimFolder(dir, layout.resolved);
   claimShard(dir, o.shard);
 

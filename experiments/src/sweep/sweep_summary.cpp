@@ -784,7 +784,9 @@ const MethodSummary& CellSummary::method(Variant v) const {
   throw std::out_of_range(std::string("sweep summary: cell ") + core::toText(cell) + " has no method '" + toString(v) + "'");
 }
 
-SweepLayout layoutOf(const SweepConfig& c) { return {c.conditions(), c.methods, c.seeds, c.toJson()}; }
+SweepLayout layoutOf(const SweepConfig& c) {
+  return {c.conditions(), c.isChain() ? std::vector<Variant>{} : c.methods, c.seeds, c.toJson(), c.isChain(), c.methodNames()};
+}
 
 SweepLayout layoutFromJson(const nlohmann::json& resolved) {
   try {
@@ -796,9 +798,13 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
     c.vibration_level = g.at("vibration_level").get<std::vector<double>>();
     c.cylinder_mass_scale = g.at("cylinder_mass_scale").get<std::vector<double>>();
     if (g.contains("trajectories")) c.trajectories = g.at("trajectories").get<std::vector<std::string>>();
+    const std::vector<std::string> names = resolved.at("sweep").at("methods").get<std::vector<std::string>>();
+    const bool chain = resolved.at("sweep").contains("model");
     c.methods.clear();
-    for (const auto& m : resolved.at("sweep").at("methods")) c.methods.push_back(parseVariant(m.get<std::string>()));
-    return {c.conditions(), c.methods, resolved.at("sweep").at("seeds").get<int>(), resolved};
+    if (!chain) {
+      for (const std::string& m : names) c.methods.push_back(parseVariant(m));
+    }
+    return {c.conditions(), c.methods, resolved.at("sweep").at("seeds").get<int>(), resolved, chain, names};
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string("malformed sweep configuration (config.json): ") + e.what());
   }

@@ -19,7 +19,6 @@
 namespace exoid::ident {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 // Fewer samples per segment leave <= 4 one-sided bins, all within the Hann main lobe (+-2 bins)
 // of DC: no spectrum to speak of.
@@ -65,7 +64,7 @@ Eigen::Index overlapSamples(Eigen::Index nperseg, double overlap) {
 // scipy.signal.get_window('hann', N): the periodic (DFT-even) Hann window.
 Eigen::VectorXd periodicHann(Eigen::Index nperseg) {
   const Eigen::ArrayXd i = Eigen::ArrayXd::LinSpaced(nperseg, 0.0, static_cast<double>(nperseg - 1));
-  return (0.5 - 0.5 * (2.0 * kPi / static_cast<double>(nperseg) * i).cos()).matrix();
+  return (0.5 - 0.5 * (2.0 * M_PI / static_cast<double>(nperseg) * i).cos()).matrix();
 }
 
 // Adds |FFT(window * (segment - mean))|^2 of one segment to `power` (nperseg / 2 + 1 bins).

@@ -79,6 +79,9 @@ struct ChainSimResult {
   Table table;
   double tracking_rms_rad = 0.0;  ///< of q_true - q_ref, all joints
   int substeps = 1;  ///< integration substeps per sample (stiff smoothed Coulomb terms need them)
+  /// The controller's PD gains per joint (from the joint-space inertia at the start), also in the
+  /// table's metadata (controller_kp_Nm_per_rad, ...) for IDIM-IV.
+  Eigen::VectorXd kp_Nm_per_rad, kd_Nms_per_rad;
   std::string mujoco_version;
 };
 

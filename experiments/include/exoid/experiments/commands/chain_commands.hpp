@@ -4,6 +4,7 @@
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/design/excitation.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
@@ -88,6 +89,10 @@ struct ChainIdentifyArgs {
   std::vector<ident::Method> methods;
   ident::MethodOptions method_options;
   bool wide_box_given = false;  ///< else the PSO box is 10 x the largest |LS estimate|
+  /// IDIM-IV: the rig's controller (JSON: kp, kd per joint, feedforward, actuator_bandwidth_hz);
+  /// empty = each record's metadata (exoid simulate --model writes it). And its stopping rule.
+  std::string controller;
+  ident::IvOptions iv;
 };
 /// `exoid identify --model` for a chain: base parameters by least squares, their standard errors,
 /// the physically consistent estimate; returns the exit code (0, or 3 naming why the result must

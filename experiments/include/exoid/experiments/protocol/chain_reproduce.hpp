@@ -21,7 +21,8 @@ struct ChainReproduceArgs {
   std::uint64_t seed = 1;  ///< every record's seed and the design's derive from it
   bool keep_edits = false;  ///< refuse to rewrite a previous run's outputs changed by hand
   std::vector<ident::Method> methods{ident::Method::kLs, ident::Method::kRls, ident::Method::kPso,
-                                     ident::Method::kRlsPso, ident::Method::kLad, ident::Method::kIvBand};
+                                     ident::Method::kRlsPso, ident::Method::kLad, ident::Method::kIvBand,
+                                     ident::Method::kIdimIv};
 };
 
 /// Runs the protocol into args.out (prepared first, as exoid reproduce's folder) and returns 0.

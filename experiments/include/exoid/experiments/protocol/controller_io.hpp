@@ -4,6 +4,7 @@
 #include "exoid/ident/leg/closed_loop.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/model/chain_closed_loop.hpp"
 
 #include <string>
 
@@ -30,5 +31,17 @@ ident::Reference referenceOf(const ident::Dataset& d, const std::string& source)
 ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
                                          const ident::ProcessedRecord& rows, const std::string& controller_json,
                                          bool knee_only_record);
+
+/// A chain record's controller from its metadata lines (exoid simulate --model writes them):
+/// controller_kp_Nm_per_rad and controller_kd_Nms_per_rad ("k1,...,kn", one per joint),
+/// feedforward (true|false), actuator_bandwidth_Hz (optional, 0). Throws std::invalid_argument
+/// naming `source` and the missing or malformed key.
+ident::ChainController chainControllerFromMetadata(const ident::Dataset& d, const std::string& source);
+/// From a JSON file: {"kp": [one per joint], "kd": [..], "feedforward": "model"|"none",
+/// "actuator_bandwidth_hz": 0}; kp and kd required (the law: u = ff + kp (q_ref - q) + kd (qd_ref -
+/// qd), the velocity measured). Throws std::invalid_argument naming the file and the field.
+ident::ChainController readChainControllerJson(const std::string& path, int dof);
+/// The reference from the dataset's q_<joint>_ref columns (rad), one per joint.
+ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::string& source);
 
 }  // namespace exoid::experiments

@@ -5,6 +5,8 @@
 // the identification trajectories (paper | optimised) do not count as part of the cell: a paper
 // cell and its optimised twin share their seeds (common random numbers), so they pair.
 #include "exoid/experiments/protocol/protocol.hpp"
+#include "exoid/ident/estimators/methods.hpp"
+#include "exoid/sim/chain_simulate.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -23,7 +25,9 @@ class SweepConfigError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
-/// One grid cell: the factor levels that vary between cells.
+/// One grid cell: the factor levels that vary between cells. A chain model's cells have no
+/// vibration or cylinder (0) and its trajectories are "optimised" (one design for the sweep) or
+/// "default" (the simulator's default motion of each run's seed).
 struct SweepCondition {
   double torque_noise_Nm = 0.0;
   double angle_noise_deg = 0.0;
@@ -54,10 +58,32 @@ struct SweepConfig {
   /// The designed records of the "optimised" trajectories ([simulation] excitation_knee,
   /// excitation_both: `exoid excite` files).
   std::optional<sim::FourierSpec> optimised_knee, optimised_both;
+  /// [sweep] model: empty or "apal" = the APAL leg (the paper's protocol); "leg3" or an MJCF or
+  /// URDF file = any serial chain (a chain sweep: chain_sweep.hpp).
+  std::string model;
+  /// The chain's file (sim::modelPathFor(model)); empty for the APAL leg.
+  std::string chain_model_path;
+  /// A chain sweep's methods (methods is the APAL leg's).
+  std::vector<ident::Method> chain_methods{ident::Method::kLs, ident::Method::kRls, ident::Method::kPso,
+                                           ident::Method::kRlsPso, ident::Method::kLad, ident::Method::kIvBand,
+                                           ident::Method::kIdimIv};
+  /// A chain sweep's "optimised" record ([simulation] excitation: an `exoid excite --model` file);
+  /// when absent, runSweep designs one (exoid excite --model's defaults, seed from master_seed).
+  std::optional<sim::ChainFourier> chain_design;
   /// Where each key's value came from ("file:line:col" or "--flag"), for error messages.
   std::map<std::string, std::string> origin;
 
   SweepConfig();
+  bool isChain() const { return !chain_model_path.empty(); }
+  /// Sets the model (origin: "--model" or file:line:col) and, for a chain, its grid's defaults
+  /// (vibration and cylinder 0, trajectories "optimised", where the file did not set them).
+  /// Throws SweepConfigError naming the key for a model that cannot be read.
+  void setModel(const std::string& name_or_path, const std::string& origin);
+  /// Parses the method names for this model (Variants for the APAL leg, ident::Method for a
+  /// chain); origin names the key or flag in errors.
+  void setMethods(const std::vector<std::string>& names, const std::string& origin);
+  /// The method names of the sweep, in order.
+  std::vector<std::string> methodNames() const;
   /// Throws SweepConfigError naming the key.
   void validate() const;
   std::vector<SweepCondition> conditions() const;
@@ -69,11 +95,16 @@ struct SweepConfig {
   ProtocolConfig protocolFor(const SweepCondition& c, std::uint64_t seed) const;
   /// The resolved configuration (everything that changes results; not threads, out, shard).
   nlohmann::json toJson() const;
+
+ private:
+  void validateApal() const;
+  nlohmann::json chainJson() const;
 };
 
 /// Reads a sweep TOML over the defaults. Unknown keys, wrong types and bad values throw
-/// SweepConfigError with the key and file:line:col.
-SweepConfig loadSweepConfig(const std::string& path);
+/// SweepConfigError with the key and file:line:col. model_override (--model) replaces the file's
+/// [sweep] model before the methods and the grid are checked against it.
+SweepConfig loadSweepConfig(const std::string& path, const std::string& model_override = "");
 
 nlohmann::json toJson(const SweepCondition& c);
 

@@ -25,6 +25,9 @@ struct SweepLayout {
   std::vector<Variant> methods;
   int seeds = 0;
   nlohmann::json resolved;  ///< SweepConfig::toJson()
+  /// A chain model's sweep (chain_sweep.hpp): method_names are ident::Method names, methods empty.
+  bool chain = false;
+  std::vector<std::string> method_names;
   const std::vector<SweepCondition>& conditions() const { return cells; }
 };
 SweepLayout layoutOf(const SweepConfig& c);

@@ -1,0 +1,32 @@
+#pragma once
+// `exoid sweep --model M` on any serial chain: the same grid, seeds, resume, shards and merge as
+// the APAL leg's sweep, with the chain's own run and summary. A run simulates a fit record (the
+// sweep's design, or the simulator's default motion of its seed) and a validation record (the
+// default motion of another seed), processes them as `exoid identify --model` does (the band from
+// the data), and fits every method in the model's base parameters, scored against the
+// simulation's truth: each base parameter's error, the validation torque error per joint, and
+// LS's own standard errors against its actual errors.
+#include "exoid/experiments/sweep/sweep_job.hpp"
+#include "exoid/experiments/sweep/sweep_summary.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace exoid::experiments {
+
+/// The chain's run of job `id` (runSweepJob calls it for a chain config); never throws for a
+/// failing run (status "error" with the message).
+nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id);
+
+/// The sweep's "optimised" record when [simulation] excitation gives none: `exoid excite --model`
+/// with its defaults and the seed deriveSeed(master_seed, 0), written to design_file.
+SweepConfig withChainDesign(SweepConfig config, const std::string& design_file, std::ostream& log);
+
+/// runs.csv, summary.csv, summary.json, summary.md of a chain sweep (`jobs` sorted by (cell,
+/// replicate)), each written atomically into `dir`.
+void writeChainSweepTables(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const std::string& dir);
+
+}  // namespace exoid::experiments

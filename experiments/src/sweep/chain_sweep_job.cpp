@@ -1,0 +1,168 @@
+// One run of a chain sweep: two simulated records, every method's fit, its scores against truth.
+#include "exoid/experiments/sweep/chain_sweep.hpp"
+
+#include "exoid/core/random.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/options.hpp"
+#include "exoid/ident/estimators/stopwatch.hpp"
+#include "exoid/ident/model/chain_band_iv.hpp"
+#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/chain_idim_iv.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/signals/band.hpp"
+
+#include <cmath>
+#include <optional>
+
+namespace exoid::experiments {
+
+// Named, not anonymous: the unity build puts this file beside the APAL sweep's own helpers.
+namespace chain_sweep_run {
+
+sim::ChainSimConfig recordConfig(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
+  sim::ChainSimConfig s;
+  s.model_path = c.chain_model_path;
+  s.duration_s = c.base.sim.duration_s;
+  s.dt_s = c.base.sim.dt_s;
+  s.encoder_noise_rad = cond.angle_noise_deg * M_PI / 180.0;
+  s.encoder_resolution_rad = cond.quantisation_deg * M_PI / 180.0;
+  s.torque_noise_Nm = cond.torque_noise_Nm;
+  s.seed = seed;
+  return s;
+}
+
+// Per joint: the validation record's RMS torque error (N m) and the error of the predicted
+// torque against the truth's, relative to the truth's (||Wv (x - t)||_j / ||Wv t||_j).
+struct JointScores {
+  std::vector<double> rms_Nm, rel_to_truth;
+};
+
+JointScores scoreOn(const ident::ChainRecord& v, const Eigen::MatrixXd& Wv, const Eigen::VectorXd& x, const Eigen::VectorXd& truth) {
+  const Eigen::Index dof = v.dof;
+  const Eigen::VectorXd residual = v.y - Wv * x, deviation = Wv * (x - truth), reference = Wv * truth;
+  JointScores s;
+  for (Eigen::Index j = 0; j < dof; ++j) {
+    double r2 = 0.0, d2 = 0.0, t2 = 0.0;
+    for (Eigen::Index k = 0; k < v.samples(); ++k) {
+      const Eigen::Index row = k * dof + j;
+      r2 += residual[row] * residual[row];
+      d2 += deviation[row] * deviation[row];
+      t2 += reference[row] * reference[row];
+    }
+    s.rms_Nm.push_back(std::sqrt(r2 / static_cast<double>(v.samples())));
+    s.rel_to_truth.push_back(t2 > 0.0 ? std::sqrt(d2 / t2) : 0.0);
+  }
+  return s;
+}
+
+nlohmann::json methodJson(ident::Method m, bool usable, const std::string& message, const Eigen::VectorXd& x, const JointScores& s) {
+  return {{"method", ident::toString(m)},
+          {"status", usable ? "ok" : "unusable"},
+          {"message", message},
+          {"x", toVector(x)},
+          {"val_rms_Nm", s.rms_Nm},
+          {"torque_err_rel", s.rel_to_truth}};
+}
+
+nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
+  const LoadedChain loaded = loadChain(c.chain_model_path);
+  const ident::ChainModel& model = loaded.model;
+  const ident::BaseParameters& base = loaded.base;
+  sim::ChainSimConfig fit_config = recordConfig(c, cond, core::deriveSeed(seed, 1));
+  if (cond.trajectories == "optimised") fit_config.trajectory = *c.chain_design;
+  const sim::ChainSimResult fit = sim::simulateChain(fit_config);
+  const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
+  const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
+
+  const ident::Dataset d = chainDataset(fit);
+  const ident::SignalOptions signals = defaultIdentifySignals();
+  std::optional<ident::BandChoice> band;
+  const ident::ChainRecord rec = ident::processChainRecord(d, model, signals, &band);
+  const ident::SignalOptions fit_signals = band ? ident::withBand(signals, *band) : signals;
+  ident::ChainEstimateOptions eo;
+  eo.ls = c.base.methods.ls;
+  eo.consistent = false;
+  const ident::ChainEstimate est = ident::estimateChain(model, base, rec, loaded.phi, eo);
+  ident::MethodOptions mo = c.base.methods;
+  mo.rls_pso.pso.seed = core::deriveSeed(seed, 100);  // each run's own swarm, as the APAL protocol's
+  if (!c.origin.count("identification.wide_box")) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
+
+  const ident::ChainRecord v = ident::processChainRecord(chainDataset(check), model, fit_signals);
+  const Eigen::MatrixXd Wv = base.baseRegressor(v.W);
+  nlohmann::json j;
+  j["base_parameters"] = base.names;
+  j["truth"] = toVector(truth);
+  j["rows"] = est.rows;
+  j["condition_number"] = est.ls.condition_number;
+  if (band) j["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation}};
+  j["methods"] = nlohmann::json::array();
+  const Eigen::MatrixXd Wb = base.baseRegressor(rec.W);
+  for (ident::Method m : c.chain_methods) {
+    if (m == ident::Method::kLs) {
+      const bool usable = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+      nlohmann::json mj = methodJson(m, usable, usable ? std::string() : est.ls.summary.message, est.beta, scoreOn(v, Wv, est.beta, truth));
+      mj["std_error"] = toVector(est.std_error);
+      j["methods"].push_back(mj);
+      continue;
+    }
+    ident::Estimate e;
+    if (m == ident::Method::kIvBand) {
+      const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
+      e = ident::solveBandIv({ident::chainBandIvRows(d, model, base, fit_signals, fm)}, mo.ls);
+    } else if (m == ident::Method::kIdimIv) {
+      // The record's own controller (its metadata) and reference, instruments processed in its band.
+      ident::ChainClosedLoopRecord r;
+      r.measured = rec;
+      r.signals = fit_signals;
+      r.reference = chainReferenceOf(d, "the fit record");
+      r.controller = chainControllerFromMetadata(d, "the fit record");
+      ident::IvOptions iv;
+      iv.ls = mo.ls;
+      e = ident::identifyChainIdimIv(model, base, {r}, iv);
+    } else {
+      e = ident::estimate(m, Wb, rec.y, mo);
+    }
+    const bool usable = ident::usable(e.summary.status);
+    j["methods"].push_back(methodJson(m, usable, usable ? std::string() : e.summary.message, e.x, scoreOn(v, Wv, e.x, truth)));
+  }
+  return j;
+}
+
+}  // namespace chain_sweep_run
+
+nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id) {
+  ident::Stopwatch clock;
+  const SweepCondition cond = config.conditions().at(static_cast<std::size_t>(id.cell));
+  const std::uint64_t seed = config.jobSeed(id.cell, id.replicate);
+  nlohmann::json j{{"cell", id.cell}, {"replicate", id.replicate}, {"seed", seed}, {"condition", toJson(cond)}};
+  try {
+    const nlohmann::json r = chain_sweep_run::runJob(config, cond, seed);
+    j["status"] = "ok";
+    j["message"] = "";
+    j.update(r);
+  } catch (const std::exception& e) {
+    j["status"] = "error";
+    j["message"] = e.what();
+    j["methods"] = nlohmann::json::array();
+  }
+  j["wall_time_s"] = clock.seconds();
+  return j;
+}
+
+SweepConfig withChainDesign(SweepConfig config, const std::string& design_file, std::ostream& log) {
+  const bool optimised = std::count(config.trajectories.begin(), config.trajectories.end(), "optimised") > 0;
+  if (!config.isChain() || !optimised || config.chain_design) return config;
+  log << "exoid sweep: designing the optimised record (exoid excite --model " << config.model << ", seed of master_seed "
+      << config.master_seed << ")\n";
+  ChainExciteArgs ex;
+  ex.model = config.chain_model_path;
+  ex.out = design_file;
+  ex.options.seed = core::deriveSeed(config.master_seed, 0);
+  exciteChain(ex);
+  config.chain_design = readChainExcitation(design_file);
+  return config;
+}
+
+}  // namespace exoid::experiments
