@@ -421,6 +421,11 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
                       {"controller_law", "pd_measured_velocity"},
                       {"feedforward", "true"},
                       {"actuator_bandwidth_Hz", bw}};
+  if (!config.locked.empty()) {
+    std::string locked;
+    for (const std::string& j : config.locked) locked += (locked.empty() ? "" : ",") + j;
+    r.table.metadata.emplace_back("locked_joints", locked);
+  }
   return r;
 }
 

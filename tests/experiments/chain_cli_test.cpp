@@ -197,9 +197,8 @@ TEST(ChainCli, IdimIvReadsTheRigsControllerFromTheRecordOrAFile) {
                       "--out", csv}),
             0);
   ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--method", "ls,idim-iv", "--json", dir + "/meta.json"}), 0);
-  const nlohmann::json c = readJson(side)["controller"];
-  std::ofstream(dir + "/controller.json") << nlohmann::json{{"kp", c["kp_Nm_per_rad"]}, {"kd", c["kd_Nms_per_rad"]}, {"feedforward", "model"},
-                                                            {"actuator_bandwidth_hz", c["actuator_bandwidth_hz"]}}.dump();
+  // The sidecar's controller block is a --controller file as it stands.
+  std::ofstream(dir + "/controller.json") << readJson(side)["controller"].dump();
   ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--method", "ls,idim-iv", "--controller", dir + "/controller.json",
                       "--json", dir + "/file.json"}),
             0);
@@ -210,6 +209,12 @@ TEST(ChainCli, IdimIvReadsTheRigsControllerFromTheRecordOrAFile) {
   std::ofstream(dir + "/two.json") << R"({"kp": [1, 2], "kd": [1, 2]})";
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", csv, "--method", "idim-iv", "--controller", dir + "/two.json"}, 1)
                 .find("'kp' must be an array of 3 numbers"),
+            std::string::npos);
+  // A record whose hip is locked (the segmental strategy's): refused, naming the metadata.
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "3", "--lock", "hip", "--out", dir + "/locked.csv"}), 0);
+  testing::internal::GetCapturedStdout();
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", dir + "/locked.csv", "--method", "idim-iv"}, 1).find("locked_joints"),
             std::string::npos);
   // The record without q_ankle_ref: refused naming the column.
   std::ifstream in(csv);

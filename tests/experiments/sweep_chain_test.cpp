@@ -4,6 +4,7 @@
 // same bytes.
 #include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/sweep/chain_sweep.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
 #include "sweep_test_support.hpp"
 
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 // Named, not anonymous: the unity build puts this file beside the other sweep tests' helpers.
 namespace exoid::experiments::sweep_chain_tests {
@@ -80,6 +82,13 @@ TEST(ChainSweepConfig, RefusesWhatTheChainRigLacksNamingTheKey) {
   EXPECT_NE(e.find("no_such_model.xml"), std::string::npos) << e;
   e = chainConfigError("[simulation]\nexcitation = \"x.json\"\n");
   EXPECT_NE(e.find("'simulation.excitation'"), std::string::npos) << e;
+  // A design of another model (two joints for leg3's three) is refused before any run, by key.
+  const std::string two = ::testing::TempDir() + "/chain_sweep_two_joints.json";
+  std::ofstream(two) << R"({"f0_hz": 0.2, "joints": [{"name": "a", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]},
+                                                    {"name": "b", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]}]})";
+  e = chainConfigError(leg3 + "[simulation]\nexcitation = \"" + two + "\"\n");
+  EXPECT_NE(e.find("'simulation.excitation'"), std::string::npos) << e;
+  EXPECT_NE(e.find("moves 2 joints"), std::string::npos) << e;
   // --model on the APAL leg's grid: its APAL-only methods are refused by name.
   e = chainConfigError("[sweep]\nmethods = [\"ls\", \"idim-iv-base\"]\n", "leg3");
   EXPECT_NE(e.find("'sweep.methods'"), std::string::npos) << e;
@@ -186,6 +195,18 @@ TEST(ChainSweep, ThreadsShardsMergeAndResumeGiveTheSameBytes) {
   const std::string before = slurp(one + "/summary.md");
   ASSERT_EQ(runExoid({"sweep", "--config", cfg, "--out", one}), 0);
   EXPECT_EQ(slurp(one + "/summary.md"), before);
+  // The folder's config.json names the model, not its path (resume from elsewhere, shards elsewhere).
+  EXPECT_EQ(exoid::test::readJson(one + "/config.json")["sweep"]["model"], "leg3");
+  // A sweep started in a folder keeps its design: without [simulation] excitation, the one in
+  // config.json is taken (no new design.json), so a resume never designs again.
+  SweepConfig undesigned = loadSweepConfig(cfg);
+  undesigned.chain_design.reset();
+  std::ostringstream log;
+  const SweepConfig kept = withChainDesign(undesigned, one, log);
+  ASSERT_TRUE(kept.chain_design.has_value());
+  EXPECT_EQ(kept.toJson().dump(), exoid::test::readJson(one + "/config.json").dump());
+  EXPECT_FALSE(std::filesystem::exists(one + "/design.json"));
+  EXPECT_NE(log.str().find("config.json"), std::string::npos) << log.str();
   // Another model's sweep is refused in this folder (its config.json differs).
   EXPECT_NE(runExoid({"sweep", "--out", one, "--seeds", "2", "--duration", "2", "--noise-tau", "0"}), 0);
 }

@@ -104,6 +104,13 @@ TEST(ChainClosedLoop, ObeysTheModelsDynamicsAndTracksItsReference) {
   const ClosedLoopRun refused = simulateChainClosedLoop(leg.model, leg.base, bad, leg.controller, leg.reference);
   EXPECT_FALSE(refused.ok);
   EXPECT_NE(refused.message.find("not positive definite"), std::string::npos) << refused.message;
+  // Gains no rig has against this inertia (a locked joint's, tuned to a 1e9 kg m^2 lock): refused,
+  // not integrated in millions of substeps.
+  ChainController stiff = leg.controller;
+  stiff.kp_Nm_per_rad[0] = 1e12;
+  const ClosedLoopRun too_stiff = simulateChainClosedLoop(leg.model, leg.base, leg.beta, stiff, leg.reference);
+  EXPECT_FALSE(too_stiff.ok);
+  EXPECT_NE(too_stiff.message.find("too stiff"), std::string::npos) << too_stiff.message;
 }
 
 TEST(ChainIdimIv, ExactOnTheExactRecordOfAClosedLoop) {

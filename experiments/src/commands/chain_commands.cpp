@@ -111,10 +111,10 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
     j["config"]["trajectory"]["cos_rad"].push_back(toVector(c.trajectory.cos_rad.row(i).transpose()));
   }
   j["tracking_rms_rad"] = r.tracking_rms_rad;
-  // The rig's controller, as IDIM-IV reads it (also the CSV's controller_* metadata lines).
-  j["controller"] = {{"law", "u = tau_ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd)"},
-                     {"kp_Nm_per_rad", toVector(r.kp_Nm_per_rad)},
-                     {"kd_Nms_per_rad", toVector(r.kd_Nms_per_rad)},
+  // The rig's controller in the form `identify --controller` reads (N m/rad, N m s/rad, Hz; also
+  // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd).
+  j["controller"] = {{"kp", toVector(r.kp_Nm_per_rad)},
+                     {"kd", toVector(r.kd_Nms_per_rad)},
                      {"feedforward", "model"},
                      {"actuator_bandwidth_hz", c.actuator_bandwidth_hz}};
   j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},

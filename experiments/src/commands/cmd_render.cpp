@@ -153,8 +153,14 @@ Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChai
     throw std::invalid_argument("--ident '" + json_path + "': expected the JSON of `exoid identify --model " + loaded.path +
                                 " --json FILE` (base_parameters.names and .ls)");
   }
-  const std::vector<std::string> names = j["base_parameters"]["names"];
-  const std::vector<double> ls = j["base_parameters"]["ls"];
+  std::vector<std::string> names;
+  std::vector<double> ls;
+  try {
+    names = j["base_parameters"]["names"].get<std::vector<std::string>>();
+    ls = j["base_parameters"]["ls"].get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument("--ident '" + json_path + "': base_parameters.names must be strings and .ls numbers (" + e.what() + ")");
+  }
   if (names != loaded.base.names || ls.size() != names.size()) {
     throw std::invalid_argument("--ident '" + json_path + "': its base parameters are not those of " + loaded.path + " (" +
                                 core::toText(loaded.base.rank) + " base parameters; identified with another model or --armature?)");

@@ -103,7 +103,7 @@ void addSweepCommand(CLI::App& app) {
   const char* o = "Overrides of the config file";
   cmd->add_option("--seeds", a->seeds, "[sweep] seeds: replicates per cell, 1 to 1e6")->check(CLI::Range(1, 1000000))->group(o);
   cmd->add_option("--master-seed", a->master_seed, "[sweep] master_seed")->check(seedValidator())->group(o);
-  cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults); a chain's: ls, rls, pso, rls-pso, lad, iv-band")->delimiter(',')->group(o);
+  cmd->add_option("--methods", a->methods, "[sweep] methods: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults); a chain's: ls, rls, pso, rls-pso, lad, iv-band, idim-iv")->delimiter(',')->group(o);
   cmd->add_option("--noise-tau", a->noise_tau, "[grid] torque_noise_Nm levels, e.g. 0,0.5")->delimiter(',')->group(o);
   cmd->add_option("--noise-q-deg", a->noise_q, "[grid] angle_noise_deg levels")->delimiter(',')->group(o);
   cmd->add_option("--quantisation-deg", a->quantisation, "[grid] quantisation_deg levels")->delimiter(',')->group(o);

@@ -164,6 +164,10 @@ Eigen::VectorXd listOf(const std::string& text, const std::string& where) {
 }  // namespace
 
 ident::ChainController chainControllerFromMetadata(const ident::Dataset& d, const std::string& source) {
+  if (const auto locked = d.metadata("locked_joints"); locked && !locked->empty()) {
+    throw std::invalid_argument(source + ": joints " + *locked + " are locked in this record (metadata 'locked_joints'); IDIM-IV "
+                                "simulates the closed loop of every joint: give it records in which every joint moves");
+  }
   ident::ChainController c;
   const auto key = [&](const std::string& k) { return required(d, k, source); };
   const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
@@ -241,7 +245,11 @@ ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::strin
     }
     q.col(j) = d.extraColumn(name);
   }
-  return ident::chainReferenceFromAngles(d.t_s, q);
+  try {
+    return ident::chainReferenceFromAngles(d.t_s, q);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": the q_<joint>_ref columns: " + e.what());
+  }
 }
 
 }  // namespace exoid::experiments

@@ -4,6 +4,7 @@
 #include "exoid/core/random.hpp"
 #include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
 #include "exoid/ident/model/chain_band_iv.hpp"
@@ -13,7 +14,9 @@
 #include "exoid/ident/model/chain_processing.hpp"
 #include "exoid/ident/signals/band.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 
 namespace exoid::experiments {
@@ -66,6 +69,28 @@ nlohmann::json methodJson(ident::Method m, bool usable, const std::string& messa
           {"torque_err_rel", s.rel_to_truth}};
 }
 
+// A method other than LS on the fit record's rows (iv-band and IDIM-IV on the record itself).
+ident::Estimate otherEstimate(ident::Method m, const ident::ChainModel& model, const ident::BaseParameters& base,
+                              const ident::Dataset& d, const ident::ChainRecord& rec, const std::optional<ident::BandChoice>& band,
+                              const ident::SignalOptions& fit_signals, const ident::MethodOptions& mo) {
+  if (m == ident::Method::kIvBand) {
+    const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
+    return ident::solveBandIv({ident::chainBandIvRows(d, model, base, fit_signals, fm)}, mo.ls);
+  }
+  if (m == ident::Method::kIdimIv) {
+    // The record's own controller (its metadata) and reference, instruments processed in its band.
+    ident::ChainClosedLoopRecord r;
+    r.measured = rec;
+    r.signals = fit_signals;
+    r.reference = chainReferenceOf(d, "the fit record");
+    r.controller = chainControllerFromMetadata(d, "the fit record");
+    ident::IvOptions iv;
+    iv.ls = mo.ls;
+    return ident::identifyChainIdimIv(model, base, {r}, iv);
+  }
+  return ident::estimate(m, base.baseRegressor(rec.W), rec.y, mo);
+}
+
 nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
   const LoadedChain loaded = loadChain(c.chain_model_path);
   const ident::ChainModel& model = loaded.model;
@@ -98,7 +123,6 @@ nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uin
   j["condition_number"] = est.ls.condition_number;
   if (band) j["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation}};
   j["methods"] = nlohmann::json::array();
-  const Eigen::MatrixXd Wb = base.baseRegressor(rec.W);
   for (ident::Method m : c.chain_methods) {
     if (m == ident::Method::kLs) {
       const bool usable = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
@@ -108,21 +132,13 @@ nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uin
       continue;
     }
     ident::Estimate e;
-    if (m == ident::Method::kIvBand) {
-      const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
-      e = ident::solveBandIv({ident::chainBandIvRows(d, model, base, fit_signals, fm)}, mo.ls);
-    } else if (m == ident::Method::kIdimIv) {
-      // The record's own controller (its metadata) and reference, instruments processed in its band.
-      ident::ChainClosedLoopRecord r;
-      r.measured = rec;
-      r.signals = fit_signals;
-      r.reference = chainReferenceOf(d, "the fit record");
-      r.controller = chainControllerFromMetadata(d, "the fit record");
-      ident::IvOptions iv;
-      iv.ls = mo.ls;
-      e = ident::identifyChainIdimIv(model, base, {r}, iv);
-    } else {
-      e = ident::estimate(m, Wb, rec.y, mo);
+    try {
+      e = otherEstimate(m, model, base, d, rec, band, fit_signals, mo);
+    } catch (const std::exception& ex) {
+      // A method that cannot run on this record (e.g. without what IDIM-IV needs) fails alone:
+      // the other methods' results stand.
+      j["methods"].push_back(methodJson(m, false, ex.what(), Eigen::VectorXd(), {}));
+      continue;
     }
     const bool usable = ident::usable(e.summary.status);
     j["methods"].push_back(methodJson(m, usable, usable ? std::string() : e.summary.message, e.x, scoreOn(v, Wv, e.x, truth)));
@@ -151,17 +167,56 @@ nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id) {
   return j;
 }
 
-SweepConfig withChainDesign(SweepConfig config, const std::string& design_file, std::ostream& log) {
+namespace chain_sweep_run {
+
+// The design a chain sweep's config.json holds (SweepConfig::toJson's "simulation.excitation").
+sim::ChainFourier designFromConfigJson(const nlohmann::json& e) {
+  sim::ChainFourier f;
+  f.base_frequency_hz = e.at("base_frequency_hz").get<double>();
+  const std::vector<double> offset = e.at("offset_rad").get<std::vector<double>>();
+  const auto dof = static_cast<Eigen::Index>(offset.size());
+  f.offset_rad = Eigen::Map<const Eigen::VectorXd>(offset.data(), dof);
+  const auto harmonics = static_cast<Eigen::Index>(e.at("sin_rad").at(0).size());
+  f.sin_rad.resize(dof, harmonics);
+  f.cos_rad.resize(dof, harmonics);
+  for (Eigen::Index j = 0; j < dof; ++j) {
+    for (Eigen::Index h = 0; h < harmonics; ++h) {
+      f.sin_rad(j, h) = e.at("sin_rad").at(static_cast<std::size_t>(j)).at(static_cast<std::size_t>(h)).get<double>();
+      f.cos_rad(j, h) = e.at("cos_rad").at(static_cast<std::size_t>(j)).at(static_cast<std::size_t>(h)).get<double>();
+    }
+  }
+  f.validate();
+  return f;
+}
+
+}  // namespace chain_sweep_run
+
+SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ostream& log) {
   const bool optimised = std::count(config.trajectories.begin(), config.trajectories.end(), "optimised") > 0;
   if (!config.isChain() || !optimised || config.chain_design) return config;
+  // A folder this sweep already started keeps its design: a resume, a rerun or another shard
+  // never designs again (an optimisation's last bits may differ on another machine).
+  const std::string cfg = dir + "/config.json";
+  if (std::filesystem::exists(cfg)) {
+    const nlohmann::json old = readJsonFile(cfg);
+    if (old.contains("simulation") && old["simulation"].contains("excitation")) {
+      try {
+        config.chain_design = chain_sweep_run::designFromConfigJson(old["simulation"]["excitation"]);
+      } catch (const std::exception& e) {
+        throw std::invalid_argument(cfg + ": its simulation.excitation is not a chain design (" + e.what() + ")");
+      }
+      log << "exoid sweep: the optimised record's design from " << cfg << "\n";
+      return config;
+    }
+  }
   log << "exoid sweep: designing the optimised record (exoid excite --model " << config.model << ", seed of master_seed "
-      << config.master_seed << ")\n";
+      << config.master_seed << "; give [simulation] excitation to reuse a design)\n";
   ChainExciteArgs ex;
   ex.model = config.chain_model_path;
-  ex.out = design_file;
+  ex.out = dir + "/design.json";
   ex.options.seed = core::deriveSeed(config.master_seed, 0);
   exciteChain(ex);
-  config.chain_design = readChainExcitation(design_file);
+  config.chain_design = readChainExcitation(ex.out);
   return config;
 }
 

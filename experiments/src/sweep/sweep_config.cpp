@@ -10,6 +10,7 @@
 #include "exoid/core/random.hpp"
 #include "exoid/core/sha256.hpp"
 #include "exoid/sim/model.hpp"
+#include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/sidecar.hpp"
 
 #include <toml++/toml.h>
@@ -199,6 +200,13 @@ void validateChain(const SweepConfig& c) {
   if (std::set<ident::Method>(c.chain_methods.begin(), c.chain_methods.end()).size() != c.chain_methods.size()) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
+  if (c.chain_design) {
+    const std::size_t dof = sim::serialChainFromMjcfFile(c.chain_model_path).links.size();
+    if (static_cast<std::size_t>(c.chain_design->dof()) != dof) {
+      throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->dof()) + " joints; " +
+                             model + " has " + core::toText(dof) + " (a design of another model?)");
+    }
+  }
   sim::ChainSimConfig s;
   s.model_path = c.chain_model_path;
   s.duration_s = c.base.sim.duration_s;
@@ -319,9 +327,11 @@ nlohmann::json SweepConfig::chainJson() const {
                {"vibration_level", vibration_level},
                {"cylinder_mass_scale", cylinder_mass_scale},
                {"trajectories", trajectories}};
-  // The model by its name and its bytes (not its path: shards on other machines merge).
+  // The model by its file's name and bytes, not its path: a resume from another folder and shards
+  // run on other machines match (a file the MJCF includes is not hashed).
+  const std::string model_name = model == "leg3" ? model : std::filesystem::path(chain_model_path).filename().string();
   j["sweep"] = {{"seeds", seeds}, {"master_seed", master_seed}, {"methods", methodNames()}, {"cells", numCells()},
-                {"model", model}, {"model_sha256", core::sha256OfFile(chain_model_path)},
+                {"model", model_name}, {"model_sha256", core::sha256OfFile(chain_model_path)},
                 {"design", "full factorial of the grid lists; torque noise varies fastest; an optimised cell and its default-motion "
                            "twin share seeds; each run: a fit record and a validation record (the default motion of another seed), "
                            "identified as exoid identify --model does, one fit"}};

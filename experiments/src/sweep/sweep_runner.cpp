@@ -335,7 +335,7 @@ SweepRunReport runSweep(const SweepConfig& given, const SweepRunOptions& o, std:
   const FolderLock lock(dir.string(), "exoid sweep --out " + dir.string() + " (shard " + o.shard.text() + ")");
   // A chain's optimised record is designed here when the config gives none (the same design
   // again on a resume: it is deterministic, and config.json holds its coefficients).
-  const SweepConfig config = withChainDesign(given, (dir / "design.json").string(), log);
+  const SweepConfig config = withChainDesign(given, dir.string(), log);
   const SweepLayout layout = layoutOf(config);
   claimFolder(dir, layout.resolved);
   claimShard(dir, o.shard);

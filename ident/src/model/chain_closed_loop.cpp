@@ -124,6 +124,14 @@ ClosedLoopRun simulateChainClosedLoop(const ChainModel& model, const BaseParamet
     }
     omega = std::max({omega, std::sqrt(ctl.kp_Nm_per_rad[j] / m0(j, j)), ctl.kd_Nms_per_rad[j] / m0(j, j)});
   }
+  // A loop this stiff against the model's inertia (e.g. the gains of a locked joint, tuned to the
+  // lock's 1e9 kg m^2) is no rig's: refused rather than integrated for hours.
+  constexpr double kMaxSubsteps = 1000.0;
+  if (!(omega * dt / 0.05 <= kMaxSubsteps)) {
+    run.message = "the controller's loop is too stiff for the model (" + core::toText(omega) + " rad/s: over " +
+                  core::toText(static_cast<long>(kMaxSubsteps)) + " substeps per sample; gains of a locked joint?)";
+    return run;
+  }
   const int substeps = std::max(1, static_cast<int>(std::ceil(omega * dt / 0.05)));
   const double h = dt / substeps;
   const double lag = ctl.actuator_bandwidth_hz > 0.0 ? 1.0 - std::exp(-2.0 * M_PI * ctl.actuator_bandwidth_hz * h) : 1.0;

@@ -21,9 +21,11 @@ namespace exoid::experiments {
 /// failing run (status "error" with the message).
 nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id);
 
-/// The sweep's "optimised" record when [simulation] excitation gives none: `exoid excite --model`
-/// with its defaults and the seed deriveSeed(master_seed, 0), written to design_file.
-SweepConfig withChainDesign(SweepConfig config, const std::string& design_file, std::ostream& log);
+/// The sweep's "optimised" record when [simulation] excitation gives none: the one in the folder's
+/// config.json when the sweep was started there before (resume, rerun, another shard), else
+/// `exoid excite --model` with its defaults and the seed deriveSeed(master_seed, 0), written to
+/// dir/design.json.
+SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ostream& log);
 
 /// runs.csv, summary.csv, summary.json, summary.md of a chain sweep (`jobs` sorted by (cell,
 /// replicate)), each written atomically into `dir`.
