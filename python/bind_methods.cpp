@@ -7,6 +7,7 @@
 #include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/model/chain_idim_iv.hpp"
 
 #include <limits>
 #include <optional>
@@ -63,6 +64,41 @@ void bindMethods(py::module_& m) {
                      "hip fixed, then the hip parameters from a record where both joints move, its hip torque minus "
                      "the knee part. Records are dataset dicts (read_dataset). Returns x (10) and the knee and hip "
                      "stages' estimates (dicts as identify returns) and warnings (both stages', named). ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
+
+  m.def("identify_chain_idim_iv",
+        [](const ChainModel& model, const py::dict& record, const std::string& controller, std::optional<double> cutoff_hz, int filter_order,
+           int decimation, double step_tolerance, int max_iterations) {
+          const Dataset d = datasetFrom(record);
+          const SignalOptions s = signalOptions("parallel", cutoff_hz, filter_order, decimation, "auto");
+          IvOptions iv;
+          iv.step_tolerance = step_tolerance;
+          iv.max_iterations = max_iterations;
+          iv.validate();
+          // As `exoid identify --model ... --method idim-iv`: the record's rows in its band, its
+          // reference and controller, the instruments processed alike.
+          std::optional<BandChoice> band;
+          ChainClosedLoopRecord r;
+          r.measured = processChainRecord(d, model, s, &band);
+          r.signals = band ? withBand(s, *band) : resolveSignalOptions(d, LegConstants{}, s);
+          const std::string source = sourceOf(record, "chain");
+          r.reference = experiments::chainReferenceOf(d, source);
+          r.controller = controller.empty() ? experiments::chainControllerFromMetadata(d, source)
+                                            : experiments::readChainControllerJson(controller, model.dof());
+          r.recorded_derivatives = d.qd_radps.has_value() && s.use_recorded_derivatives;
+          const BaseParameters base = baseParameters(model);
+          const Estimate e = identifyChainIdimIv(model, base, {r}, iv);
+          return py::dict(py::arg("x") = e.x, py::arg("names") = base.names, py::arg("all") = estimateDict(e));
+        },
+        py::arg("model"), py::arg("record"), py::arg("controller") = "", py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2,
+        py::arg("decimation") = 0, py::arg("step_tolerance") = 0.1, py::arg("max_iterations") = 10,
+        "IDIM-IV on any serial chain (model: a ChainModel, e.g. load_chain('leg3')['model']): the base parameters "
+        "(x, in base_parameters()['names'] order, also names) from one record (a dataset dict with the model's "
+        "joints), instruments from closed-loop simulations of the chain identified at the previous iteration, "
+        "processed as the record's rows (parallel processing, the band chosen from the record unless cutoff_hz). "
+        "The record needs its reference (q_<joint>_ref columns) and its controller: the record's metadata "
+        "(controller_kp_Nm_per_rad, ..., as `exoid simulate --model` writes them) or controller, a JSON file "
+        "{\"kp\": [one per joint], \"kd\": [..], \"feedforward\": \"model\", \"actuator_bandwidth_hz\": ..}. "
+        "all: the estimate as identify returns it.");
 
   m.def("identify_idim_iv",
         [](const py::dict& both_record, double thigh_length_m, const std::optional<py::dict>& knee_record,
