@@ -139,7 +139,7 @@ TEST(ChainIdimIv, RemovesTheBiasEncoderNoiseGivesLeastSquares) {
   // kZ = 3.9: Student's t with 29 degrees of freedom at a two-sided 0.01 / 15 (Bonferroni over the
   // 15 parameters tested), so an unbiased estimator fails this test once in 100 runs at most.
   constexpr double kZ = 3.9;
-  const ClosedLoopLeg leg(8.0);
+  const ClosedLoopLeg leg(5.0);
   const ClosedLoopRun run = simulateChainClosedLoop(leg.model, leg.base, leg.beta, leg.controller, leg.reference);
   ASSERT_TRUE(run.ok) << run.message;
   const ChainClosedLoopRecord clean = leg.closedLoopRecord(leg.record(run.states, 0.0, 1));

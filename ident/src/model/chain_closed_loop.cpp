@@ -113,9 +113,10 @@ ClosedLoopRun simulateChainClosedLoop(const ChainModel& model, const BaseParamet
   const double dt = (ref.t_s[n - 1] - ref.t_s[0]) / static_cast<double>(n - 1);
   ClosedLoopRun run;
   Eigen::VectorXd q = ref.q_rad.row(0).transpose(), qd = ref.qd_radps.row(0).transpose();
-  // Substeps for the stiffest loop at the start (omega = max(sqrt(kp / Mjj), kd / Mjj)) and the lag.
+  // Substeps for the stiffest loop at the start (omega = max(sqrt(kp / Mjj), kd / Mjj)). The motor's
+  // lag needs none: its update, 1 - exp(-2 pi f h), is exact for the command held over a step.
   const Eigen::MatrixXd m0 = dyn.mass(q);
-  double omega = 2.0 * M_PI * ctl.actuator_bandwidth_hz * 0.05 / 0.25;
+  double omega = 0.0;
   for (int j = 0; j < dof; ++j) {
     if (!(m0(j, j) > 0.0)) {
       run.message = "the model's mass matrix is not positive definite (M" + core::toText(j + 1) + core::toText(j + 1) + " = " +

@@ -40,7 +40,7 @@ ChainReference chainReferenceFromAngles(const Eigen::VectorXd& t_s, const Eigen:
 
 /// Simulates the chain with base parameters beta from the reference's first state under the
 /// controller: semi-implicit Euler, enough substeps per sample for the stiffest loop (omega h <=
-/// 0.05) and the motor lag (2 pi f h <= 0.25). Forward dynamics from the base regressor itself
+/// 0.05; the motor's lag is updated exactly per substep). Forward dynamics from the base regressor itself
 /// (M(q) e_j = Y(q, 0, e_j) phi - Y(q, 0, 0) phi, h = Y(q, qd, 0) phi, phi the standard vector
 /// with beta on the base columns), so friction and armature are the model's. Row k: the state at
 /// t_k, its acceleration and the motor torque acting then. Not ok (never NaN) when M(q) is not
