@@ -156,8 +156,9 @@ TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBasePa
   // differentiated angles).
   const std::string dir = ::testing::TempDir() + "/reproduce_leg3";
   testing::internal::CaptureStdout();
+  // Two restarts of the design (its quality is ChainCli.ExciteSimulate...'s subject, not this test's).
   const int code = runExoid({"reproduce", "--model", "leg3", "--out", dir, "--methods", "ls,lad", "--no-plots", "--noise-q-deg", "0",
-                             "--quantisation-deg", "0", "--noise-tau", "0", "--seed", "4"});
+                             "--quantisation-deg", "0", "--noise-tau", "0", "--seed", "4", "--design-restarts", "2"});
   testing::internal::GetCapturedStdout();
   ASSERT_EQ(code, 0);
   for (const char* f : {"design.json", "fit.csv", "fit.json", "check.csv", "stage_ankle.csv", "stage_knee.csv", "identify.json",
@@ -183,6 +184,7 @@ TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBasePa
   EXPECT_NE(report.find("seed 4"), std::string::npos);
   EXPECT_EQ(report.find("/tmp"), std::string::npos) << "no absolute paths in the report";
   EXPECT_NE(stderrOf({"reproduce", "--model", "leg3", "--vibration", "1", "--out", dir + "_x"}, 105).find("--vibration"), std::string::npos);
+  EXPECT_NE(stderrOf({"reproduce", "--design-restarts", "2", "--out", dir + "_y"}, 105).find("--excitation-knee"), std::string::npos);
 }
 
 // IDIM-IV on a chain: the controller from the record's metadata (exoid simulate writes it) or from

@@ -3,6 +3,7 @@
 #include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/chain_reproduce.hpp"
+#include "exoid/ident/design/excitation.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
@@ -32,6 +33,7 @@ struct Args {
   std::string knee_excitation = defaultKneeExcitationPath(), both_excitation = defaultBothExcitationPath();
   bool optimised_arm = true;
   bool keep_edits = false;
+  int design_restarts = ident::ExcitationOptions{}.restarts;  ///< a chain's design (the APAL leg's are shipped)
   CLI::App* cmd = nullptr;
 };
 
@@ -42,11 +44,12 @@ void runChain(const Args& a) {
     const std::string name = o->get_name();
     const bool chain_ok = name == "--model" || name == "--out" || name == "--no-plots" || name == "--plots" || name == "--seed" || name == "--keep-edits" ||
                           name == "--methods" || name == "--duration" || name == "--dt" || name == "--noise-q-deg" ||
-                          name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video";
+                          name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video" ||
+                          name == "--design-restarts";
     if (o->count() > 0 && !chain_ok) {
       throw CLI::ValidationError(name, "is not an option of the chain protocol (reproduce --model " + a.config.sim.model_path +
                                            "): it takes --out, --no-plots, --seed, --methods, --duration, --dt, --noise-q-deg, "
-                                           "--quantisation-deg, --noise-tau");
+                                           "--quantisation-deg, --noise-tau, --design-restarts");
     }
   }
   ChainReproduceArgs c;
@@ -54,6 +57,7 @@ void runChain(const Args& a) {
   c.plots = a.out.plots;
   c.sim = chainSimConfig(a.config.sim);
   c.seed = a.config.seed;
+  c.design_restarts = a.design_restarts;
   c.keep_edits = a.keep_edits;
   if (!a.variants.empty()) {
     c.methods.clear();
@@ -66,6 +70,10 @@ void runChain(const Args& a) {
 
 void run(Args a) {
   if (!isApalLegModel(a.config.sim.model_path)) return runChain(a);
+  if (a.cmd->count("--design-restarts") > 0) {
+    throw CLI::ValidationError("--design-restarts", "designs a chain's excitation (--model leg3|FILE); the APAL leg's designs are "
+                               "--excitation-knee and --excitation-both");
+  }
   if (!a.variants.empty()) {
     a.config.variants.clear();
     for (const std::string& v : a.variants) a.config.variants.push_back(parseVariant(v));
@@ -142,6 +150,9 @@ void addReproduceCommand(CLI::App& app) {
   cmd->add_flag("!--no-video", args->out.media, "Skip the still and the clip of the leg (no OSMesa/ffmpeg needed)");
   cmd->add_flag("--clip-raw-torque", args->out.clip_raw_torque,
                 "The clip's overlay: the raw recorded torque instead of the processed (filtered) one the methods fit");
+  cmd->add_option("--design-restarts", args->design_restarts,
+                  "--model (a chain): restarts of its excitation design (exoid excite --restarts)")
+      ->check(CLI::Range(1, 1000))->capture_default_str();
   cmd->add_option("--methods", args->variants, "Subset of: ls, rls, pso, rls-pso, lad, ls-exact, ls-stacked, ls-parallel, idim-iv, ls-base, idim-iv-base, default (exoid identify's defaults)")->delimiter(',');
   cmd->add_flag("!--no-optimised-arm", args->optimised_arm,
                 "Skip the optimised-excitation arm (the same protocol identified on designed records, validated on 2 and 4)");

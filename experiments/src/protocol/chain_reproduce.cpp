@@ -55,6 +55,7 @@ std::string designFitRecord(const ChainReproduceArgs& a, const std::string& dir)
   ex.model = a.sim.model_path;
   ex.out = dir + "design.json";
   ex.options.seed = core::deriveSeed(a.seed, 0);
+  ex.options.restarts = a.design_restarts;
   exciteChain(ex);
   return ex.out;
 }

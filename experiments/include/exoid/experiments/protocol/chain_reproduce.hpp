@@ -19,6 +19,7 @@ struct ChainReproduceArgs {
   /// Model path, duration, dt, sensors (noise, quantisation, torque noise); trajectory and seed set per record.
   sim::ChainSimConfig sim;
   std::uint64_t seed = 1;  ///< every record's seed and the design's derive from it
+  int design_restarts = 8;  ///< the design's restarts (exoid excite --restarts), >= 1
   bool keep_edits = false;  ///< refuse to rewrite a previous run's outputs changed by hand
   std::vector<ident::Method> methods{ident::Method::kLs, ident::Method::kRls, ident::Method::kPso,
                                      ident::Method::kRlsPso, ident::Method::kLad, ident::Method::kIvBand,
