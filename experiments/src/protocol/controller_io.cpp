@@ -40,6 +40,31 @@ bool boolOf(const std::string& text, const std::string& where) {
   throw std::invalid_argument(where + ": expected true or false, got '" + text + "'");
 }
 
+// A controller file's JSON object; throws naming the file when it cannot be read or is not one.
+nlohmann::json readControllerObject(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
+  return j;
+}
+
+// A controller file's "feedforward": "model" or "none" (absent: none).
+ident::Feedforward feedforwardOf(const nlohmann::json& j, const std::string& path) {
+  if (!j.contains("feedforward")) return ident::Feedforward::kNone;
+  if (!j["feedforward"].is_string()) throw std::invalid_argument(path + ": 'feedforward' must be \"model\" or \"none\"");
+  try {
+    return ident::parseFeedforward(j["feedforward"].get<std::string>());
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(path + ": 'feedforward': " + e.what());
+  }
+}
+
 }  // namespace
 
 ident::ControllerModel controllerFromMetadata(const ident::Dataset& d, const std::string& source) {
@@ -62,15 +87,7 @@ ident::ControllerModel controllerFromMetadata(const ident::Dataset& d, const std
 }
 
 ident::ControllerModel readControllerJson(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
-  }
-  if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
+  const nlohmann::json j = readControllerObject(path);
   static const char* const known[] = {"kp", "ki", "kd", "derivative_cutoff_hz", "integral_limit_Nm", "feedforward", "hip_locked"};
   for (const auto& [k, v] : j.items()) {
     bool ok = false;
@@ -99,16 +116,7 @@ ident::ControllerModel readControllerJson(const std::string& path) {
   };
   c.pid.derivative_cutoff_hz = number("derivative_cutoff_hz", 0.0);
   c.pid.integral_limit_Nm = number("integral_limit_Nm", 1e300);
-  if (j.contains("feedforward")) {
-    if (!j["feedforward"].is_string()) throw std::invalid_argument(path + ": 'feedforward' must be \"model\" or \"none\"");
-    try {
-      c.feedforward = ident::parseFeedforward(j["feedforward"].get<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(path + ": 'feedforward': " + e.what());
-    }
-  } else {
-    c.feedforward = ident::Feedforward::kNone;
-  }
+  c.feedforward = feedforwardOf(j, path);
   if (j.contains("hip_locked")) {
     if (!j["hip_locked"].is_boolean()) throw std::invalid_argument(path + ": 'hip_locked' must be true or false");
     c.locked = {j["hip_locked"].get<bool>(), false};
@@ -184,15 +192,7 @@ ident::ChainController chainControllerFromMetadata(const ident::Dataset& d, cons
 }
 
 ident::ChainController readChainControllerJson(const std::string& path, int dof) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
-  }
-  if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
+  const nlohmann::json j = readControllerObject(path);
   for (const auto& [k, v] : j.items()) {
     if (k != "kp" && k != "kd" && k != "feedforward" && k != "actuator_bandwidth_hz") {
       throw std::invalid_argument(path + ": unknown field '" + k + "' (a chain's controller: kp, kd, feedforward, actuator_bandwidth_hz)");
@@ -214,15 +214,7 @@ ident::ChainController readChainControllerJson(const std::string& path, int dof)
   ident::ChainController c;
   c.kp_Nm_per_rad = gains("kp");
   c.kd_Nms_per_rad = gains("kd");
-  c.feedforward = ident::Feedforward::kNone;
-  if (j.contains("feedforward")) {
-    if (!j["feedforward"].is_string()) throw std::invalid_argument(path + ": 'feedforward' must be \"model\" or \"none\"");
-    try {
-      c.feedforward = ident::parseFeedforward(j["feedforward"].get<std::string>());
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(path + ": 'feedforward': " + e.what());
-    }
-  }
+  c.feedforward = feedforwardOf(j, path);
   if (j.contains("actuator_bandwidth_hz")) {
     if (!j["actuator_bandwidth_hz"].is_number()) throw std::invalid_argument(path + ": 'actuator_bandwidth_hz' must be a number");
     c.actuator_bandwidth_hz = j["actuator_bandwidth_hz"].get<double>();

@@ -319,14 +319,23 @@ nlohmann::json toJson(const SweepCondition& c) {
           {"trajectories", c.trajectories}};
 }
 
+namespace {
+
+// The grid's levels, as the APAL leg's and a chain's resolved configurations both record them.
+nlohmann::json gridJson(const SweepConfig& c) {
+  return {{"torque_noise_Nm", c.torque_noise_Nm},
+          {"angle_noise_deg", c.angle_noise_deg},
+          {"quantisation_deg", c.quantisation_deg},
+          {"vibration_level", c.vibration_level},
+          {"cylinder_mass_scale", c.cylinder_mass_scale},
+          {"trajectories", c.trajectories}};
+}
+
+}  // namespace
+
 nlohmann::json SweepConfig::chainJson() const {
   nlohmann::json j;
-  j["grid"] = {{"torque_noise_Nm", torque_noise_Nm},
-               {"angle_noise_deg", angle_noise_deg},
-               {"quantisation_deg", quantisation_deg},
-               {"vibration_level", vibration_level},
-               {"cylinder_mass_scale", cylinder_mass_scale},
-               {"trajectories", trajectories}};
+  j["grid"] = gridJson(*this);
   // The model by its file's name and bytes, not its path: a resume from another folder and shards
   // run on other machines match (a file the MJCF includes is not hashed).
   const std::string model_name = model == "leg3" ? model : std::filesystem::path(chain_model_path).filename().string();
@@ -356,12 +365,7 @@ nlohmann::json SweepConfig::chainJson() const {
 nlohmann::json SweepConfig::toJson() const {
   if (isChain()) return chainJson();
   nlohmann::json j;
-  j["grid"] = {{"torque_noise_Nm", torque_noise_Nm},
-               {"angle_noise_deg", angle_noise_deg},
-               {"quantisation_deg", quantisation_deg},
-               {"vibration_level", vibration_level},
-               {"cylinder_mass_scale", cylinder_mass_scale},
-               {"trajectories", trajectories}};
+  j["grid"] = gridJson(*this);
   std::vector<std::string> names;
   for (Variant v : methods) names.emplace_back(toString(v));
   j["sweep"] = {{"seeds", seeds}, {"master_seed", master_seed}, {"methods", names}, {"cells", numCells()},
