@@ -1,5 +1,7 @@
-// Statistics helpers against published and hand-computed values.
+// Statistics helpers against published and hand-computed values; a table cell's text.
 #include "exoid/experiments/report/stats.hpp"
+
+#include "exoid/experiments/report/cells.hpp"
 
 #include <gtest/gtest.h>
 
@@ -92,6 +94,28 @@ TEST(Stats, MinimalDetectableDifferenceMatchesTheLargeSampleFormula) {
   // n = 10: t(0.975, 9) = 2.262157, t(0.8, 9) = 0.883408.
   EXPECT_NEAR(minimalDetectableDifference(1.0, 10), (2.262157 + 0.883408) / std::sqrt(10.0), 1e-5);
   EXPECT_TRUE(std::isnan(minimalDetectableDifference(1.0, 1)));
+}
+
+
+TEST(Stats, MedianOfOddEvenAndEmptySamples) {
+  EXPECT_EQ(stats::median({3.0, 1.0, 2.0}), 2.0);
+  EXPECT_EQ(stats::median({4.0, 1.0, 3.0, 2.0}), 2.5);
+  EXPECT_TRUE(std::isnan(stats::median({})));
+}
+
+// A table cell: what is not a number is an empty CSV cell and a JSON null; text with a comma,
+// quote or line break is one quoted CSV field (RFC 4180).
+TEST(TableCells, NonFiniteNumbersAreEmptyOrNullAndFieldsAreQuotedWhenNeeded) {
+  EXPECT_EQ(csvNumber(0.1), "0.1");
+  EXPECT_EQ(csvNumber(1.0 / 3.0), "0.3333333333");
+  EXPECT_EQ(csvNumber(std::nan("")), "");
+  EXPECT_EQ(csvNumber(-HUGE_VAL), "");
+  EXPECT_TRUE(jsonNumber(std::nan("")).is_null());
+  EXPECT_EQ(jsonNumber(2.5).get<double>(), 2.5);
+  EXPECT_EQ(csvField("plain text"), "plain text");
+  EXPECT_EQ(csvField("a, b"), "\"a, b\"");
+  EXPECT_EQ(csvField("say \"no\""), "\"say \"\"no\"\"\"");
+  EXPECT_EQ(csvField("two\nlines"), "\"two\nlines\"");
 }
 
 }  // namespace

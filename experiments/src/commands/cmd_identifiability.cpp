@@ -1,6 +1,7 @@
 // `exoid identifiability`: what a record can identify, before anyone runs an experiment.
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #ifdef EXOID_WITH_MUJOCO
@@ -180,7 +181,7 @@ void reportParameters(const Block& b, const ident::IdentifiabilityReport& r, nlo
     t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
               std::isnan(r.crb_rel_std[i]) ? "-" : finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf",
               fixed(r.collinearity_r2[i], 5)});
-    bj["crb_std"][n] = std::isfinite(r.crb_std[i]) ? nlohmann::json(r.crb_std[i]) : nlohmann::json(nullptr);
+    bj["crb_std"][n] = jsonNumber(r.crb_std[i]);
     bj["crb_rel_std"][n] = finite ? nlohmann::json(r.crb_rel_std[i]) : nlohmann::json(nullptr);
     bj["collinearity_r2"][n] = r.collinearity_r2[i];
   }
@@ -194,7 +195,7 @@ nlohmann::json reportBlock(const Block& b, const Reference& ref) {
   std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
             << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
   nlohmann::json bj = {{"block", b.name}, {"rank", r.rank}, {"columns", b.columns.size()}};
-  bj["condition_number"] = std::isfinite(r.condition_number) ? nlohmann::json(r.condition_number) : nlohmann::json(nullptr);
+  bj["condition_number"] = jsonNumber(r.condition_number);
   nlohmann::json unid = nlohmann::json::array();
   std::string names;
   for (Eigen::Index k : r.unidentifiable) {

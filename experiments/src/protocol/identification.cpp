@@ -1,4 +1,5 @@
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/cells.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/ident/leg/plausibility.hpp"
@@ -306,14 +307,14 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
     nlohmann::json checks = nlohmann::json::array();
     for (const ident::ConsistencyCheck& k : cs.fit.checks) {
       checks.push_back({{"condition", k.name}, {"value", k.value},
-                        {"standard_error", std::isfinite(k.standard_error) ? nlohmann::json(k.standard_error) : nlohmann::json(nullptr)},
+                        {"standard_error", jsonNumber(k.standard_error)},
                         {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
     }
     nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object();
     for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
       const std::string name(ident::paramName(static_cast<int>(i)));
       un[name] = cs.unconstrained[i];
-      se[name] = std::isfinite(cs.std_err[i]) ? nlohmann::json(cs.std_err[i]) : nlohmann::json(nullptr);
+      se[name] = jsonNumber(cs.std_err[i]);
     }
     j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
                         {"unconstrained_parameters", un}, {"standard_errors", se},

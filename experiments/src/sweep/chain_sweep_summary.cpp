@@ -5,6 +5,7 @@
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/report/stats.hpp"
 #include "exoid/experiments/report/table.hpp"
 
@@ -29,14 +30,6 @@ bool hasRelativeError(const std::vector<double>& truth, std::size_t i) {
   return std::abs(truth[i]) > 1e-12 * scale;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
-
-double mean(const std::vector<double>& v) { return stats::mean(v); }
 
 // One run's one method.
 struct Row {
@@ -99,25 +92,17 @@ std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, std::vector<std
         for (std::size_t i = 0; i < se.size() && i < r.error.size(); ++i) r.z.push_back(se[i] > 0.0 ? r.error[i] / se[i] : kNaN);
       }
       if (!abs_rel.empty()) {
-        r.median_abs_rel = median(abs_rel);
+        r.median_abs_rel = stats::median(abs_rel);
         r.max_abs_rel = *std::max_element(abs_rel.begin(), abs_rel.end());
       }
-      r.torque_err = mean(m.at("torque_err_rel").get<std::vector<double>>());
-      r.val_rms = mean(m.at("val_rms_Nm").get<std::vector<double>>());
+      r.torque_err = stats::mean(m.at("torque_err_rel").get<std::vector<double>>());
+      r.val_rms = stats::mean(m.at("val_rms_Nm").get<std::vector<double>>());
       rows.push_back(r);
     }
   }
   return rows;
 }
 
-std::string num(double v) { return std::isfinite(v) ? fmt(v, 10) : std::string(); }
-nlohmann::json jnum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
-std::string csvQuote(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
 std::string pct(double v, int digits = 3) { return std::isfinite(v) ? fmt(100.0 * v, digits) : "-"; }
 
 void writeRunsCsv(const SweepLayout& layout, const std::vector<Row>& rows, const std::vector<std::string>& names,
@@ -127,15 +112,15 @@ void writeRunsCsv(const SweepLayout& layout, const std::vector<Row>& rows, const
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell,replicate,seed,torque_noise_Nm,angle_noise_deg,quantisation_deg,trajectories,method,status";
     for (const Metric& m : kMetrics) out << "," << m.name;
-    for (const std::string& n : names) out << "," << csvQuote("error " + n);
+    for (const std::string& n : names) out << "," << csvField("error " + n);
     out << ",message,wall_time_s\n";
     for (const Row& r : rows) {
       const SweepCondition& c = layout.cells.at(static_cast<std::size_t>(r.cell));
-      out << r.cell << "," << r.replicate << "," << r.seed << "," << num(c.torque_noise_Nm) << "," << num(c.angle_noise_deg) << ","
-          << num(c.quantisation_deg) << "," << c.trajectories << "," << r.method << "," << r.status;
-      for (const Metric& m : kMetrics) out << "," << num(r.*m.value);
-      for (std::size_t i = 0; i < names.size(); ++i) out << "," << (i < r.error.size() ? num(r.error[i]) : std::string());
-      out << "," << csvQuote(r.message) << "," << num(wall[{r.cell, r.replicate}]) << "\n";
+      out << r.cell << "," << r.replicate << "," << r.seed << "," << csvNumber(c.torque_noise_Nm) << "," << csvNumber(c.angle_noise_deg) << ","
+          << csvNumber(c.quantisation_deg) << "," << c.trajectories << "," << r.method << "," << r.status;
+      for (const Metric& m : kMetrics) out << "," << csvNumber(r.*m.value);
+      for (std::size_t i = 0; i < names.size(); ++i) out << "," << (i < r.error.size() ? csvNumber(r.error[i]) : std::string());
+      out << "," << csvField(r.message) << "," << csvNumber(wall[{r.cell, r.replicate}]) << "\n";
     }
   });
 }
@@ -194,7 +179,7 @@ MethodCell summarizeMethod(const std::string& method, const Replicates& reps, in
       }
     }
     m.rel_error.push_back(stats::meanCi(rel));
-    m.abs_rel_median.push_back(median(abs_rel));
+    m.abs_rel_median.push_back(stats::median(abs_rel));
     m.abs_error_rms.push_back(reps.empty() ? kNaN : std::sqrt(e2 / static_cast<double>(reps.size())));
     m.z_rms.push_back(zn ? std::sqrt(z2 / zn) : kNaN);
   }
@@ -268,7 +253,7 @@ std::vector<CellTables> summarize(const SweepLayout& layout, const std::vector<R
 }
 
 nlohmann::json ciJson(const stats::ConfidenceInterval& c) {
-  return {{"n", c.n}, {"mean", jnum(c.n ? c.mean : kNaN)}, {"std", jnum(c.std)}, {"ci95_low", jnum(c.low)}, {"ci95_high", jnum(c.high)}};
+  return {{"n", c.n}, {"mean", jsonNumber(c.n ? c.mean : kNaN)}, {"std", jsonNumber(c.std)}, {"ci95_low", jsonNumber(c.low)}, {"ci95_high", jsonNumber(c.high)}};
 }
 
 nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTables>& cells, const std::vector<std::string>& names,
@@ -294,13 +279,13 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
       for (std::size_t k = 0; k < std::size(kMetrics); ++k) mj["metrics"][kMetrics[k].name] = ciJson(m.metrics[k]);
       if (m.method != "ls") {
         mj["vs_ls"] = {{"n", m.paired},
-                       {"median_abs_rel_err", {{"win_rate", jnum(m.win_rate_rel)}, {"p_value", jnum(m.p_rel)}, {"p_holm", jnum(m.p_rel_holm)}}},
-                       {"torque_err_mean", {{"win_rate", jnum(m.win_rate_torque)}, {"p_value", jnum(m.p_torque)}, {"p_holm", jnum(m.p_torque_holm)}}}};
+                       {"median_abs_rel_err", {{"win_rate", jsonNumber(m.win_rate_rel)}, {"p_value", jsonNumber(m.p_rel)}, {"p_holm", jsonNumber(m.p_rel_holm)}}},
+                       {"torque_err_mean", {{"win_rate", jsonNumber(m.win_rate_torque)}, {"p_value", jsonNumber(m.p_torque)}, {"p_holm", jsonNumber(m.p_torque_holm)}}}};
       }
       mj["parameters"] = nlohmann::json::object();
       for (std::size_t i = 0; i < names.size(); ++i) {
-        mj["parameters"][names[i]] = {{"rel_err", ciJson(m.rel_error[i])}, {"abs_rel_err_median", jnum(m.abs_rel_median[i])},
-                                      {"abs_err_rms", jnum(m.abs_error_rms[i])}, {"z_rms", jnum(m.z_rms[i])}};
+        mj["parameters"][names[i]] = {{"rel_err", ciJson(m.rel_error[i])}, {"abs_rel_err_median", jsonNumber(m.abs_rel_median[i])},
+                                      {"abs_err_rms", jsonNumber(m.abs_error_rms[i])}, {"z_rms", jsonNumber(m.z_rms[i])}};
       }
       cj["methods"][m.method] = mj;
     }
@@ -317,10 +302,10 @@ void writeSummaryCsv(const SweepLayout& layout, const std::vector<CellTables>& c
     for (const CellTables& c : cells) {
       const SweepCondition& k = layout.cells.at(static_cast<std::size_t>(c.cell));
       for (const MethodCell& m : c.methods) {
-        out << c.cell << "," << num(k.torque_noise_Nm) << "," << num(k.angle_noise_deg) << "," << num(k.quantisation_deg) << "," << k.trajectories
+        out << c.cell << "," << csvNumber(k.torque_noise_Nm) << "," << csvNumber(k.angle_noise_deg) << "," << csvNumber(k.quantisation_deg) << "," << k.trajectories
             << "," << m.method << "," << m.n << "," << m.n_failed;
-        for (const stats::ConfidenceInterval& ci : m.metrics) out << "," << num(ci.n ? ci.mean : kNaN) << "," << num(ci.low) << "," << num(ci.high);
-        out << "," << num(m.win_rate_rel) << "," << num(m.p_rel_holm) << "," << num(m.win_rate_torque) << "," << num(m.p_torque_holm) << "\n";
+        for (const stats::ConfidenceInterval& ci : m.metrics) out << "," << csvNumber(ci.n ? ci.mean : kNaN) << "," << csvNumber(ci.low) << "," << csvNumber(ci.high);
+        out << "," << csvNumber(m.win_rate_rel) << "," << csvNumber(m.p_rel_holm) << "," << csvNumber(m.win_rate_torque) << "," << csvNumber(m.p_torque_holm) << "\n";
       }
     }
   });

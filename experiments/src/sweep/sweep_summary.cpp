@@ -3,6 +3,7 @@
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/sweep/fault_injection.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/report/stats.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/core/atomic_file.hpp"
@@ -48,12 +49,6 @@ Eigen::VectorXd vec(const nlohmann::json& j) {
   return v;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t h = v.size() / 2;
-  return v.size() % 2 ? v[h] : 0.5 * (v[h - 1] + v[h]);
-}
 
 // The per-method scores of a job record: CRB, torque-space errors, optimality gaps.
 void readScores(const nlohmann::json& m, Row& r) {
@@ -71,7 +66,7 @@ void readScores(const nlohmann::json& m, Row& r) {
   std::vector<double> a(r.rel_best_fit.data(), r.rel_best_fit.data() + kNumParams);
   for (double& x : a) x = std::abs(x);
   r.max_abs_rel = *std::max_element(a.begin(), a.end());
-  r.median_abs_rel = median(a);
+  r.median_abs_rel = stats::median(a);
 }
 
 std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
@@ -117,19 +112,11 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
   return rows;
 }
 
-std::string num(double v) { return std::isfinite(v) ? fmt(v, 10) : std::string(); }
-nlohmann::json jnum(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-std::string csvQuote(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
 
 std::string conditionCsv(const SweepCondition& c) {
-  return num(c.torque_noise_Nm) + "," + num(c.angle_noise_deg) + "," + num(c.quantisation_deg) + "," +
-         num(c.vibration_level) + "," + num(c.cylinder_mass_scale) + "," + c.trajectories;
+  return csvNumber(c.torque_noise_Nm) + "," + csvNumber(c.angle_noise_deg) + "," + csvNumber(c.quantisation_deg) + "," +
+         csvNumber(c.vibration_level) + "," + csvNumber(c.cylinder_mass_scale) + "," + c.trajectories;
 }
 const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,trajectories";
 
@@ -219,14 +206,14 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
     out << ",knee_val_mean_abs,knee_val_std_abs,knee_val_rms,hip_val_mean_abs,hip_val_std_abs,hip_val_rms,message,wall_time_s\n";
     for (const Row& r : rows) {
       out << r.cell << ',' << r.replicate << ',' << conditionCsv(conds[static_cast<std::size_t>(r.cell)]) << ',' << r.seed << ','
-          << r.method << ',' << r.status << ',' << num(r.ts_hip) << ',' << num(r.ts_knee) << ',' << num(r.median_abs_rel)
-          << ',' << num(r.max_abs_rel) << ',' << num(r.err_rigid) << ',' << num(r.err_best_fit) << ',' << num(r.gap_box) << ','
-          << num(r.gap_free) << ',' << num(r.plausible);
+          << r.method << ',' << r.status << ',' << csvNumber(r.ts_hip) << ',' << csvNumber(r.ts_knee) << ',' << csvNumber(r.median_abs_rel)
+          << ',' << csvNumber(r.max_abs_rel) << ',' << csvNumber(r.err_rigid) << ',' << csvNumber(r.err_best_fit) << ',' << csvNumber(r.gap_box) << ','
+          << csvNumber(r.gap_free) << ',' << csvNumber(r.plausible);
       for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) {
-        for (int i = 0; i < kNumParams; ++i) out << ',' << num((*v)[i]);
+        for (int i = 0; i < kNumParams; ++i) out << ',' << csvNumber((*v)[i]);
       }
-      for (double v : r.val) out << ',' << num(v);
-      out << ',' << csvQuote(r.message) << ',' << num(r.wall_time_s) << '\n';
+      for (double v : r.val) out << ',' << csvNumber(v);
+      out << ',' << csvField(r.message) << ',' << csvNumber(r.wall_time_s) << '\n';
     }
   });
 }
@@ -297,7 +284,7 @@ ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
   }
   ParameterStatistics p;
   p.rel_err = stats::meanCi(rel);
-  p.abs_rel_err_median = median(abs_rel);
+  p.abs_rel_err_median = stats::median(abs_rel);
   p.abs_rel_err_max = abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end());
   p.crb_std = stats::mean(crb);
   p.rms_error_over_crb = zn ? std::sqrt(z2 / zn) : kNaN;
@@ -464,27 +451,27 @@ nlohmann::json statisticsJson() {
 }
 
 nlohmann::json summaryJson(const stats::ConfidenceInterval& ci) {
-  return {{"mean", jnum(ci.mean)}, {"std", jnum(ci.std)}, {"ci95_low", jnum(ci.low)}, {"ci95_high", jnum(ci.high)}};
+  return {{"mean", jsonNumber(ci.mean)}, {"std", jsonNumber(ci.std)}, {"ci95_low", jsonNumber(ci.low)}, {"ci95_high", jsonNumber(ci.high)}};
 }
 
 nlohmann::json summaryJson(const PairedComparison& p) {
-  return {{"n", p.n}, {"win_rate", jnum(p.win_rate)}, {"p_value", jnum(p.p_value)}, {"mdd", jnum(p.mdd)},
-          {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}, {"p_holm", jnum(p.p_holm)}};
+  return {{"n", p.n}, {"win_rate", jsonNumber(p.win_rate)}, {"p_value", jsonNumber(p.p_value)}, {"mdd", jsonNumber(p.mdd)},
+          {"test", p.exact ? "wilcoxon exact" : "wilcoxon normal approximation"}, {"p_holm", jsonNumber(p.p_holm)}};
 }
 
 nlohmann::json summaryJson(const VersusPaper& v) {
   nlohmann::json j = summaryJson(v.test);
-  j["optimised_mean"] = jnum(v.optimised_mean);
-  j["paper_mean"] = jnum(v.paper_mean);
+  j["optimised_mean"] = jsonNumber(v.optimised_mean);
+  j["paper_mean"] = jsonNumber(v.paper_mean);
   return j;
 }
 
 nlohmann::json summaryJson(const ParameterStatistics& p) {
-  return {{"rel_err", {{"mean", jnum(p.rel_err.mean)}, {"ci95_low", jnum(p.rel_err.low)}, {"ci95_high", jnum(p.rel_err.high)}}},
-          {"abs_rel_err_median", jnum(p.abs_rel_err_median)},
-          {"abs_rel_err_max", jnum(p.abs_rel_err_max)},
-          {"crb_std", jnum(p.crb_std)},
-          {"rms_error_over_crb", jnum(p.rms_error_over_crb)}};
+  return {{"rel_err", {{"mean", jsonNumber(p.rel_err.mean)}, {"ci95_low", jsonNumber(p.rel_err.low)}, {"ci95_high", jsonNumber(p.rel_err.high)}}},
+          {"abs_rel_err_median", jsonNumber(p.abs_rel_err_median)},
+          {"abs_rel_err_max", jsonNumber(p.abs_rel_err_max)},
+          {"crb_std", jsonNumber(p.crb_std)},
+          {"rms_error_over_crb", jsonNumber(p.rms_error_over_crb)}};
 }
 
 // An object of each parameter's entry, keyed by its name.
@@ -512,7 +499,7 @@ nlohmann::json summaryJson(const MethodSummary& m) {
     for (const LsPaired& p : kVersusLs) j["vs_ls"][metricName(p.metric)] = summaryJson((*m.vs_ls).*p.field);
   }
   j["parameters"] = byParameter(m.parameters);
-  j["rms_error_over_crb_max"] = jnum(m.rms_error_over_crb_max);
+  j["rms_error_over_crb_max"] = jsonNumber(m.rms_error_over_crb_max);
   if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = summaryJson(*m.vs_paper_trajectories);
   return j;
 }
@@ -547,22 +534,22 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
       for (const MethodSummary& m : c.methods) {
         out << c.cell << ',' << conditionCsv(c.condition) << ',' << toString(m.method) << ',' << m.n << ',' << m.n_failed;
         for (const stats::ConfidenceInterval& ci : m.metrics) {
-          out << ',' << num(ci.mean) << ',' << num(ci.std) << ',' << num(ci.low) << ',' << num(ci.high);
+          out << ',' << csvNumber(ci.mean) << ',' << csvNumber(ci.std) << ',' << csvNumber(ci.low) << ',' << csvNumber(ci.high);
         }
         for (const LsPaired& p : kVersusLs) {
           if (m.vs_ls) {
             const PairedComparison& q = (*m.vs_ls).*p.field;
-            out << ',' << num(q.win_rate) << ',' << num(q.p_value) << ',' << num(q.p_holm) << ',' << num(q.mdd);
+            out << ',' << csvNumber(q.win_rate) << ',' << csvNumber(q.p_value) << ',' << csvNumber(q.p_holm) << ',' << csvNumber(q.mdd);
           } else {
             out << ",,,,";
           }
         }
-        for (const ParameterStatistics& p : m.parameters) out << ',' << num(p.rms_error_over_crb);
-        out << ',' << num(m.rms_error_over_crb_max);
+        for (const ParameterStatistics& p : m.parameters) out << ',' << csvNumber(p.rms_error_over_crb);
+        out << ',' << csvNumber(m.rms_error_over_crb_max);
         for (const PaperPaired& p : kVersusPaper) {
           if (m.vs_paper_trajectories) {
             const PairedComparison& q = ((*m.vs_paper_trajectories).*p.field).test;
-            out << ',' << num(q.win_rate) << ',' << num(q.p_holm);
+            out << ',' << csvNumber(q.win_rate) << ',' << csvNumber(q.p_holm);
           } else {
             out << ",,";
           }

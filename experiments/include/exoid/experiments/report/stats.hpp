@@ -1,5 +1,5 @@
 #pragma once
-// Small-sample statistics for the sweep summary: mean, sample std, Student-t confidence
+// Small-sample statistics for the sweep summary: mean, sample std, median, Student-t confidence
 // intervals, and the Wilcoxon signed-rank test for paired comparisons.
 #include <vector>
 
@@ -7,6 +7,7 @@ namespace exoid::experiments::stats {
 
 double mean(const std::vector<double>& x);               ///< NaN for an empty sample
 double sampleStd(const std::vector<double>& x);          ///< n - 1 denominator; NaN when n < 2
+double median(std::vector<double> x);                    ///< mean of the middle two for even n; NaN when empty
 
 /// Regularized incomplete beta function I_x(a, b), a, b > 0, x in [0, 1].
 double incompleteBeta(double a, double b, double x);
