@@ -37,7 +37,7 @@ struct ClosedLoopLeg {
     // The reference: a smooth two-frequency motion per joint; the gains as the chain rig's (each
     // joint a 4 Hz loop, damping 0.7, on its diagonal inertia at the start) with a 100 Hz motor.
     const Dataset motion = exactChainDataset(model, phi, duration_s, 5);
-    reference = chainReferenceFromAngles(motion.t_s, motion.q_rad);
+    reference = ChainReference::fromAngles(motion.t_s, motion.q_rad);
     const Eigen::VectorXd q0 = reference.q_rad.row(0).transpose(), zero = Eigen::VectorXd::Zero(3);
     const double wn = 2.0 * M_PI * 4.0;
     controller.kp_Nm_per_rad.resize(3);

@@ -122,7 +122,7 @@ TEST(ClosedLoop, ControllerAndReferenceAreValidated) {
 
 TEST(ClosedLoop, ReferenceFromAnglesDifferentiatesToFourthOrder) {
   const Reference exact = sineReference(2.0, 1e-3, -0.5, -0.5, 1.3, -0.5, 1.0);
-  const Reference r = referenceFromAngles(exact.t_s, exact.q_rad);
+  const Reference r = Reference::fromAngles(exact.t_s, exact.q_rad);
   // Interior error (w dt)^4 / 30 relative: 5e-11 at 1 Hz; the one-sided ends are looser.
   const Eigen::Index n = r.size();
   EXPECT_LT((r.qd_radps - exact.qd_radps).middleRows(4, n - 8).cwiseAbs().maxCoeff(), 1e-8);

@@ -35,7 +35,7 @@ inline ident::Reference multisineReference(Eigen::Index n, bool hip_locked = fal
         1.0 + 0.5 * std::sin(2 * M_PI * 0.7 * s + 0.4) + 0.1 * std::sin(2 * M_PI * 1.9 * s);
     t[i] = s;
   }
-  return ident::referenceFromAngles(t, q_ref);
+  return ident::Reference::fromAngles(t, q_ref);
 }
 
 /// The rig's tracking controller: PID kp 2200 / 380 N m/rad, ki 6900 / 1200 N m/(rad s), kd 176 /

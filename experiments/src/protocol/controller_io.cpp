@@ -141,7 +141,7 @@ ident::Reference referenceOf(const ident::Dataset& d, const std::string& source)
     }
     q.col(j) = d.extraColumn(name);
   }
-  return ident::referenceFromAngles(d.t_s, q);
+  return ident::Reference::fromAngles(d.t_s, q);
 }
 
 ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
@@ -238,7 +238,7 @@ ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::strin
     q.col(j) = d.extraColumn(name);
   }
   try {
-    return ident::chainReferenceFromAngles(d.t_s, q);
+    return ident::ChainReference::fromAngles(d.t_s, q);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(source + ": the q_<joint>_ref columns: " + e.what());
   }

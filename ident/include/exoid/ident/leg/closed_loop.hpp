@@ -5,6 +5,7 @@
 // logs as well as exoid's simulator (whose controller it mirrors: sim/controller.hpp).
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/sampled_reference.hpp"
 
 #include <Eigen/Core>
 
@@ -45,16 +46,8 @@ struct ControllerModel {
 };
 
 /// The reference the controller tracked, sampled like the record (uniform dt).
-struct Reference {
-  Eigen::VectorXd t_s;
-  Eigen::MatrixX2d q_rad, qd_radps, qdd_radps2;
-  Eigen::Index size() const { return t_s.size(); }
-  /// Throws std::invalid_argument on size mismatch, < 5 samples, non-uniform or non-finite values.
-  void validate() const;
-};
-/// A reference from recorded reference angles: five-point central differences (exact to O(dt^4)
-/// for the smooth references of planned trajectories).
-Reference referenceFromAngles(const Eigen::VectorXd& t_s, const Eigen::MatrixX2d& q_ref_rad);
+/// The reference the controller tracked (Reference::fromAngles from recorded reference angles).
+using Reference = SampledReference<Eigen::MatrixX2d>;
 
 struct ClosedLoopRun {
   bool ok = false;

@@ -28,15 +28,7 @@ struct ChainController {
 };
 
 /// The reference the controller tracked, sampled like the record (uniform dt): samples x dof.
-struct ChainReference {
-  Eigen::VectorXd t_s;
-  Eigen::MatrixXd q_rad, qd_radps, qdd_radps2;
-  Eigen::Index size() const { return t_s.size(); }
-  /// Throws std::invalid_argument on size mismatch, < 5 samples, non-uniform or non-finite values.
-  void validate() const;
-};
-/// From recorded reference angles (samples x dof): five-point central differences.
-ChainReference chainReferenceFromAngles(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& q_ref_rad);
+using ChainReference = SampledReference<Eigen::MatrixXd>;
 
 /// Simulates the chain with base parameters beta from the reference's first state under the
 /// controller: semi-implicit Euler, enough substeps per sample for the stiffest loop (omega h <=
