@@ -6,7 +6,6 @@
 #include "exoid/experiments/protocol/chain_bridge.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
-#include "exoid/ident/estimators/stopwatch.hpp"
 #include "exoid/ident/model/chain_band_iv.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
 #include "exoid/ident/model/chain_idim_iv.hpp"
@@ -148,23 +147,8 @@ nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uin
 
 }  // namespace chain_sweep_run
 
-nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id) {
-  ident::Stopwatch clock;
-  const SweepCondition cond = config.conditions().at(static_cast<std::size_t>(id.cell));
-  const std::uint64_t seed = config.jobSeed(id.cell, id.replicate);
-  nlohmann::json j{{"cell", id.cell}, {"replicate", id.replicate}, {"seed", seed}, {"condition", toJson(cond)}};
-  try {
-    const nlohmann::json r = chain_sweep_run::runJob(config, cond, seed);
-    j["status"] = "ok";
-    j["message"] = "";
-    j.update(r);
-  } catch (const std::exception& e) {
-    j["status"] = "error";
-    j["message"] = e.what();
-    j["methods"] = nlohmann::json::array();
-  }
-  j["wall_time_s"] = clock.seconds();
-  return j;
+nlohmann::json runChainSweepRun(const SweepConfig& config, const SweepCondition& condition, std::uint64_t seed) {
+  return chain_sweep_run::runJob(config, condition, seed);
 }
 
 namespace chain_sweep_run {

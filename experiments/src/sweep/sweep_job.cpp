@@ -30,33 +30,38 @@ nlohmann::json gapsJson(const MethodOutcome& m) {
   return g;
 }
 
+// The APAL leg's run: the protocol's truths and its scores per method.
+nlohmann::json apalSweepRun(const SweepConfig& config, const SweepCondition& cond, std::uint64_t seed) {
+  const ProtocolResult r = runProtocol(config.protocolFor(cond, seed));
+  nlohmann::json j{{"truth", {{"rigid", vec(r.truths.rigid)}, {"best_fit", vec(r.truths.best_fit)}}}, {"methods", nlohmann::json::array()}};
+  for (const VariantScore& s : r.scores) {
+    j["methods"].push_back({{"method", toString(s.variant)},
+                            {"status", s.outcome.usable() ? "ok" : "unusable"},
+                            {"message", s.outcome.usable() ? std::string() : s.outcome.problems()},
+                            {"x", vec(s.outcome.x)},
+                            {"crb_std", vec(s.crb_std)},
+                            {"implausible", s.outcome.implausible},
+                            {"torque_space", {{"best_fit", {{"hip", s.torque_space_vs_best_fit.hip}, {"knee", s.torque_space_vs_best_fit.knee}}},
+                                              {"rigid", {{"hip", s.torque_space_vs_rigid.hip}, {"knee", s.torque_space_vs_rigid.knee}}}}},
+                            {"optimality_gaps", gapsJson(s.outcome)},
+                            {"knee_validation", errorStats(s.knee_validation)},
+                            {"hip_validation", errorStats(s.hip_validation)},
+                            {"wall_time_s", s.outcome.wallTime_s()}});
+  }
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json runSweepJob(const SweepConfig& config, JobId id) {
-  if (config.isChain()) return runChainSweepJob(config, id);
   ident::Stopwatch clock;
   const SweepCondition cond = config.conditions().at(static_cast<std::size_t>(id.cell));
   const std::uint64_t seed = config.jobSeed(id.cell, id.replicate);
   nlohmann::json j{{"cell", id.cell}, {"replicate", id.replicate}, {"seed", seed}, {"condition", toJson(cond)}};
   try {
-    const ProtocolResult r = runProtocol(config.protocolFor(cond, seed));
+    j.update(config.isChain() ? runChainSweepRun(config, cond, seed) : apalSweepRun(config, cond, seed));
     j["status"] = "ok";
     j["message"] = "";
-    j["truth"] = {{"rigid", vec(r.truths.rigid)}, {"best_fit", vec(r.truths.best_fit)}};
-    for (const VariantScore& s : r.scores) {
-      j["methods"].push_back({{"method", toString(s.variant)},
-                              {"status", s.outcome.usable() ? "ok" : "unusable"},
-                              {"message", s.outcome.usable() ? std::string() : s.outcome.problems()},
-                              {"x", vec(s.outcome.x)},
-                              {"crb_std", vec(s.crb_std)},
-                              {"implausible", s.outcome.implausible},
-                              {"torque_space", {{"best_fit", {{"hip", s.torque_space_vs_best_fit.hip}, {"knee", s.torque_space_vs_best_fit.knee}}},
-                                                {"rigid", {{"hip", s.torque_space_vs_rigid.hip}, {"knee", s.torque_space_vs_rigid.knee}}}}},
-                              {"optimality_gaps", gapsJson(s.outcome)},
-                              {"knee_validation", errorStats(s.knee_validation)},
-                              {"hip_validation", errorStats(s.hip_validation)},
-                              {"wall_time_s", s.outcome.wallTime_s()}});
-    }
   } catch (const std::exception& e) {
     j["status"] = "error";
     j["message"] = e.what();

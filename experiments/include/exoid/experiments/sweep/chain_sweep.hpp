@@ -17,9 +17,9 @@
 
 namespace exoid::experiments {
 
-/// The chain's run of job `id` (runSweepJob calls it for a chain config); never throws for a
-/// failing run (status "error" with the message).
-nlohmann::json runChainSweepJob(const SweepConfig& config, JobId id);
+/// A chain config's run of one condition and seed: its "truth", "base_parameters" and "methods"
+/// (runSweepJob wraps it in the job record). Throws when the run cannot be simulated.
+nlohmann::json runChainSweepRun(const SweepConfig& config, const SweepCondition& condition, std::uint64_t seed);
 
 /// The sweep's "optimised" record when [simulation] excitation gives none: the one in the folder's
 /// config.json when the sweep was started there before (resume, rerun, another shard), else
