@@ -3,6 +3,7 @@
 // record (every method, IDIM-IV with the controller the record carries); what the chain path does
 // not take is refused by name.
 #include "cli_test_support.hpp"
+#include "exoid/experiments/commands/chain_commands.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -83,6 +84,29 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
   // Without its model the record is refused, naming the joint the APAL leg does not have.
   const std::string err = stderrOf({"identify", "--data", csv}, 1);
   EXPECT_NE(err.find("a joint 'ankle'"), std::string::npos) << err;
+}
+
+// The sidecar's and a sweep's config.json's form of a chain's motion reads back to the same
+// coefficients, bit for bit (JSON numbers keep 17 digits), and a missing key is named.
+TEST(ChainCli, ChainFourierJsonReadsBackWhatItWrote) {
+  sim::ChainFourier f;
+  f.base_frequency_hz = 0.1;
+  f.offset_rad = Eigen::Vector3d(0.1, -0.2, 1.0 / 3.0);
+  f.sin_rad = Eigen::MatrixXd::Random(3, 4) * 0.1;
+  f.cos_rad = Eigen::MatrixXd::Random(3, 4) * 0.1;
+  const sim::ChainFourier g = chainFourierFromJson(nlohmann::json::parse(chainFourierJson(f).dump()));
+  EXPECT_EQ(g.base_frequency_hz, f.base_frequency_hz);
+  EXPECT_EQ(g.offset_rad, f.offset_rad);
+  EXPECT_EQ(g.sin_rad, f.sin_rad);
+  EXPECT_EQ(g.cos_rad, f.cos_rad);
+  nlohmann::json j = chainFourierJson(f);
+  j.erase("cos_rad");
+  try {
+    chainFourierFromJson(j);
+    ADD_FAILURE() << "a design without cos_rad was read";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("cos_rad"), std::string::npos) << e.what();
+  }
 }
 
 // truth of a chain: its standard and base parameters, never the 2-link leg's X of two of its joints.

@@ -101,15 +101,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"bandwidth_hz", c.bandwidth_hz},
                  {"record_derivatives", c.record_derivatives},
                  {"locked", c.locked},
-                 {"trajectory",
-                  {{"base_frequency_hz", c.trajectory.base_frequency_hz},
-                   {"offset_rad", toVector(c.trajectory.offset_rad)},
-                   {"sin_rad", nlohmann::json::array()},
-                   {"cos_rad", nlohmann::json::array()}}}};
-  for (Eigen::Index i = 0; i < c.trajectory.sin_rad.rows(); ++i) {
-    j["config"]["trajectory"]["sin_rad"].push_back(toVector(c.trajectory.sin_rad.row(i).transpose()));
-    j["config"]["trajectory"]["cos_rad"].push_back(toVector(c.trajectory.cos_rad.row(i).transpose()));
-  }
+                 {"trajectory", chainFourierJson(c.trajectory)}};
   j["tracking_rms_rad"] = r.tracking_rms_rad;
   // The rig's controller in the form `identify --controller` reads (N m/rad, N m s/rad, Hz; also
   // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd).
@@ -224,6 +216,35 @@ void exciteChain(const ChainExciteArgs& a) {
             << base.rank << " base parameters), sum of log CRB stds " << fmt(d.score.sum_log_std, 5) << "; "
             << (d.score.worst_violation == 0.0 ? std::string("inside every limit") : "beyond " + d.score.worst_violation_name) << "; "
             << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
+}
+
+nlohmann::json chainFourierJson(const sim::ChainFourier& f) {
+  nlohmann::json j = {{"base_frequency_hz", f.base_frequency_hz}, {"offset_rad", toVector(f.offset_rad)},
+                      {"sin_rad", nlohmann::json::array()}, {"cos_rad", nlohmann::json::array()}};
+  for (Eigen::Index i = 0; i < f.sin_rad.rows(); ++i) {
+    j["sin_rad"].push_back(toVector(f.sin_rad.row(i).transpose()));
+    j["cos_rad"].push_back(toVector(f.cos_rad.row(i).transpose()));
+  }
+  return j;
+}
+
+sim::ChainFourier chainFourierFromJson(const nlohmann::json& j) {
+  sim::ChainFourier f;
+  f.base_frequency_hz = j.at("base_frequency_hz").get<double>();
+  const std::vector<double> offset = j.at("offset_rad").get<std::vector<double>>();
+  const auto dof = static_cast<Eigen::Index>(offset.size());
+  f.offset_rad = Eigen::Map<const Eigen::VectorXd>(offset.data(), dof);
+  const auto harmonics = static_cast<Eigen::Index>(j.at("sin_rad").at(0).size());
+  f.sin_rad.resize(dof, harmonics);
+  f.cos_rad.resize(dof, harmonics);
+  for (Eigen::Index k = 0; k < dof; ++k) {
+    for (Eigen::Index h = 0; h < harmonics; ++h) {
+      f.sin_rad(k, h) = j.at("sin_rad").at(static_cast<std::size_t>(k)).at(static_cast<std::size_t>(h)).get<double>();
+      f.cos_rad(k, h) = j.at("cos_rad").at(static_cast<std::size_t>(k)).at(static_cast<std::size_t>(h)).get<double>();
+    }
+  }
+  f.validate();
+  return f;
 }
 
 bool isChainExcitationFile(const std::string& path) {

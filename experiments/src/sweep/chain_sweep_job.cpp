@@ -151,30 +151,6 @@ nlohmann::json runChainSweepRun(const SweepConfig& config, const SweepCondition&
   return chain_sweep_run::runJob(config, condition, seed);
 }
 
-namespace chain_sweep_run {
-
-// The design a chain sweep's config.json holds (SweepConfig::toJson's "simulation.excitation").
-sim::ChainFourier designFromConfigJson(const nlohmann::json& e) {
-  sim::ChainFourier f;
-  f.base_frequency_hz = e.at("base_frequency_hz").get<double>();
-  const std::vector<double> offset = e.at("offset_rad").get<std::vector<double>>();
-  const auto dof = static_cast<Eigen::Index>(offset.size());
-  f.offset_rad = Eigen::Map<const Eigen::VectorXd>(offset.data(), dof);
-  const auto harmonics = static_cast<Eigen::Index>(e.at("sin_rad").at(0).size());
-  f.sin_rad.resize(dof, harmonics);
-  f.cos_rad.resize(dof, harmonics);
-  for (Eigen::Index j = 0; j < dof; ++j) {
-    for (Eigen::Index h = 0; h < harmonics; ++h) {
-      f.sin_rad(j, h) = e.at("sin_rad").at(static_cast<std::size_t>(j)).at(static_cast<std::size_t>(h)).get<double>();
-      f.cos_rad(j, h) = e.at("cos_rad").at(static_cast<std::size_t>(j)).at(static_cast<std::size_t>(h)).get<double>();
-    }
-  }
-  f.validate();
-  return f;
-}
-
-}  // namespace chain_sweep_run
-
 SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ostream& log) {
   const bool optimised = std::count(config.trajectories.begin(), config.trajectories.end(), "optimised") > 0;
   if (!config.isChain() || !optimised || config.chain_design) return config;
@@ -185,7 +161,7 @@ SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ost
     const nlohmann::json old = readJsonFile(cfg);
     if (old.contains("simulation") && old["simulation"].contains("excitation")) {
       try {
-        config.chain_design = chain_sweep_run::designFromConfigJson(old["simulation"]["excitation"]);
+        config.chain_design = chainFourierFromJson(old["simulation"]["excitation"]);
       } catch (const std::exception& e) {
         throw std::invalid_argument(cfg + ": its simulation.excitation is not a chain design (" + e.what() + ")");
       }

@@ -347,13 +347,7 @@ nlohmann::json SweepConfig::chainJson() const {
   nlohmann::json simj = {{"duration_s", base.sim.duration_s}, {"dt_s", base.sim.dt_s}};
   const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
   if (optimised && chain_design) {
-    nlohmann::json d = {{"base_frequency_hz", chain_design->base_frequency_hz}, {"offset_rad", toVector(chain_design->offset_rad)},
-                        {"sin_rad", nlohmann::json::array()}, {"cos_rad", nlohmann::json::array()}};
-    for (Eigen::Index i = 0; i < chain_design->sin_rad.rows(); ++i) {
-      d["sin_rad"].push_back(toVector(chain_design->sin_rad.row(i).transpose()));
-      d["cos_rad"].push_back(toVector(chain_design->cos_rad.row(i).transpose()));
-    }
-    simj["excitation"] = d;
+    simj["excitation"] = chainFourierJson(*chain_design);
   }
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(defaultIdentifySignals());

@@ -52,6 +52,14 @@ struct LimitOverrides {
   bool empty() const { return q_min_deg.empty() && q_max_deg.empty() && qd_max.empty() && qdd_max.empty() && tau_max.empty(); }
 };
 
+/// A chain's Fourier motion in the form the simulation sidecar's "config.trajectory" and a chain
+/// sweep's config.json ("simulation.excitation") hold: base_frequency_hz, offset_rad, and sin_rad
+/// and cos_rad as joints x harmonics. (`exoid excite --model`'s design file lists it per joint
+/// instead, with each joint's limits: readChainExcitation.)
+nlohmann::json chainFourierJson(const sim::ChainFourier& f);
+/// Reads that form back, validated; throws (nlohmann's or std::invalid_argument) naming the key.
+sim::ChainFourier chainFourierFromJson(const nlohmann::json& j);
+
 struct ChainExciteArgs {
   std::string model, out;
   ident::ExcitationOptions options;
