@@ -67,6 +67,9 @@ TEST(ChainSweepConfig, RefusesWhatTheChainRigLacksNamingTheKey) {
   EXPECT_NE(e.find("compliant pedestal mount"), std::string::npos) << e;
   e = chainConfigError(leg3 + "[grid]\ncylinder_mass_scale = [1.0]\n");
   EXPECT_NE(e.find("'grid.cylinder_mass_scale'"), std::string::npos) << e;
+  e = chainConfigError(leg3 + "[grid]\nencoder_backlash_deg = [0.1]\n");
+  EXPECT_NE(e.find("'grid.encoder_backlash_deg'"), std::string::npos) << e;
+  EXPECT_NE(e.find("no encoder play"), std::string::npos) << e;
   e = chainConfigError(leg3 + "[grid]\ntrajectories = [\"paper\"]\n");
   EXPECT_NE(e.find("'grid.trajectories'"), std::string::npos) << e;
   EXPECT_NE(e.find("\"default\""), std::string::npos) << e;

@@ -71,6 +71,33 @@ TEST(SweepConfig, TrajectoryAxisPairsOptimisedCellsWithTheirPaperTwins) {
   EXPECT_NE(bad.find("designed"), std::string::npos) << bad;
 }
 
+// The encoder-backlash axis (docs/findings.md 4.1: the source of the real logs' bias): each level
+// reaches the simulator's sensors and the job's recorded condition; one level of 0 (the default)
+// leaves the cells and their seeds as they were; a play outside [0, 89] deg is refused by key.
+TEST(SweepConfig, EncoderBacklashAxisReachesTheSimulatorAndKeepsTheOtherCellsSeeds) {
+  const std::string grid = "[grid]\ntorque_noise_Nm = [0.1, 0.5]\nvibration_level = [1.0]\ncylinder_mass_scale = [1.0]\n";
+  const SweepConfig none = loadSweepConfig(writeToml("play0", grid));
+  const SweepConfig play = loadSweepConfig(writeToml("play", grid + "encoder_backlash_deg = [0.0, 0.1]\n"));
+  ASSERT_EQ(none.numCells(), 2);
+  ASSERT_EQ(play.numCells(), 4);
+  const std::vector<SweepCondition> conds = play.conditions();
+  for (int k = 0; k < 4; ++k) {
+    const SweepCondition& c = conds[static_cast<std::size_t>(k)];
+    EXPECT_EQ(c.encoder_backlash_deg, k < 2 ? 0.0 : 0.1);
+    EXPECT_EQ(play.protocolFor(c, 1).sim.sensors.encoder_backlash_deg, c.encoder_backlash_deg);
+    EXPECT_EQ(toJson(c).at("encoder_backlash_deg").get<double>(), c.encoder_backlash_deg);
+    if (k < 2) {
+      EXPECT_EQ(play.jobSeed(k, 3), none.jobSeed(k, 3));
+      EXPECT_EQ(c.torque_noise_Nm, none.conditions()[static_cast<std::size_t>(k)].torque_noise_Nm);
+    }
+  }
+  EXPECT_EQ(play.toJson().at("grid").at("encoder_backlash_deg"), nlohmann::json::array({0.0, 0.1}));
+  const std::string wide = errorOf("play_wide", "[grid]\nencoder_backlash_deg = [90.0]\n");
+  EXPECT_NE(wide.find("grid.encoder_backlash_deg"), std::string::npos) << wide;
+  const std::string negative = errorOf("play_negative", "[grid]\nencoder_backlash_deg = [-0.1]\n");
+  EXPECT_NE(negative.find("grid.encoder_backlash_deg"), std::string::npos) << negative;
+}
+
 TEST(SweepConfig, BadFilesNameTheKeyAndLine) {
   const std::string unknown = errorOf("unknown", "[grid]\ntorque_noise_Nm = [0.5]\ntorque_nose = [1]\n");
   EXPECT_NE(unknown.find("grid.torque_nose"), std::string::npos) << unknown;

@@ -23,7 +23,7 @@ struct SweepArgs {
   std::optional<int> seeds;
   std::optional<std::uint64_t> master_seed;
   std::vector<std::string> methods;
-  std::vector<double> noise_tau, noise_q, quantisation, vibration, cylinder;
+  std::vector<double> noise_tau, noise_q, quantisation, vibration, cylinder, backlash;
   std::vector<std::string> trajectories;
   std::optional<double> duration_s;
   std::optional<long> pso_iterations;
@@ -47,6 +47,7 @@ void runSweepCommand(const SweepArgs& a) {
   list(a.quantisation, c.quantisation_deg, "grid.quantisation_deg", "--quantisation-deg");
   list(a.vibration, c.vibration_level, "grid.vibration_level", "--vibration");
   list(a.cylinder, c.cylinder_mass_scale, "grid.cylinder_mass_scale", "--cylinder-mass-scale");
+  list(a.backlash, c.encoder_backlash_deg, "grid.encoder_backlash_deg", "--encoder-backlash-deg");
   if (!a.trajectories.empty()) {
     c.trajectories = a.trajectories;
     c.origin["grid.trajectories"] = "--trajectories";
@@ -109,6 +110,9 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--quantisation-deg", a->quantisation, "[grid] quantisation_deg levels")->delimiter(',')->group(o);
   cmd->add_option("--vibration", a->vibration, "[grid] vibration_level levels")->delimiter(',')->group(o);
   cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
+  cmd->add_option("--encoder-backlash-deg", a->backlash,
+                  "[grid] encoder_backlash_deg levels: play between each joint and its encoder, deg (as simulate --encoder-backlash-deg; the APAL leg only)")
+      ->delimiter(',')->group(o);
   cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs); a chain's: optimised, default")
       ->delimiter(',')->group(o);
   cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(positiveNumber())->group(o);

@@ -178,6 +178,10 @@ void validateChain(const SweepConfig& c) {
                              ": give [0] or leave the key out");
     }
   }
+  if (c.encoder_backlash_deg != std::vector<double>{0.0}) {
+    throw SweepConfigError(where(c, "grid.encoder_backlash_deg") + ": " + model +
+                           " has no encoder play (the chain simulator's encoders read the joints): give [0] or leave the key out");
+  }
   for (const char* key : {"simulation.ramp_s", "simulation.feedforward", "simulation.excitation_knee", "simulation.excitation_both",
                           "identification.cutoff_hz", "identification.filter"}) {
     if (c.origin.count(key)) {
@@ -231,6 +235,7 @@ void SweepConfig::validate() const {
   checkList(*this, "grid.quantisation_deg", quantisation_deg, 0.0, 90.0);
   checkList(*this, "grid.vibration_level", vibration_level, 0.0, 20.0);
   checkList(*this, "grid.cylinder_mass_scale", cylinder_mass_scale, 0.0, 10.0);
+  checkList(*this, "grid.encoder_backlash_deg", encoder_backlash_deg, 0.0, 89.0);
   if (isChain()) {
     validateChain(*this);
   } else {
@@ -278,11 +283,12 @@ void SweepConfig::validateApal() const {
 std::vector<SweepCondition> SweepConfig::conditions() const {
   std::vector<SweepCondition> out;
   for (const std::string& traj : trajectories)
-    for (double cyl : cylinder_mass_scale)
-      for (double vib : vibration_level)
-        for (double qn : angle_noise_deg)
-          for (double qq : quantisation_deg)
-            for (double tn : torque_noise_Nm) out.push_back({tn, qn, qq, vib, cyl, traj});
+    for (double play : encoder_backlash_deg)
+      for (double cyl : cylinder_mass_scale)
+        for (double vib : vibration_level)
+          for (double qn : angle_noise_deg)
+            for (double qq : quantisation_deg)
+              for (double tn : torque_noise_Nm) out.push_back({tn, qn, qq, vib, cyl, play, traj});
   return out;
 }
 
@@ -301,6 +307,7 @@ ProtocolConfig SweepConfig::protocolFor(const SweepCondition& c, std::uint64_t s
   p.sim.sensors.quantisation_deg = c.quantisation_deg;
   p.sim.variant.vibration_level = c.vibration_level;
   p.sim.variant.cylinder_mass_scale = c.cylinder_mass_scale;
+  p.sim.sensors.encoder_backlash_deg = c.encoder_backlash_deg;
   p.seed = seed;
   p.variants = methods;
   if (c.trajectories == "optimised") {
@@ -316,6 +323,7 @@ nlohmann::json toJson(const SweepCondition& c) {
           {"quantisation_deg", c.quantisation_deg},
           {"vibration_level", c.vibration_level},
           {"cylinder_mass_scale", c.cylinder_mass_scale},
+          {"encoder_backlash_deg", c.encoder_backlash_deg},
           {"trajectories", c.trajectories}};
 }
 
@@ -328,6 +336,7 @@ nlohmann::json gridJson(const SweepConfig& c) {
           {"quantisation_deg", c.quantisation_deg},
           {"vibration_level", c.vibration_level},
           {"cylinder_mass_scale", c.cylinder_mass_scale},
+          {"encoder_backlash_deg", c.encoder_backlash_deg},
           {"trajectories", c.trajectories}};
 }
 
@@ -422,6 +431,8 @@ void readGridKey(Reader& r, const std::string& full, const toml::node& v) {
     c.vibration_level = r.numbers(v, full);
   } else if (full == "grid.cylinder_mass_scale") {
     c.cylinder_mass_scale = r.numbers(v, full);
+  } else if (full == "grid.encoder_backlash_deg") {
+    c.encoder_backlash_deg = r.numbers(v, full);
   } else if (full == "grid.trajectories") {
     c.trajectories = r.strings(v, full);
   }
@@ -502,7 +513,8 @@ const std::map<std::string, SectionReader>& sectionReaders() {
   static const std::map<std::string, SectionReader> kSections = {
       {"sweep", {{"seeds", "master_seed", "methods", "model"}, readSweepKey}},
       {"grid",
-       {{"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "trajectories"}, readGridKey}},
+       {{"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "encoder_backlash_deg", "trajectories"},
+        readGridKey}},
       {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both", "excitation"}, readSimulationKey}},
       {"identification",
        {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}, readIdentificationKey}}};

@@ -116,9 +116,9 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
 
 std::string conditionCsv(const SweepCondition& c) {
   return csvNumber(c.torque_noise_Nm) + "," + csvNumber(c.angle_noise_deg) + "," + csvNumber(c.quantisation_deg) + "," +
-         csvNumber(c.vibration_level) + "," + csvNumber(c.cylinder_mass_scale) + "," + c.trajectories;
+         csvNumber(c.vibration_level) + "," + csvNumber(c.cylinder_mass_scale) + "," + csvNumber(c.encoder_backlash_deg) + "," + c.trajectories;
 }
-const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,trajectories";
+const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,encoder_backlash_deg,trajectories";
 
 // The summary metrics, in SweepMetric order: how to read each from a row.
 struct Metric {
@@ -351,7 +351,7 @@ int paperTwin(const std::vector<SweepCondition>& conds, std::size_t k) {
     const SweepCondition& p = conds[i];
     if (p.trajectories == "paper" && p.torque_noise_Nm == o.torque_noise_Nm && p.angle_noise_deg == o.angle_noise_deg &&
         p.quantisation_deg == o.quantisation_deg && p.vibration_level == o.vibration_level &&
-        p.cylinder_mass_scale == o.cylinder_mass_scale) {
+        p.cylinder_mass_scale == o.cylinder_mass_scale && p.encoder_backlash_deg == o.encoder_backlash_deg) {
       return static_cast<int>(i);
     }
   }
@@ -577,7 +577,8 @@ std::string trajectoryPairText(const VersusPaper& p, double scale, int decimals)
 // A section's heading: the condition without the torque noise (the tables' columns).
 std::string sectionKey(const SweepCondition& k) {
   return "cylinder mass scale " + fmt(k.cylinder_mass_scale) + ", vibration level " + fmt(k.vibration_level) + ", angle noise " +
-         fmt(k.angle_noise_deg) + " deg, quantisation " + fmt(k.quantisation_deg) + " deg";
+         fmt(k.angle_noise_deg) + " deg, quantisation " + fmt(k.quantisation_deg) + " deg" +
+         (k.encoder_backlash_deg > 0.0 ? ", encoder backlash " + fmt(k.encoder_backlash_deg) + " deg" : std::string());
 }
 
 using Section = std::pair<std::string, std::vector<const CellSummary*>>;  // heading, its cells
@@ -784,6 +785,8 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
     c.quantisation_deg = g.at("quantisation_deg").get<std::vector<double>>();
     c.vibration_level = g.at("vibration_level").get<std::vector<double>>();
     c.cylinder_mass_scale = g.at("cylinder_mass_scale").get<std::vector<double>>();
+    // Written since the axis exists; a folder from before it had none (no play).
+    if (g.contains("encoder_backlash_deg")) c.encoder_backlash_deg = g.at("encoder_backlash_deg").get<std::vector<double>>();
     if (g.contains("trajectories")) c.trajectories = g.at("trajectories").get<std::vector<std::string>>();
     const std::vector<std::string> names = resolved.at("sweep").at("methods").get<std::vector<std::string>>();
     const bool chain = resolved.at("sweep").contains("model");

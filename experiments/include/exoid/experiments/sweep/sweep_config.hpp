@@ -34,20 +34,25 @@ struct SweepCondition {
   double quantisation_deg = 0.0;
   double vibration_level = 0.0;
   double cylinder_mass_scale = 0.0;
+  /// Play between each joint and its encoder, deg (a motor-side encoder behind a gear's backlash:
+  /// angle content the torque does not follow; `exoid simulate --encoder-backlash-deg`). The APAL
+  /// leg's rig only.
+  double encoder_backlash_deg = 0.0;
   /// The identification records: "paper" (trajectories 1 and 3) or "optimised" (the designs of
   /// [simulation] excitation_knee / excitation_both). Validation stays on trajectories 2 and 4.
   std::string trajectories = "paper";
 };
 
 struct SweepConfig {
-  // [grid]: every combination is a cell (order: trajectories, cylinder, vibration, angle noise,
-  // quantisation, torque noise; torque noise varies fastest).
+  // [grid]: every combination is a cell (order: trajectories, encoder backlash, cylinder,
+  // vibration, angle noise, quantisation, torque noise; torque noise varies fastest).
   std::vector<std::string> trajectories{"paper"};               ///< "paper", "optimised"
   std::vector<double> torque_noise_Nm{0.0, 0.1, 0.5, 1.0, 2.0};  ///< >= 0
   std::vector<double> angle_noise_deg{0.005};                   ///< >= 0
   std::vector<double> quantisation_deg{360.0 / 131072.0};       ///< >= 0 (0 = none)
   std::vector<double> vibration_level{0.0, 1.0, 2.0};           ///< [0, 20], 0 = welded mount
   std::vector<double> cylinder_mass_scale{0.0, 1.0};            ///< [0, 10], 0 = 2-link model exact
+  std::vector<double> encoder_backlash_deg{0.0};                ///< [0, 90), 0 = none; the APAL leg only
   // [sweep]
   int seeds = 10;                       ///< replicates per cell, >= 1
   std::uint64_t master_seed = 1;
