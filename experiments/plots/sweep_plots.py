@@ -28,11 +28,13 @@ def save(fig, out_dir, name):
 def row_key(k):
     """Everything but torque noise and vibration; the paper's trajectories before the designed ones."""
     traj = k.get("trajectories", "paper")
-    return (k["cylinder_mass_scale"], k["angle_noise_deg"], k["quantisation_deg"], traj != "paper", traj)
+    play = k.get("encoder_backlash_deg", 0.0)  # absent in sweeps from before the axis
+    return (k["cylinder_mass_scale"], k["angle_noise_deg"], k["quantisation_deg"], traj != "paper", traj, play)
 
 
 def row_title(key):
-    return "cyl %g, q noise %g deg, %s trajectories" % (key[0], key[1], key[4])
+    play = ", backlash %g deg" % key[5] if key[5] else ""
+    return "cyl %g, q noise %g deg%s, %s trajectories" % (key[0], key[1], play, key[4])
 
 
 def stat(c, m):
