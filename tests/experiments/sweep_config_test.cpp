@@ -1,5 +1,6 @@
 // The sweep configuration: the checked-in default, and bad files failing with the key named.
 #include "exoid/experiments/sweep/sweep_config.hpp"
+#include "exoid/experiments/sweep/sweep_summary.hpp"
 
 #include <gtest/gtest.h>
 
@@ -92,6 +93,10 @@ TEST(SweepConfig, EncoderBacklashAxisReachesTheSimulatorAndKeepsTheOtherCellsSee
     }
   }
   EXPECT_EQ(play.toJson().at("grid").at("encoder_backlash_deg"), nlohmann::json::array({0.0, 0.1}));
+  // No play: config.json as before the axis, so a folder started then resumes.
+  EXPECT_FALSE(none.toJson().at("grid").contains("encoder_backlash_deg"));
+  EXPECT_EQ(layoutFromJson(play.toJson()).cells.size(), 4u);
+  EXPECT_EQ(layoutFromJson(none.toJson()).cells.size(), 2u);
   const std::string wide = errorOf("play_wide", "[grid]\nencoder_backlash_deg = [90.0]\n");
   EXPECT_NE(wide.find("grid.encoder_backlash_deg"), std::string::npos) << wide;
   const std::string negative = errorOf("play_negative", "[grid]\nencoder_backlash_deg = [-0.1]\n");

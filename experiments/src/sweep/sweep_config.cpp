@@ -330,14 +330,17 @@ nlohmann::json toJson(const SweepCondition& c) {
 namespace {
 
 // The grid's levels, as the APAL leg's and a chain's resolved configurations both record them.
+// The backlash axis only when it has a level other than none: a folder started before the axis
+// existed (its config.json without the key) resumes, and reads back as no play.
 nlohmann::json gridJson(const SweepConfig& c) {
-  return {{"torque_noise_Nm", c.torque_noise_Nm},
-          {"angle_noise_deg", c.angle_noise_deg},
-          {"quantisation_deg", c.quantisation_deg},
-          {"vibration_level", c.vibration_level},
-          {"cylinder_mass_scale", c.cylinder_mass_scale},
-          {"encoder_backlash_deg", c.encoder_backlash_deg},
-          {"trajectories", c.trajectories}};
+  nlohmann::json g = {{"torque_noise_Nm", c.torque_noise_Nm},
+                      {"angle_noise_deg", c.angle_noise_deg},
+                      {"quantisation_deg", c.quantisation_deg},
+                      {"vibration_level", c.vibration_level},
+                      {"cylinder_mass_scale", c.cylinder_mass_scale},
+                      {"trajectories", c.trajectories}};
+  if (c.encoder_backlash_deg != std::vector<double>{0.0}) g["encoder_backlash_deg"] = c.encoder_backlash_deg;
+  return g;
 }
 
 }  // namespace
