@@ -29,7 +29,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <limits>
 #include <memory>
@@ -66,14 +65,7 @@ std::string baseName(const std::string& path) {
 /// The identified model's predicted torques on `d` (signals prepared as identification does).
 void addPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals,
                    render::Track& track) {
-  std::ifstream in(json_path);
-  if (!in) throw std::runtime_error("cannot read identification JSON '" + json_path + "'");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error("'" + json_path + "' is not valid JSON: " + e.what());
-  }
+  const nlohmann::json j = readUserJsonFile(json_path, "identification JSON");
   if (!j.is_object() || !j.contains("parameters")) {
     throw std::runtime_error("'" + json_path + "': expected an object with \"parameters\" (as written by `exoid identify --json`)");
   }
@@ -146,9 +138,8 @@ render::Track trackFromSimulation(const RenderArgs& a) {
 // A chain's identify JSON (`exoid identify --model ... --json`): its least-squares base
 // parameters, checked against the model's.
 Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChain& loaded) {
-  std::ifstream in(json_path);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object() || !j.contains("base_parameters") || !j["base_parameters"].contains("ls") ||
+  const nlohmann::json j = readUserJsonFile(json_path, "identification JSON (--ident)");
+  if (!j.is_object() || !j.contains("base_parameters") || !j["base_parameters"].contains("ls") ||
       !j["base_parameters"].contains("names")) {
     throw std::invalid_argument("--ident '" + json_path + "': expected the JSON of `exoid identify --model " + loaded.path +
                                 " --json FILE` (base_parameters.names and .ls)");

@@ -1,10 +1,10 @@
 #include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -42,14 +42,7 @@ bool boolOf(const std::string& text, const std::string& where) {
 
 // A controller file's JSON object; throws naming the file when it cannot be read or is not one.
 nlohmann::json readControllerObject(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open the controller file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
-  }
+  nlohmann::json j = readUserJsonFile(path, "controller file");
   if (!j.is_object()) throw std::invalid_argument(path + ": expected a JSON object");
   return j;
 }

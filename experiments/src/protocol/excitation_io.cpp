@@ -1,9 +1,9 @@
 #include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
 
 #include <Eigen/Cholesky>
 
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 namespace exoid::experiments {
@@ -54,14 +54,7 @@ nlohmann::json toJson(const ident::FourierTrajectory& t) {
 }
 
 ident::FourierTrajectory readExcitationFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open the excitation file");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json j = readUserJsonFile(path, "excitation file");
   if (!j.is_object() || !j.contains("trajectory") || !j["trajectory"].is_object()) {
     throw std::invalid_argument(path + ": expected an object with a \"trajectory\" object (as exoid excite writes)");
   }

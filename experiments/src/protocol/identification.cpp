@@ -325,14 +325,7 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
 }
 
 std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open truth file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
-  }
+  const nlohmann::json j = readUserJsonFile(path, "truth file");
   std::map<std::string, ident::ParamVector> out;
   if (j.contains("parameters")) {
     out["truth"] = paramsFromJson(j["parameters"], path + ": parameters");
@@ -353,6 +346,16 @@ nlohmann::json toolJson() { return {{"name", "exoid"}, {"version", kVersion}, {"
 
 void writeJsonFile(const std::string& path, const nlohmann::json& j) {
   core::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+}
+
+nlohmann::json readUserJsonFile(const std::string& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open the " + what);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw std::invalid_argument(path + ": not valid JSON: " + e.what());
+  }
 }
 
 nlohmann::json readJsonFile(const std::string& path) {

@@ -132,5 +132,8 @@ nlohmann::json toolJson();
 void writeJsonFile(const std::string& path, const nlohmann::json& j);
 /// The JSON file at path; std::runtime_error naming it when it cannot be read or parsed.
 nlohmann::json readJsonFile(const std::string& path);
+/// A JSON file the user gave (a controller, a design, a truth, an identification), `what` naming
+/// it: std::invalid_argument "PATH: cannot open the WHAT" or "PATH: not valid JSON: ...".
+nlohmann::json readUserJsonFile(const std::string& path, const std::string& what);
 
 }  // namespace exoid::experiments
