@@ -90,7 +90,10 @@ ident::Estimate otherEstimate(ident::Method m, const ident::ChainModel& model, c
   return ident::estimate(m, base.baseRegressor(rec.W), rec.y, mo);
 }
 
-nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
+}  // namespace chain_sweep_run
+
+nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
+  using namespace chain_sweep_run;  // this file's helpers (named, not anonymous, for the unity build)
   const LoadedChain loaded = loadChain(c.chain_model_path);
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;
@@ -143,12 +146,6 @@ nlohmann::json runJob(const SweepConfig& c, const SweepCondition& cond, std::uin
     j["methods"].push_back(methodJson(m, usable, usable ? std::string() : e.summary.message, e.x, scoreOn(v, Wv, e.x, truth)));
   }
   return j;
-}
-
-}  // namespace chain_sweep_run
-
-nlohmann::json runChainSweepRun(const SweepConfig& config, const SweepCondition& condition, std::uint64_t seed) {
-  return chain_sweep_run::runJob(config, condition, seed);
 }
 
 SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ostream& log) {

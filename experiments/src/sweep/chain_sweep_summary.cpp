@@ -30,7 +30,6 @@ bool hasRelativeError(const std::vector<double>& truth, std::size_t i) {
   return std::abs(truth[i]) > 1e-12 * scale;
 }
 
-
 // One run's one method.
 struct Row {
   int cell = 0, replicate = 0;

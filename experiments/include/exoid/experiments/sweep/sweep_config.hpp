@@ -52,7 +52,7 @@ struct SweepConfig {
   std::vector<double> quantisation_deg{360.0 / 131072.0};       ///< >= 0 (0 = none)
   std::vector<double> vibration_level{0.0, 1.0, 2.0};           ///< [0, 20], 0 = welded mount
   std::vector<double> cylinder_mass_scale{0.0, 1.0};            ///< [0, 10], 0 = 2-link model exact
-  std::vector<double> encoder_backlash_deg{0.0};                ///< [0, 90), 0 = none; the APAL leg only
+  std::vector<double> encoder_backlash_deg{0.0};                ///< [0, 89], 0 = none; the APAL leg only
   // [sweep]
   int seeds = 10;                       ///< replicates per cell, >= 1
   std::uint64_t master_seed = 1;
