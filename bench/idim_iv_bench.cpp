@@ -46,9 +46,9 @@ void BM_IdimIvSegmental(benchmark::State& state) {
   const Records& r = records();
   long iterations = 0;
   for (auto _ : state) {
-    const SegmentalResult s = identifySegmentalIv(r.knee, r.both, kC, parallel(), {});
-    iterations = s.knee.summary.iterations + s.hip.summary.iterations;
-    benchmark::DoNotOptimize(s.x.data());
+    const SegmentalResult s = identifySegmentalIdimIv(twoLinkLeg(kC), {{1, r.knee}, {0, r.both}});
+    iterations = s.stages[0].estimate.summary.iterations + s.stages[1].estimate.summary.iterations;
+    benchmark::DoNotOptimize(s.theta.data());
   }
   state.counters["iv_iterations"] = static_cast<double>(iterations);
 }
@@ -56,15 +56,17 @@ BENCHMARK(BM_IdimIvSegmental)->Unit(benchmark::kMillisecond);
 
 void BM_ClosedLoopSimulation(benchmark::State& state) {
   const Records& r = records();
-  const ParamVector x = toParamVector(defaultLeg());
-  for (auto _ : state) benchmark::DoNotOptimize(simulateClosedLoop(x, kC, r.both.controller, r.both.reference).ok);
+  const Eigen::VectorXd x = toParamVector(defaultLeg());
+  const Robot leg = twoLinkLeg(kC);
+  for (auto _ : state) benchmark::DoNotOptimize(simulateClosedLoop(leg, x, r.both.controller, r.both.reference).ok);
 }
 BENCHMARK(BM_ClosedLoopSimulation)->Unit(benchmark::kMillisecond);
 
 void BM_ParallelProcessing(benchmark::State& state) {
   const Records& r = records();
-  const ClosedLoopRun run = simulateClosedLoop(toParamVector(defaultLeg()), kC, r.both.controller, r.both.reference);
-  for (auto _ : state) benchmark::DoNotOptimize(parallelProcess(run.states, kC, parallel(), 1000.0).hip.data());
+  const Robot leg = twoLinkLeg(kC);
+  const ClosedLoopRun run = simulateClosedLoop(leg, toParamVector(defaultLeg()), r.both.controller, r.both.reference);
+  for (auto _ : state) benchmark::DoNotOptimize(parallelProcess(run.states, leg, parallel(), 1000.0).W.data());
 }
 BENCHMARK(BM_ParallelProcessing)->Unit(benchmark::kMillisecond);
 
@@ -73,7 +75,7 @@ void BM_LeastSquaresSegmental(benchmark::State& state) {
   MethodOptions o;
   o.report_optimality_gap = false;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(identifySegmental(Method::kLs, r.knee.measured, r.both.measured, o).x.data());
+    benchmark::DoNotOptimize(identifySegmental(twoLinkLeg(kC), {{1, r.knee.measured}, {0, r.both.measured}}, Method::kLs, o).theta.data());
   }
 }
 BENCHMARK(BM_LeastSquaresSegmental)->Unit(benchmark::kMillisecond);

@@ -15,10 +15,9 @@
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/estimators/lad.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/core/heap.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/ident/estimators/segmental.hpp"
 
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
@@ -94,9 +93,8 @@ void endToEnd(benchmark::State& state) {
   const exoid::ident::LegConstants c{0.45, 9.81};
   Eigen::VectorXd x;
   for (auto _ : state) {
-    const exoid::ident::SegmentalProblem p =
-        exoid::ident::bothEquations(exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults()));
-    x = kLad ? exoid::ident::solveLeastAbsoluteDeviations(p.H, p.y).x : exoid::ident::solveLeastSquares(p.H, p.y).x;
+    const exoid::ident::RecordRows p = exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), exoid::ident::twoLinkLeg(c), identifyDefaults());
+    x = kLad ? exoid::ident::solveLeastAbsoluteDeviations(p.W, p.y).x : exoid::ident::solveLeastSquares(p.W, p.y).x;
     benchmark::DoNotOptimize(x.data());
   }
   state.counters["peak_rss_MB"] = peakRssMB();
@@ -146,9 +144,8 @@ void BM_CliIdentify(benchmark::State& state) {
       return;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    const exoid::ident::SegmentalProblem p =
-        exoid::ident::bothEquations(exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), c, identifyDefaults()));
-    benchmark::DoNotOptimize(exoid::ident::solveLeastSquares(p.H, p.y).x.data());
+    const exoid::ident::RecordRows p = exoid::ident::processRecord(exoid::ident::readDatasetCsv(path), exoid::ident::twoLinkLeg(c), identifyDefaults());
+    benchmark::DoNotOptimize(exoid::ident::solveLeastSquares(p.W, p.y).x.data());
     library_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cli_s += run.wall_s;
     peak_MB = std::max(peak_MB, run.peak_rss_MB);

@@ -84,10 +84,11 @@ void bindData(py::module_& m) {
   m.def("process_record",
         [](const py::dict& dataset, double thigh_length_m, double gravity_mps2, const std::string& processing, std::optional<double> cutoff_hz,
            int filter_order, int decimation, const std::string& base_terms) {
-          const ProcessedRecord r = processRecord(datasetFrom(dataset), legConstants(thigh_length_m, gravity_mps2),
-                                                  signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms));
-          return py::dict(py::arg("hip") = r.hip, py::arg("knee") = r.knee, py::arg("tau") = Eigen::MatrixXd(r.tau_Nm),
-                          py::arg("t") = r.states.t_s);
+          const RecordRows r = processRecord(datasetFrom(dataset), twoLinkLeg(legConstants(thigh_length_m, gravity_mps2)),
+                                             signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms));
+          Eigen::MatrixXd tau(r.samples(), 2);
+          tau << r.jointY(0), r.jointY(1);
+          return py::dict(py::arg("hip") = r.jointW(0), py::arg("knee") = r.jointW(1), py::arg("tau") = tau, py::arg("t") = r.states.t_s);
         },
         py::arg("dataset"), py::arg("thigh_length_m"), py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel",
         py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2, py::arg("decimation") = 0, py::arg("base_terms") = "auto",

@@ -7,7 +7,8 @@
 #include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
-#include "exoid/ident/model/chain_idim_iv.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <limits>
 #include <optional>
@@ -18,12 +19,22 @@ using namespace exoid::ident;
 
 namespace {
 
+// The APAL leg's two stages: the knee's (Mxs .. fv2) and the hip's (Mxt .. fv1).
 py::dict segmentalDict(const SegmentalResult& r) {
+  const Estimate& knee = r.stages.at(0).estimate;
+  const Estimate& hip = r.stages.at(1).estimate;
   std::vector<std::string> warnings;  // both stages', named
-  for (const std::string& w : estimateWarnings(r.knee)) warnings.push_back("knee stage: " + w);
-  for (const std::string& w : estimateWarnings(r.hip)) warnings.push_back("hip stage: " + w);
-  return py::dict(py::arg("x") = Eigen::VectorXd(r.x), py::arg("knee") = estimateDict(r.knee),
-                  py::arg("hip") = estimateDict(r.hip), py::arg("warnings") = warnings);
+  for (const std::string& w : estimateWarnings(knee)) warnings.push_back("knee stage: " + w);
+  for (const std::string& w : estimateWarnings(hip)) warnings.push_back("hip stage: " + w);
+  return py::dict(py::arg("x") = Eigen::VectorXd(r.theta.head<kNumParams>()), py::arg("knee") = estimateDict(knee),
+                  py::arg("hip") = estimateDict(hip), py::arg("warnings") = warnings);
+}
+
+// The knee record's processing: its band from its knee equation (its hip is locked).
+SignalOptions kneeRecordSignals(const Dataset& d, const Robot& robot, const SignalOptions& s) {
+  BandRule rule;
+  rule.first_moving_joint = 1;
+  return resolveSignalOptions(d, robot, s, rule);
 }
 
 std::string sourceOf(const py::dict& d, const char* role) {
@@ -49,13 +60,13 @@ void bindMethods(py::module_& m) {
         [](const py::dict& knee_record, const py::dict& both_record, double thigh_length_m, const std::string& method,
            double gravity_mps2, const std::string& processing, std::optional<double> cutoff_hz, int filter_order, int decimation,
            const std::string& base_terms, const py::kwargs& kw) {
-          const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
+          const Robot robot = twoLinkLeg(legConstants(thigh_length_m, gravity_mps2));
           const SignalOptions s = signalOptions(processing, cutoff_hz, filter_order, decimation, base_terms);
           const MethodOptions o = methodOptions(kw, "identify_segmental");
           // Each record processed in its own band (the knee record's from its knee equation: its hip is locked).
           const Dataset kd = datasetFrom(knee_record), bd = datasetFrom(both_record);
-          return segmentalDict(identifySegmental(parseMethod(method), processRecord(kd, c, resolveSignalOptions(kd, c, s, true)),
-                                                 processRecord(bd, c, s), o));
+          return segmentalDict(identifySegmental(
+              robot, {{1, processRecord(kd, robot, kneeRecordSignals(kd, robot, s))}, {0, processRecord(bd, robot, s)}}, parseMethod(method), o));
         },
         py::arg("knee_record"), py::arg("both_record"), py::arg("thigh_length_m"), py::arg("method") = "rls-pso",
         py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
@@ -76,17 +87,13 @@ void bindMethods(py::module_& m) {
           iv.validate();
           // As `exoid identify --model ... --method idim-iv`: the record's rows in its band, its
           // reference and controller, the instruments processed alike.
+          const Robot robot = chainRobot(model);
           std::optional<BandChoice> band;
-          ChainClosedLoopRecord r;
-          r.measured = processChainRecord(d, model, s, &band);
-          r.signals = band ? withBand(s, *band) : resolveSignalOptions(d, LegConstants{}, s);
-          const std::string source = sourceOf(record, "chain");
-          r.reference = experiments::chainReferenceOf(d, source);
-          r.controller = controller.empty() ? experiments::chainControllerFromMetadata(d, source)
-                                            : experiments::readChainControllerJson(controller, model.dof());
-          r.recorded_derivatives = d.qd_radps.has_value() && s.use_recorded_derivatives;
-          const BaseParameters base = baseParameters(model);
-          const Estimate e = identifyChainIdimIv(model, base, {r}, iv);
+          const RecordRows rows = processRecord(d, robot, s, {}, &band);
+          const SignalOptions used = band ? withBand(s, *band) : resolveSignalOptions(d, robot, s);
+          const ClosedLoopRecord r = experiments::closedLoopRecord(d, sourceOf(record, "chain"), rows, used, controller);
+          const BaseParameters& base = robot.basis;
+          const Estimate e = identifyIdimIv(robot, {r}, iv);
           return py::dict(py::arg("x") = e.x, py::arg("names") = base.names, py::arg("all") = estimateDict(e));
         },
         py::arg("model"), py::arg("record"), py::arg("controller") = "", py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2,
@@ -97,7 +104,8 @@ void bindMethods(py::module_& m) {
         "processed as the record's rows (parallel processing, the band chosen from the record unless cutoff_hz). "
         "The record needs its reference (q_<joint>_ref columns) and its controller: the record's metadata "
         "(controller_kp_Nm_per_rad, ..., as `exoid simulate --model` writes them) or controller, a JSON file "
-        "{\"kp\": [one per joint], \"kd\": [..], \"feedforward\": \"model\", \"actuator_bandwidth_hz\": ..}. "
+        "{\"kp\": [one per joint], \"kd\": [..], \"derivative\": \"measured_velocity\", \"feedforward\": \"model\", "
+        "\"actuator_bandwidth_hz\": ..}. "
         "all: the estimate as identify returns it.");
 
   m.def("identify_idim_iv",
@@ -105,6 +113,7 @@ void bindMethods(py::module_& m) {
            const std::string& controller, double gravity_mps2, std::optional<double> cutoff_hz, int filter_order, int decimation,
            const std::string& base_terms, double step_tolerance, int max_iterations, bool knee_armature) {
           const LegConstants c = legConstants(thigh_length_m, gravity_mps2);
+          const Robot robot = twoLinkLeg(c, knee_armature && !knee_record);
           const SignalOptions s = signalOptions("parallel", cutoff_hz, filter_order, decimation, base_terms);
           IvOptions iv;
           iv.step_tolerance = step_tolerance;
@@ -112,18 +121,17 @@ void bindMethods(py::module_& m) {
           iv.validate();
           auto closedLoop = [&](const py::dict& record, const char* role, bool knee_only) {
             const Dataset d = datasetFrom(record);
-            const SignalOptions rs = resolveSignalOptions(d, c, s, knee_only);  // the band chosen from this record
-            ClosedLoopRecord r = experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, c, rs), controller, knee_only);
-            r.signals = rs;
-            return r;
+            // The band chosen from this record, by the leg's own model (X).
+            const SignalOptions rs = knee_only ? kneeRecordSignals(d, twoLinkLeg(c), s) : resolveSignalOptions(d, twoLinkLeg(c), s);
+            return experiments::closedLoopRecord(d, sourceOf(record, role), processRecord(d, robot, rs), rs, controller, knee_only ? 1 : 0);
           };
           const ClosedLoopRecord both = closedLoop(both_record, "both", false);
           if (!knee_record) {
-            const Estimate e = identifyAllIv(both, c, s, iv, knee_armature);
+            const Estimate e = identifyIdimIv(robot, {both}, iv);
             return py::dict(py::arg("x") = e.x, py::arg("all") = estimateDict(e));
           }
           if (knee_armature) throw std::invalid_argument("identify_idim_iv: knee_armature needs the single-record form (no knee_record)");
-          return segmentalDict(identifySegmentalIv(closedLoop(*knee_record, "knee", true), both, c, s, iv));
+          return segmentalDict(identifySegmentalIdimIv(robot, {{1, closedLoop(*knee_record, "knee", true)}, {0, both}}, iv));
         },
         py::arg("both_record"), py::arg("thigh_length_m"), py::arg("knee_record") = py::none(), py::arg("controller") = "",
         py::arg("gravity_mps2") = 9.81, py::arg("cutoff_hz") = py::none(), py::arg("filter_order") = 2, py::arg("decimation") = 0,

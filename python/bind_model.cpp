@@ -3,7 +3,7 @@
 
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 #include "convert.hpp"
 
@@ -98,7 +98,11 @@ void bindModel(py::module_& m) {
             o.link_radius_m = link_radius_m;
             o.barrier_gap = barrier_gap;
             const BaseParameters base = baseParameters(model);
-            const ConsistentFit f = consistentFit(model, base, W, y, phi_start, o);
+            // W in the standard parameters' columns (stacked regressor rows), or in the base parameters'
+            // (process_chain_record's rows).
+            const bool base_columns = W.cols() == base.rank && base.rank != model.standardParameterCount();
+            const ConsistentFit f = base_columns ? consistentFitNormal(model, base, W.transpose() * W, W.transpose() * y, y.squaredNorm(), phi_start, o)
+                                                 : consistentFit(model, base, W, y, phi_start, o);
             return py::dict(py::arg("phi") = f.phi, py::arg("beta") = f.beta, py::arg("beta_ls") = f.beta_ls,
                             py::arg("combination") = base.combination, py::arg("excess_cost") = f.excess_cost,
                             py::arg("ls_cost") = f.ls_cost, py::arg("status") = std::string(toString(f.status)),
@@ -106,7 +110,8 @@ void bindModel(py::module_& m) {
           },
           py::arg("W"), py::arg("y"), py::arg("phi_start"), py::arg("max_link_mass_kg") = ConsistentFitOptions{}.max_link_mass_kg,
           py::arg("link_radius_m") = ConsistentFitOptions{}.link_radius_m, py::arg("barrier_gap") = ConsistentFitOptions{}.barrier_gap,
-          "Physically consistent least squares in base-parameter space: W (stacked regressor rows), y (torques), "
+          "Physically consistent least squares in base-parameter space: W (stacked regressor rows, in the standard "
+          "parameters' columns or the base parameters' as process_chain_record gives them), y (torques), "
           "phi_start (standard parameters to start from). Every link's pseudo-inertia positive definite, its mass "
           "below max_link_mass_kg and within link_radius_m of its origin, friction and armature >= 0. Returns phi, "
           "beta (= combination @ phi), beta_ls, excess_cost ((beta - beta_ls)' Wb' Wb (beta - beta_ls)), ls_cost, "
@@ -114,14 +119,14 @@ void bindModel(py::module_& m) {
   m.def("process_chain_record",
         [](const ChainModel& model, const py::dict& dataset, const std::string& processing, std::optional<double> cutoff_hz, int filter_order,
            int decimation) {
-          const ChainRecord r = processChainRecord(datasetFrom(dataset), model, signalOptions(processing, cutoff_hz, filter_order, decimation, "auto"));
-          return py::dict(py::arg("W") = r.W, py::arg("y") = r.y, py::arg("t") = r.t_s, py::arg("dof") = r.dof);
+          const RecordRows r = processRecord(datasetFrom(dataset), chainRobot(model), signalOptions(processing, cutoff_hz, filter_order, decimation, "auto"));
+          return py::dict(py::arg("W") = r.W, py::arg("y") = r.y, py::arg("t") = r.states.t_s, py::arg("dof") = r.dof);
         },
         py::arg("model"), py::arg("dataset"), py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
         py::arg("filter_order") = 2, py::arg("decimation") = 0,
         (std::string("A chain's record (dict as read_dataset returns, with the model's joints) to the rows a method fits: W "
-                     "(rows x len(model.parameter_names), sample k's joint j at row k * dof + j), y, t (one per sample), dof. "
-                     "The base regressor is W[:, base_parameters()['independent']]; model.consistent_fit(W, y, phi) fits consistently. ") +
+                     "(rows x the base parameters, base_parameters()['names'] order; sample k's joint j at row k * dof + j), y, "
+                     "t (one per sample), dof. model.consistent_fit(W, y, phi) fits consistently. ") +
          kSignalOptionsDoc)
             .c_str());
   m.def("link_parameters",

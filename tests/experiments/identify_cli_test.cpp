@@ -1,6 +1,6 @@
 // `exoid identify` end to end on CSV logs written from an independent 2-link dynamics.
 #include "cli_test_support.hpp"
-#include "exoid/ident/leg/closed_loop.hpp"
+#include "exoid/ident/model/closed_loop.hpp"
 #include "exoid/ident/io/dataset.hpp"
 
 #include "../ident/test_support.hpp"
@@ -295,7 +295,7 @@ namespace {
 // A closed-loop log as a real rig would write it: angles, torques, derivatives, the reference,
 // from the rigid leg simulated along the multisine under a PD + model feedforward controller
 // (tests/support/closed_loop_multisine.hpp, ident::simulateClosedLoop), 6 s at 1 kHz.
-std::string writeClosedLoopRecord(const std::string& name, const ident::ControllerModel& ctl) {
+std::string writeClosedLoopRecord(const std::string& name, const ident::Controller& ctl) {
   const test::ClosedLoopMultisine m = test::closedLoopMultisine(6001, ctl);
   EXPECT_TRUE(m.run.ok) << m.run.message;
   ident::Dataset d = test::measuredMultisine(m, {}, true);
@@ -308,10 +308,10 @@ std::string writeClosedLoopRecord(const std::string& name, const ident::Controll
 }
 
 TEST(IdentifyCli, IdimIvOnAClosedLoopLogWithADescribedController) {
-  ident::ControllerModel ctl;
-  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
-  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
-  ctl.pid.derivative_cutoff_hz = 100.0;
+  ident::Controller ctl;
+  ctl.kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);
+  ctl.kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);
+  ctl.derivative_cutoff_hz = 100.0;
   const std::string csv = writeClosedLoopRecord("closed_loop.csv", ctl);
   const std::string controller = ::testing::TempDir() + "/controller.json";
   std::ofstream(controller) << R"({"kp": [2200, 380], "kd": [176, 30], "derivative_cutoff_hz": 100, "feedforward": "model"})";
@@ -329,9 +329,9 @@ TEST(IdentifyCli, IdimIvOnAClosedLoopLogWithADescribedController) {
 }
 
 TEST(IdentifyCli, IdimIvSaysWhatItNeeds) {
-  ident::ControllerModel ctl;
-  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
-  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
+  ident::Controller ctl;
+  ctl.kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);
+  ctl.kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);
   const std::string csv = writeClosedLoopRecord("closed_loop_b.csv", ctl);
   testing::internal::CaptureStderr();
   EXPECT_EQ(runExoid({"identify", "--data", csv, "--method", "idim-iv"}), 1);  // no controller anywhere

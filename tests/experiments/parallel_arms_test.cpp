@@ -49,12 +49,13 @@ TEST(ParallelArms, ExactOnNoiseFreeSimulatorRecordsWithTheirDerivatives) {
   ProtocolConfig c = rigidLeg(6.0);
   ProtocolResult r = runProtocol(c);
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
-  for (Record& rec : r.records) rec.closed_loop.measured = ident::processRecord(withRecordedDerivatives(rec.data), lc, parallelSignals(c.signals));
+  const ident::Robot leg = ident::twoLinkLeg(lc);
+  for (Record& rec : r.records) rec.closed_loop.measured = ident::processRecord(withRecordedDerivatives(rec.data), leg, parallelSignals(c.signals));
   const ident::ParamVector& truth = r.truths.rigid;
   ident::MethodOptions mo;
   mo.report_optimality_gap = false;
-  const MethodOutcome ls = identifySegmented(ident::Method::kLs, r.records[0].closed_loop.measured, r.records[2].closed_loop.measured, mo);
-  const MethodOutcome iv = identifySegmentedIdimIv(r.records[0].closed_loop, r.records[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
+  const MethodOutcome ls = identifySegmented(leg, ident::Method::kLs, r.records[0].closed_loop.measured, r.records[2].closed_loop.measured, mo);
+  const MethodOutcome iv = identifySegmentedIdimIv(leg, r.records[0].closed_loop, r.records[2].closed_loop, c.iv);
   for (const MethodOutcome* m : {&ls, &iv}) {
     ASSERT_TRUE(m->usable()) << m->problems();
     for (int i = 0; i < ident::kNumParams; ++i) {
@@ -113,7 +114,8 @@ TEST(ParallelArms, DefaultProcessingIsUnbiasedAndAsPreciseAsItsBoundUnderTorqueN
     d1.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d1.size(), 2, [&] { return noise(gen); });
     d3.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d3.size(), 2, [&] { return noise(gen); });
     const ident::SignalOptions o = parallelSignals(c.signals);
-    const MethodOutcome m = identifySegmented(ident::Method::kLs, ident::processRecord(d1, lc, o), ident::processRecord(d3, lc, o), mo);
+    const ident::Robot leg = ident::twoLinkLeg(lc);
+    const MethodOutcome m = identifySegmented(leg, ident::Method::kLs, ident::processRecord(d1, leg, o), ident::processRecord(d3, leg, o), mo);
     z.col(k) = (m.x - x0).cwiseQuotient(bound);
   }
   const ZStats s = zStats(z);
@@ -175,16 +177,17 @@ TEST(ParallelArms, SimulatedRecordsCarryTheirControllerForIdimIv) {
   c.variants = {Variant::kLsParallel};
   const ProtocolResult r = runProtocol(c);
   for (int k : {0, 2}) {
-    const ident::ControllerModel m = controllerFromMetadata(r.records[static_cast<std::size_t>(k)].data, "record");
-    const ident::ControllerModel& p = r.records[static_cast<std::size_t>(k)].closed_loop.controller;
-    EXPECT_EQ(m.pid.kp_Nm_per_rad, p.pid.kp_Nm_per_rad);
-    EXPECT_EQ(m.pid.ki_Nm_per_rad_s, p.pid.ki_Nm_per_rad_s);
-    EXPECT_EQ(m.pid.kd_Nms_per_rad, p.pid.kd_Nms_per_rad);
-    EXPECT_EQ(m.pid.derivative_cutoff_hz, p.pid.derivative_cutoff_hz);
-    EXPECT_EQ(m.pid.integral_limit_Nm, p.pid.integral_limit_Nm);
+    const ident::Controller m = controllerFromMetadata(r.records[static_cast<std::size_t>(k)].data, "record");
+    const ident::Controller& p = r.records[static_cast<std::size_t>(k)].closed_loop.controller;
+    EXPECT_EQ(m.kp_Nm_per_rad, p.kp_Nm_per_rad);
+    EXPECT_EQ(m.ki_Nm_per_rad_s, p.ki_Nm_per_rad_s);
+    EXPECT_EQ(m.kd_Nms_per_rad, p.kd_Nms_per_rad);
+    EXPECT_EQ(m.derivative_cutoff_hz, p.derivative_cutoff_hz);
+    EXPECT_EQ(m.integral_limit_Nm, p.integral_limit_Nm);
+    EXPECT_EQ(m.derivative, ident::DerivativeSource::kErrorDifference);
     EXPECT_EQ(m.feedforward, ident::Feedforward::kModel);
-    EXPECT_EQ(m.locked[0], k == 0);  // trajectory 1 holds the hip, 3 swings it
-    EXPECT_EQ(p.locked[0], k == 0);
+    EXPECT_EQ(m.isLocked(0), k == 0);  // trajectory 1 holds the hip, 3 swings it
+    EXPECT_EQ(p.isLocked(0), k == 0);
   }
 }
 

@@ -204,8 +204,9 @@ TEST(Reproduce, NoiseStdMatchesMonteCarloOnSimulatedRecords) {
     ident::Dataset d1 = r.records[0].data, d3 = r.records[2].data;
     d1.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d1.size(), 2, [&] { return noise(gen); });
     d3.tau_Nm += Eigen::MatrixX2d::NullaryExpr(d3.size(), 2, [&] { return noise(gen); });
-    draws.col(k) = identifySegmented(ident::Method::kLs, ident::prepareSignals(d1, c.signals),
-                                     ident::prepareSignals(d3, c.signals), lc, mo).x;
+    const ident::Robot leg = ident::twoLinkLeg(lc);
+    draws.col(k) = identifySegmented(leg, ident::Method::kLs, ident::recordRows(leg, ident::prepareSignals(d1, c.signals)),
+                                     ident::recordRows(leg, ident::prepareSignals(d3, c.signals)), mo).x;
   }
   const double z = 3.89, dof = n - 1.0, v = 2.0 / (9.0 * dof);
   const auto chi2 = [&](double zz) { return dof * std::pow(1.0 - v + zz * std::sqrt(v), 3) / dof; };

@@ -2,9 +2,9 @@
 // and exact parameters), narrower where the angles carry motion the measured torque does not
 // follow (errors-in-variables), and clear refusals where no band can be chosen.
 #include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include "exoid/ident/estimators/least_squares.hpp"
-#include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -22,16 +22,21 @@ SignalOptions identifyDefaults() {
   return o;
 }
 
+const Robot& leg() {
+  static const Robot robot = twoLinkLeg(LegConstants{});
+  return robot;
+}
+
 ParamVector fit(const Dataset& d, const SignalOptions& o) {
-  const SegmentalProblem p = bothEquations(processRecord(d, LegConstants{}, o));
-  return solveLeastSquares(p.H, p.y).x;
+  const RecordRows p = processRecord(d, leg(), o);
+  return solveLeastSquares(p.W, p.y).x;
 }
 
 TEST(Band, ExactDataGetTheCapAndTheExactParameters) {
   // The two-frequency record (highest 1.9 Hz) from its angles alone: the torque follows the states
   // in every band, so the band is the cap, 5x the motion's, and LS recovers X.
   const Dataset d = test::multisineRecord(10.0, true, false);
-  const BandChoice b = chooseBand(d, LegConstants{}, identifyDefaults());
+  const BandChoice b = chooseBand(d, leg(), identifyDefaults());
   EXPECT_EQ(b.limited_by, "cap") << b.describe();
   EXPECT_GT(b.motion_bandwidth_hz, 1.3);
   EXPECT_LT(b.motion_bandwidth_hz, 2.5);
@@ -53,7 +58,7 @@ TEST(Band, AngleMotionTheTorqueDoesNotFollowStopsTheBand) {
   // lets it in.
   Dataset d = test::multisineRecord(10.0, true, false);
   for (Eigen::Index i = 0; i < d.size(); ++i) d.q_rad.row(i).array() += 2e-4 * std::sin(2 * M_PI * 5.5 * d.t_s[i]);
-  const BandChoice b = chooseBand(d, LegConstants{}, identifyDefaults());
+  const BandChoice b = chooseBand(d, leg(), identifyDefaults());
   EXPECT_EQ(b.limited_by, "consistency") << b.describe();
   EXPECT_LT(b.cutoff_hz, 5.5) << b.describe();
   EXPECT_NE(b.describe().find("errors-in-variables"), std::string::npos);
@@ -71,10 +76,10 @@ TEST(Band, ALongRecordsPilotReadsItsCentralWindowAndChoosesTheSameBand) {
   // bandwidth is still the whole record's, and a record shorter than the window is read whole.
   Dataset d = test::multisineRecord(300.0, true, false);
   for (Eigen::Index i = 0; i < d.size(); ++i) d.q_rad.row(i).array() += 2e-4 * std::sin(2 * M_PI * 5.5 * d.t_s[i]);
-  const BandChoice windowed = chooseBand(d, LegConstants{}, identifyDefaults());
+  const BandChoice windowed = chooseBand(d, leg(), identifyDefaults());
   BandRule whole_rule;
   whole_rule.pilot_max_samples = 0;
-  const BandChoice whole = chooseBand(d, LegConstants{}, identifyDefaults(), whole_rule);
+  const BandChoice whole = chooseBand(d, leg(), identifyDefaults(), whole_rule);
   EXPECT_EQ(windowed.samples, d.size());
   EXPECT_EQ(windowed.pilot_samples, BandRule{}.pilot_max_samples);
   EXPECT_EQ(whole.pilot_samples, d.size());
@@ -83,7 +88,7 @@ TEST(Band, ALongRecordsPilotReadsItsCentralWindowAndChoosesTheSameBand) {
   EXPECT_EQ(windowed.limited_by, whole.limited_by);
   EXPECT_EQ(windowed.cutoff_hz, whole.cutoff_hz) << windowed.describe() << "\n" << whole.describe();
   const Dataset short_record = test::multisineRecord(10.0, true, false);
-  EXPECT_EQ(chooseBand(short_record, LegConstants{}, identifyDefaults()).pilot_samples, short_record.size());
+  EXPECT_EQ(chooseBand(short_record, leg(), identifyDefaults()).pilot_samples, short_record.size());
 }
 
 TEST(Band, AJointHeldStillDoesNotSetTheMotionsBandwidth) {
@@ -92,8 +97,8 @@ TEST(Band, AJointHeldStillDoesNotSetTheMotionsBandwidth) {
   Dataset d = test::multisineRecord(10.0, false, false);
   for (Eigen::Index i = 0; i < d.size(); ++i) d.q_rad(i, 0) += 1e-7 * std::sin(2 * M_PI * 321.0 * d.t_s[i]);
   BandRule knee;
-  knee.knee_only = true;
-  const BandChoice b = chooseBand(d, LegConstants{}, identifyDefaults(), knee);
+  knee.first_moving_joint = 1;
+  const BandChoice b = chooseBand(d, leg(), identifyDefaults(), knee);
   EXPECT_LT(b.motion_bandwidth_hz, 2.5) << b.describe();
   EXPECT_GT(b.joint_motion_bandwidth_hz[0], 100.0);
 }
@@ -104,25 +109,25 @@ TEST(Band, AGivenDerivativeCutoffIsKeptAndAnUnfilteredRecordHasNoBandToChoose) {
   o.filter = false;                       // --no-filter
   o.derivative_cutoff_from_data = false;  // --derivative-cutoff-hz 30
   o.derivative_cutoff_hz = 30.0;
-  const SignalOptions r = resolveSignalOptions(d, LegConstants{}, o);
+  const SignalOptions r = resolveSignalOptions(d, leg(), o);
   EXPECT_EQ(r.derivative_cutoff_hz, 30.0);
   EXPECT_FALSE(r.cutoff_from_data);
   // A given cutoff with the derivative pre-filter left to the data: 5x it.
   SignalOptions g = identifyDefaults();
   g.cutoff_from_data = false;
   g.cutoff_hz = 4.0;
-  EXPECT_EQ(resolveSignalOptions(d, LegConstants{}, g).derivative_cutoff_hz, 20.0);
+  EXPECT_EQ(resolveSignalOptions(d, leg(), g).derivative_cutoff_hz, 20.0);
 }
 
 TEST(Band, RefusalsSayWhy) {
   Dataset slow = test::multisineRecord(10.0);
   slow.t_s *= 1000.0;  // milliseconds read as seconds: 1 Hz sampling
-  test::expectInvalidArgumentMentioning([&] { chooseBand(slow, LegConstants{}, identifyDefaults()); }, "--time-unit ms");
+  test::expectInvalidArgumentMentioning([&] { chooseBand(slow, leg(), identifyDefaults()); }, "--time-unit ms");
   const Dataset shortRecord = test::multisineRecord(0.05);
-  test::expectInvalidArgumentMentioning([&] { chooseBand(shortRecord, LegConstants{}, identifyDefaults()); }, "give --cutoff-hz");
+  test::expectInvalidArgumentMentioning([&] { chooseBand(shortRecord, leg(), identifyDefaults()); }, "give --cutoff-hz");
   BandRule bad;
   bad.inconsistency_ratio = 1.0;
-  test::expectInvalidArgumentMentioning([&] { chooseBand(test::multisineRecord(10.0), LegConstants{}, identifyDefaults(), bad); },
+  test::expectInvalidArgumentMentioning([&] { chooseBand(test::multisineRecord(10.0), leg(), identifyDefaults(), bad); },
                                         "'inconsistency_ratio' must be > 1");
 }
 

@@ -57,7 +57,7 @@ TEST(Identifiability, CramerRaoMatchesMonteCarloLsScatter) {
   // sample std has relative standard error 1/sqrt(2 * 399) = 3.5 %: allow 5 sigma, 18 %.
   const LegPhysical leg = defaultLeg();
   const JointSignals s = test::exactRecord(1, leg, test::kLeg.gravity_mps2, 2.0);
-  const SegmentalProblem pr = kneeStage(s, test::kLeg);
+  const test::LinearProblem pr = test::kneeProblem(s);
   const double sigma = 0.5;
   const auto r = analyzeIdentifiability(pr.H, pr.y, sigma);
   std::mt19937_64 gen(99);

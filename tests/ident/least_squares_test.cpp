@@ -94,16 +94,5 @@ TEST(LeastSquares, RejectsBadInput) {
   }
 }
 
-TEST(Segmental, RecoversTruthFromExactRecords) {
-  const LegPhysical leg = defaultLeg();
-  const ParamVector truth = toParamVector(leg);
-  const JointSignals knee = test::exactRecord(1, leg, test::kLeg.gravity_mps2);
-  const JointSignals both = test::exactRecord(3, leg, test::kLeg.gravity_mps2);
-  MethodOptions o;
-  const SegmentalResult r = identifySegmental(Method::kLs, knee, both, test::kLeg, o);
-  ASSERT_TRUE(usable(r.knee.summary.status) && usable(r.hip.summary.status));
-  for (int i = 0; i < kNumParams; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-8 * std::abs(truth[i])) << paramName(i);
-}
-
 }  // namespace
 }  // namespace exoid::ident

@@ -20,7 +20,7 @@ TEST_P(EveryMethod, MeetsItsContractOnExactKneeData) {
   const LegPhysical leg = defaultLeg();
   const ParamVector truth = toParamVector(leg);
   const JointSignals s = test::exactRecord(1, leg, test::kLeg.gravity_mps2, 2.0);
-  const SegmentalProblem pr = kneeStage(s, test::kLeg);
+  const test::LinearProblem pr = test::kneeProblem(s);
   const Eigen::VectorXd x_true = truth.segment<5>(kShankFirst);
   MethodOptions o;
   o.rls_pso.rls.initial_covariance = 1e10;

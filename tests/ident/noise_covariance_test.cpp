@@ -115,8 +115,9 @@ TEST(NoiseCovariance, PaperProcessingSegmentalMatchesMonteCarlo) {
   const SignalOptions o = paperProcessing();
   const Dataset knee_rec = test::multisineRecord(5.0, false), both_rec = test::multisineRecord(5.0, true);
   const JointSignals sk = prepareSignals(knee_rec, o), sb = prepareSignals(both_rec, o);
-  const SegmentalProblem knee = kneeStage(sk, test::kLeg);
+  const test::LinearProblem knee = test::kneeProblem(sk);
   const Eigen::MatrixXd Hh = jointRegressor(sb, Joint::kHip, test::kLeg);
+  const Robot leg = twoLinkLeg(test::kLeg);
   const Eigen::VectorXd predicted = stdOf(segmentalNoiseCovariance(
       channel(knee.H, knee_rec, o), channel(Hh.leftCols(5), both_rec, o), Hh.rightCols(5)));
   // Both records get independent noise: draw the knee record's noise, then the hip record's.
@@ -129,7 +130,7 @@ TEST(NoiseCovariance, PaperProcessingSegmentalMatchesMonteCarlo) {
     Dataset nk = knee_rec, nb = both_rec;
     nk.tau_Nm += Eigen::MatrixX2d::NullaryExpr(nk.size(), 2, [&] { return noise(gen); });
     nb.tau_Nm += Eigen::MatrixX2d::NullaryExpr(nb.size(), 2, [&] { return noise(gen); });
-    draws.col(k) = identifySegmental(Method::kLs, prepareSignals(nk, o), prepareSignals(nb, o), test::kLeg, mo).x;
+    draws.col(k) = identifySegmental(leg, {{1, recordRows(leg, prepareSignals(nk, o))}, {0, recordRows(leg, prepareSignals(nb, o))}}, Method::kLs, mo).theta;
   }
   expectStdInBand(draws, predicted, "paper, segmental");
 }

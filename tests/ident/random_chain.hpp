@@ -1,13 +1,16 @@
 #pragma once
-// The chains the chain tests share: the APAL leg's planar hip-knee chain, random serial chains and
-// physically valid parameters for them.
+// The chains the chain tests share: the APAL leg's planar hip-knee chain, random serial chains,
+// physically valid parameters for them, and a 3-joint leg under a chain rig's controller.
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/chain.hpp"
 #include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/closed_loop.hpp"
+#include "exoid/ident/model/robot.hpp"
 
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 
@@ -42,8 +45,11 @@ inline ChainModel legChain() {
 }
 
 // An exact 1 kHz record of the chain: each joint a two-frequency motion (0.3-1.7 Hz and 2.3x that)
-// drawn from `seed`, torque = regressor x phi at the analytic states; columns t, q_<joint>, tau_<joint>.
-inline Dataset exactChainDataset(const ChainModel& m, const Eigen::VectorXd& phi, double duration_s, std::uint64_t seed) {
+// drawn from `seed`, torque = regressor x phi at the analytic states (on a still base, or on
+// `base`'s motion at each time); columns t, q_<joint>, tau_<joint>, and qd_, qdd_ when asked.
+inline Dataset exactChainDataset(const ChainModel& m, const Eigen::VectorXd& phi, double duration_s, std::uint64_t seed,
+                                 bool with_derivatives = false,
+                                 const std::function<ChainBaseMotion(double)>& base = nullptr) {
   std::mt19937_64 gen(seed);
   std::uniform_real_distribution<double> amp(0.3, 0.7), freq(0.3, 1.7), phase(0.0, 6.28);
   const auto n = static_cast<Eigen::Index>(std::llround(duration_s * 1000.0));
@@ -65,7 +71,12 @@ inline Dataset exactChainDataset(const ChainModel& m, const Eigen::VectorXd& phi
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     const Eigen::VectorXd q = d.q_rad.row(i).transpose(), v = qd.row(i).transpose(), a = qdd.row(i).transpose();
-    d.tau_Nm.row(i) = (chainRegressor(m, q, v, a) * phi).transpose();
+    const ChainBaseMotion b = base ? base(d.t_s[i]) : ChainBaseMotion::still(m);
+    d.tau_Nm.row(i) = (chainRegressor(m, q, v, a, b) * phi).transpose();
+  }
+  if (with_derivatives) {
+    d.qd_radps = qd;
+    d.qdd_radps2 = qdd;
   }
   return d;
 }
@@ -121,5 +132,37 @@ inline Eigen::VectorXd randomPhysicalParameters(std::mt19937_64& gen, const Chai
   }
   return phi;
 }
+
+// A sagittal hip-knee-ankle chain in its base parameters under a chain rig's controller: PD on the
+// measured velocity (each joint a 4 Hz loop, damping 0.7, on its diagonal inertia at the start)
+// with a 100 Hz motor lag, the model's feedforward on a smooth two-frequency reference per joint.
+struct ChainUnderPd {
+  Robot robot;
+  Eigen::VectorXd phi, theta;
+  Controller controller;
+  Reference reference;
+
+  explicit ChainUnderPd(double duration_s) {
+    ChainModel model = legChain();
+    model.joints[2].armature = true;
+    std::mt19937_64 gen(11);
+    phi = randomPhysicalParameters(gen, model);
+    robot = chainRobot(model);
+    theta = robot.basis.combination * phi;
+    const Dataset motion = exactChainDataset(model, phi, duration_s, 5);
+    reference = Reference::fromAngles(motion.t_s, motion.q_rad);
+    const Eigen::VectorXd q0 = reference.q_rad.row(0).transpose(), zero = Eigen::VectorXd::Zero(3);
+    const double wn = 2.0 * M_PI * 4.0;
+    controller.kp_Nm_per_rad.resize(3);
+    controller.kd_Nms_per_rad.resize(3);
+    for (int j = 0; j < 3; ++j) {
+      const double mjj = (chainRegressor(model, q0, zero, Eigen::VectorXd::Unit(3, j)) * phi - chainRegressor(model, q0, zero, zero) * phi)[j];
+      controller.kp_Nm_per_rad[j] = mjj * wn * wn;
+      controller.kd_Nms_per_rad[j] = 1.4 * wn * mjj;
+    }
+    controller.derivative = DerivativeSource::kMeasuredVelocity;
+    controller.actuator_bandwidth_hz = 100.0;
+  }
+};
 
 }  // namespace exoid::ident::testing

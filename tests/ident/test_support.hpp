@@ -5,6 +5,7 @@
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <Eigen/Core>
 #include <gtest/gtest.h>
@@ -129,6 +130,18 @@ inline ident::Dataset multisineRecord(double duration_s, bool hip_moves = true, 
 /// Expects `call` to throw std::invalid_argument whose message contains `text`.
 // The iv-band tests' fixed band: parallel processing at 10 Hz, five-point differences after a 50 Hz
 // pre-filter.
+/// A linear problem y = H x.
+struct LinearProblem {
+  Eigen::MatrixXd H;
+  Eigen::VectorXd y;
+};
+/// The segmental strategy's knee stage on signals as they are (the paper's stage 1): the knee
+/// equation's columns Mxs .. fv2 and its torque.
+inline LinearProblem kneeProblem(const ident::JointSignals& s, const ident::LegConstants& c = kLeg) {
+  const ident::RecordRows r = ident::recordRows(ident::twoLinkLeg(c), s);
+  return {r.jointW(1).middleCols(ident::kShankFirst, ident::kGroupSize), r.jointY(1)};
+}
+
 inline ident::SignalOptions tenHertzParallel() {
   ident::SignalOptions o;
   o.processing = ident::Processing::kParallel;

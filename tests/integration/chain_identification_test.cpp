@@ -6,7 +6,7 @@
 #include "exoid/experiments/protocol/chain_bridge.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/sim/chain_simulate.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
@@ -30,7 +30,8 @@ struct Leg3 {
   sim::SerialChain chain = sim::serialChainFromFile(sim::modelPathFor("leg3"));
   ident::ChainModel model = experiments::chainModel(chain);
   Eigen::VectorXd phi = experiments::standardParameters(chain);
-  ident::BaseParameters base = ident::baseParameters(model);
+  ident::Robot robot = ident::chainRobot(model);
+  const ident::BaseParameters& base = robot.basis;
   Eigen::VectorXd beta() const { return base.combination * phi; }
 };
 
@@ -55,9 +56,9 @@ TEST(ChainIdentification, ExactSimulatedDataGiveEveryBaseParameterExactly) {
   o.processing = ident::Processing::kParallel;
   o.cutoff_from_data = o.derivative_cutoff_from_data = true;
   std::optional<ident::BandChoice> band;
-  const ident::ChainRecord rec = ident::processChainRecord(datasetOf(r, leg.model), leg.model, o, &band);
+  const ident::RecordRows rec = ident::processRecord(datasetOf(r, leg.model), leg.robot, o, {}, &band);
   ASSERT_TRUE(band.has_value());
-  const ident::ChainEstimate est = ident::estimateChain(leg.model, leg.base, rec, leg.phi);
+  const ident::ChainEstimate est = ident::estimateChain(leg.robot, rec, leg.phi);
   const Eigen::VectorXd truth = leg.beta();
   for (int i = 0; i < leg.base.rank; ++i) {
     EXPECT_NEAR(est.beta[i], truth[i], 1e-6 * std::max(1.0, std::abs(truth[i]))) << leg.base.names[static_cast<std::size_t>(i)];
@@ -90,12 +91,12 @@ TEST(ChainIdentification, TorqueNoiseGivesErrorsAsTheCramerRaoBoundSays) {
     o.processing = ident::Processing::kParallel;
     o.filter = false;
     o.edge_trim_s = 0.0;
-    const ident::ChainRecord rec = ident::processChainRecord(datasetOf(r, leg.model), leg.model, o);
-    const Eigen::MatrixXd Wb = leg.base.baseRegressor(rec.W);
+    const ident::RecordRows rec = ident::processRecord(datasetOf(r, leg.model), leg.robot, o);
+    const Eigen::MatrixXd& Wb = rec.W;
     const Eigen::MatrixXd crb = sigma * sigma * (Wb.transpose() * Wb).inverse();
     ident::ChainEstimateOptions eo;
     eo.consistent = false;
-    const ident::ChainEstimate est = ident::estimateChain(leg.model, leg.base, rec, leg.phi, eo);
+    const ident::ChainEstimate est = ident::estimateChain(leg.robot, rec, leg.phi, eo);
     z.row(s) = ((est.beta - truth).array() / crb.diagonal().array().sqrt()).transpose();
   }
   for (int i = 0; i < leg.base.rank; ++i) {

@@ -30,7 +30,8 @@ def test_simulate_process_and_fit_leg3():
     assert data["q"].shape[1] == 3
     rec = exoid.process_chain_record(model, data)
     base = model.base_parameters()
-    Wb = rec["W"][:, base["independent"]]
+    Wb = rec["W"]  # the rows in base parameters
+    assert Wb.shape[1] == base["rank"]
     beta = np.linalg.lstsq(Wb, rec["y"], rcond=None)[0]
     truth = np.array([run["truth"]["base_parameters"][n] for n in base["names"]])
     # The truth's base parameters are the model's own (the same combination of the file's phi).

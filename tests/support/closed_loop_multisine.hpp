@@ -7,8 +7,9 @@
 // it needs exoid::ident only.
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/io/dataset.hpp"
-#include "exoid/ident/leg/closed_loop.hpp"
 #include "exoid/ident/leg/params.hpp"
+#include "exoid/ident/model/closed_loop.hpp"
+#include "exoid/ident/model/robot.hpp"
 
 #include <Eigen/Core>
 
@@ -41,12 +42,12 @@ inline ident::Reference multisineReference(Eigen::Index n, bool hip_locked = fal
 /// The rig's tracking controller: PID kp 2200 / 380 N m/rad, ki 6900 / 1200 N m/(rad s), kd 176 /
 /// 30 N m s/rad (hip / knee), derivative low-passed at 100 Hz, the model's feedforward; the hip
 /// locked for the knee-only record.
-inline ident::ControllerModel rigController(bool hip_locked) {
-  ident::ControllerModel ctl;
-  ctl.pid.kp_Nm_per_rad << 2200.0, 380.0;
-  ctl.pid.ki_Nm_per_rad_s << 6900.0, 1200.0;
-  ctl.pid.kd_Nms_per_rad << 176.0, 30.0;
-  ctl.pid.derivative_cutoff_hz = 100.0;
+inline ident::Controller rigController(bool hip_locked) {
+  ident::Controller ctl;
+  ctl.kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);
+  ctl.ki_Nm_per_rad_s = Eigen::Vector2d(6900.0, 1200.0);
+  ctl.kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);
+  ctl.derivative_cutoff_hz = 100.0;
   ctl.locked = {hip_locked, false};
   return ctl;
 }
@@ -55,13 +56,13 @@ inline ident::ControllerModel rigController(bool hip_locked) {
 /// it). `run.ok` says whether the simulation went through (callers assert it).
 struct ClosedLoopMultisine {
   ident::Reference reference;
-  ident::ControllerModel controller;
+  ident::Controller controller;
   ident::ClosedLoopRun run;
 };
 
-inline ClosedLoopMultisine closedLoopMultisine(Eigen::Index n, const ident::ControllerModel& controller) {
-  ClosedLoopMultisine m{multisineReference(n, controller.locked[0]), controller, {}};
-  m.run = ident::simulateClosedLoop(ident::toParamVector(ident::defaultLeg()), kMultisineConstants, controller, m.reference);
+inline ClosedLoopMultisine closedLoopMultisine(Eigen::Index n, const ident::Controller& controller) {
+  ClosedLoopMultisine m{multisineReference(n, controller.isLocked(0)), controller, {}};
+  m.run = ident::simulateClosedLoop(ident::twoLinkLeg(kMultisineConstants), ident::toParamVector(ident::defaultLeg()), controller, m.reference);
   return m;
 }
 
@@ -103,7 +104,8 @@ inline ident::ClosedLoopRecord closedLoopRecordOf(const ClosedLoopMultisine& m, 
   ident::ClosedLoopRecord r;
   r.reference = m.reference;
   r.controller = m.controller;
-  r.measured = ident::processRecord(measured, kMultisineConstants, parallel);
+  r.signals = parallel;
+  r.measured = ident::processRecord(measured, ident::twoLinkLeg(kMultisineConstants), parallel);
   return r;
 }
 

@@ -9,12 +9,12 @@
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
-#include "exoid/ident/model/chain_band_iv.hpp"
+#include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/model/chain_estimate.hpp"
 #include "exoid/ident/model/chain_excitation.hpp"
-#include "exoid/ident/model/chain_idim_iv.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
@@ -107,6 +107,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd).
   j["controller"] = {{"kp", toVector(r.kp_Nm_per_rad)},
                      {"kd", toVector(r.kd_Nms_per_rad)},
+                     {"derivative", "measured_velocity"},
                      {"feedforward", "model"},
                      {"actuator_bandwidth_hz", c.actuator_bandwidth_hz}};
   j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},
@@ -120,7 +121,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
 void truthOfChain(const std::string& model_path, const std::string& json_out) {
   prepareOutput(json_out);
   const LoadedChain loaded = loadChain(model_path);
-  const auto& [path, chain, model, phi, base] = loaded;
+  const auto& [path, chain, model, phi, base, robot] = loaded;
   std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
   TextTable table({"parameter", "value"});
   const std::vector<std::string> names = model.standardParameterNames();
@@ -168,7 +169,7 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
 void exciteChain(const ChainExciteArgs& a) {
   prepareOutput(a.out);
   const LoadedChain loaded = loadChain(a.model, a.armature);
-  const auto& [path, chain, model, nominal, base] = loaded;
+  const auto& [path, chain, model, nominal, base, robot] = loaded;
   const int dof = model.dof();
   ident::ChainExcitationLimits lim;
   lim.q_min_rad.resize(dof);
@@ -311,26 +312,12 @@ namespace {
 
 // The fit records, each processed in its own band (unless the flags fix it).
 struct ChainFitRecords {
-  std::vector<ident::ChainRecord> records;
+  std::vector<ident::RecordRows> records;
   nlohmann::json json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
-  std::vector<ident::ChainClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
+  std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
-
-// What IDIM-IV needs of a record besides its rows: its reference (q_<joint>_ref), the controller
-// (--controller or the record's metadata), the processing with its band fixed.
-ident::ChainClosedLoopRecord closedLoopOf(const ChainIdentifyArgs& a, const ident::Dataset& d, const std::string& file,
-                                          const ident::ChainModel& model, const ident::ChainRecord& rows,
-                                          const std::optional<ident::BandChoice>& band) {
-  ident::ChainClosedLoopRecord r;
-  r.measured = rows;
-  r.signals = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, ident::LegConstants{}, a.signals);
-  r.reference = chainReferenceOf(d, file);
-  r.controller = a.controller.empty() ? chainControllerFromMetadata(d, file) : readChainControllerJson(a.controller, model.dof());
-  r.recorded_derivatives = d.qd_radps.has_value() && a.signals.use_recorded_derivatives;
-  return r;
-}
 
 ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
   const ident::ChainModel& model = loaded.model;
@@ -340,13 +327,20 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
   for (const std::string& file : a.data) {
     const ident::Dataset d = readLog(file, log);
     std::optional<ident::BandChoice> band;
-    fit.records.push_back(ident::processChainRecord(d, model, a.signals, &band));
+    fit.records.push_back(ident::processRecord(d, loaded.robot, a.signals, {}, &band));
+    const ident::SignalOptions used = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, loaded.robot, a.signals);
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
-      fit.iv_rows.push_back(ident::chainBandIvRows(d, model, loaded.base, band ? ident::withBand(a.signals, *band) : a.signals, fm));
+      fit.iv_rows.push_back(ident::bandIvRows(d, loaded.robot, used, fm));
     }
-    if (idim_iv) fit.closed_loop.push_back(closedLoopOf(a, d, file, model, fit.records.back(), band));
+    if (idim_iv) {
+      if (const auto locked = d.metadata("locked_joints"); locked && !locked->empty()) {
+        throw std::invalid_argument(file + ": joints " + *locked + " are locked in this record (metadata 'locked_joints'); IDIM-IV "
+                                    "fits every joint's equation of --data: give it records in which every joint moves");
+      }
+      fit.closed_loop.push_back(closedLoopRecord(d, file, fit.records.back(), used, a.controller));
+    }
     if (!fit.fit_signals) fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}};
     if (band) {
@@ -370,10 +364,9 @@ ident::MethodOptions chainMethodOptions(const ChainIdentifyArgs& a, const ident:
 }
 
 // The paper's methods over the same rows, in base parameters (LS, the reference, is not among them).
-MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainRecord& stacked,
+MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::RecordRows& stacked,
                              const ChainFitRecords& fit, const ident::MethodOptions& mo) {
-  const ident::BaseParameters& base = loaded.base;
-  const Eigen::MatrixXd Wb = base.baseRegressor(stacked.W);
+  const Eigen::MatrixXd& Wb = stacked.W;
   MethodEstimates others;
   for (ident::Method m : a.methods) {
     if (m == ident::Method::kLs) continue;
@@ -384,7 +377,7 @@ MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& load
     if (m == ident::Method::kIdimIv) {
       ident::IvOptions iv = a.iv;
       iv.ls = mo.ls;
-      others.emplace_back(m, ident::identifyChainIdimIv(loaded.model, base, fit.closed_loop, iv));
+      others.emplace_back(m, ident::identifyIdimIv(loaded.robot, fit.closed_loop, iv));
       continue;
     }
     others.emplace_back(m, ident::estimate(m, Wb, stacked.y, mo));
@@ -394,10 +387,10 @@ MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& load
 
 // One validation record: the LS estimate's torque error per joint (printed), every other
 // method's RMS error per joint.
-nlohmann::json validationJson(const std::string& file, const ident::ChainRecord& v, const LoadedChain& loaded,
+nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded,
                               const ident::ChainEstimate& est, const MethodEstimates& others) {
   const ident::ChainModel& model = loaded.model;
-  const Eigen::VectorXd predicted = loaded.base.baseRegressor(v.W) * est.beta;
+  const Eigen::VectorXd predicted = v.W * est.beta;
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
   std::cout << "validation " << file << ": torque error RMS";
   for (int j = 0; j < model.dof(); ++j) {
@@ -415,7 +408,7 @@ nlohmann::json validationJson(const std::string& file, const ident::ChainRecord&
   }
   std::cout << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
-  const Eigen::MatrixXd Wv = loaded.base.baseRegressor(v.W);
+  const Eigen::MatrixXd& Wv = v.W;
   for (const auto& [m, e] : others) {
     const Eigen::VectorXd r = v.y - Wv * e.x;
     std::vector<double> rms(static_cast<std::size_t>(model.dof()), 0.0);
@@ -431,14 +424,14 @@ nlohmann::json validationJson(const std::string& file, const ident::ChainRecord&
 // Validation: each record processed as the fit's first, its torque predicted by the estimates.
 struct ChainValidation {
   nlohmann::json json = nlohmann::json::array();
-  std::optional<ident::ChainRecord> first;  ///< the first validation record (what the figure shows)
+  std::optional<ident::RecordRows> first;  ///< the first validation record (what the figure shows)
 };
 
 ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log,
                               const ident::SignalOptions& fit_signals, const ident::ChainEstimate& est, const MethodEstimates& others) {
   ChainValidation out;
   for (const std::string& file : a.validate) {
-    ident::ChainRecord v = ident::processChainRecord(readLog(file, log), loaded.model, fit_signals);
+    ident::RecordRows v = ident::processRecord(readLog(file, log), loaded.robot, fit_signals);
     out.json.push_back(validationJson(file, v, loaded, est, others));
     if (!out.first) out.first = std::move(v);
   }
@@ -446,7 +439,7 @@ ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loa
 }
 
 // t_s and each joint's measured and predicted torque, %.9g.
-void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::ChainRecord& shown,
+void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::RecordRows& shown,
                        const Eigen::VectorXd& predicted) {
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "t_s";
@@ -454,7 +447,7 @@ void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, 
     out << "\n";
     char buf[32];
     for (Eigen::Index k = 0; k < shown.samples(); ++k) {
-      std::snprintf(buf, sizeof buf, "%.9g", shown.t_s[k]);
+      std::snprintf(buf, sizeof buf, "%.9g", shown.states.t_s[k]);
       out << buf;
       for (int j = 0; j < model.dof(); ++j) {
         const Eigen::Index row = k * model.dof() + j;
@@ -469,9 +462,9 @@ void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, 
 }
 
 // --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
-void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::ChainRecord& shown) {
+void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::RecordRows& shown) {
   const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
-  writeTorqueSeries(series, loaded.model, shown, loaded.base.baseRegressor(shown.W) * est.beta);
+  writeTorqueSeries(series, loaded.model, shown, shown.W * est.beta);
   runPlotScript("chain_validation_plot.py", {series, a.plot,
                                              loaded.chain.name + ": " +
                                                  (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
@@ -587,8 +580,8 @@ int identifyChain(const ChainIdentifyArgs& a) {
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
-  const ident::ChainRecord stacked = ident::stackChainRecords(fit.records);
-  const ident::ChainEstimate est = ident::estimateChain(model, base, stacked, loaded.phi, eo);
+  const ident::RecordRows stacked = ident::stackRecords(fit.records);
+  const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
   const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others);

@@ -7,8 +7,8 @@
 #include "exoid/experiments/protocol/chain_bridge.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
-#include "exoid/ident/model/chain_segmental.hpp"
+#include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <algorithm>
 #include <iostream>
@@ -55,24 +55,25 @@ std::string lockedJoints(const ident::ChainModel& model, Eigen::Index first) {
 
 // Each stage's records, processed with the stage's joints above its first moving one locked.
 struct StageRecords {
-  std::vector<ident::ChainStage> stages;
+  std::vector<ident::SegmentalStage> stages;
   nlohmann::json json = nlohmann::json::array();
 };
 
-StageRecords readStages(const ChainIdentifyArgs& a, const ident::ChainModel& model, const LogInput& log) {
+StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
+  const ident::ChainModel& model = loaded.model;
   StageRecords out;
   for (const StageInput& in : stageInputs(a, model)) {
     ident::BandRule rule;
     rule.first_moving_joint = in.first_joint;
-    std::vector<ident::ChainRecord> records;
+    std::vector<ident::RecordRows> records;
     nlohmann::json files = nlohmann::json::array();
     for (const std::string& file : in.files) {
       std::optional<ident::BandChoice> band;
-      records.push_back(ident::processChainRecord(readLog(file, log), model, a.signals, &band, rule));
+      records.push_back(ident::processRecord(readLog(file, log), loaded.robot, a.signals, rule, &band));
       if (band) std::cout << file << ": " << band->describe() << "\n";
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
     }
-    out.stages.push_back({in.first_joint, ident::stackChainRecords(records)});
+    out.stages.push_back({in.first_joint, ident::stackRecords(records)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
                         {"locked", lockedJoints(model, in.first_joint)},
                         {"records", files}});
@@ -90,16 +91,16 @@ std::vector<ident::Method> stageMethods(const ChainIdentifyArgs& a) {
 }
 
 // Every method down the stages, in `methods`' order.
-std::vector<ident::ChainSegmentalResult> identifyStages(const ChainIdentifyArgs& a, const LoadedChain& loaded,
-                                                        const std::vector<ident::ChainStage>& stages,
+std::vector<ident::SegmentalResult> identifyStages(const ChainIdentifyArgs& a, const LoadedChain& loaded,
+                                                        const std::vector<ident::SegmentalStage>& stages,
                                                         const std::vector<ident::Method>& methods) {
   ident::MethodOptions mo = a.method_options;
   mo.ls.max_condition = a.max_condition;
-  std::vector<ident::ChainSegmentalResult> results;
+  std::vector<ident::SegmentalResult> results;
   for (ident::Method m : methods) {
-    results.push_back(ident::identifyChainSegmental(loaded.model, loaded.base, stages, m, mo));
+    results.push_back(ident::identifySegmental(loaded.robot, stages, m, mo));
     // The PSO box from the data: 10 x the largest |LS estimate| (as identify --model without stages).
-    if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(results.front().beta.cwiseAbs().maxCoeff(), 1e-6);
+    if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(results.front().theta.cwiseAbs().maxCoeff(), 1e-6);
   }
   return results;
 }
@@ -107,12 +108,12 @@ std::vector<ident::ChainSegmentalResult> identifyStages(const ChainIdentifyArgs&
 // Stage s: what it identifies and each method's result there (printed, into its JSON `sj`), and
 // why a method's result there must not be used (appended to `problems`).
 void reportStage(std::size_t s, const ident::ChainModel& model, const std::vector<ident::Method>& methods,
-                 const std::vector<ident::ChainSegmentalResult>& results, nlohmann::json& sj, std::vector<std::string>& problems) {
-  const ident::ChainStageResult& st = results.front().stages[s];
+                 const std::vector<ident::SegmentalResult>& results, nlohmann::json& sj, std::vector<std::string>& problems) {
+  const ident::StageProblem& st = results.front().stages[s].problem;
   const std::string joint = model.joints[static_cast<std::size_t>(st.first_joint)].name;
   std::cout << "stage " << s + 1 << ": " << (st.first_joint == 0 ? "every joint moves" : "joints from " + joint + " down move, " +
                                                                                              lockedJoints(model, st.first_joint) + " locked")
-            << "; " << st.rows << " equations; identifies " << st.directions.cols() << ":";
+            << "; " << st.rows.size() << " equations; identifies " << st.directions.cols() << ":";
   for (const std::string& n : st.names) std::cout << " " << n << ";";
   std::cout << "\n";
   for (std::size_t k = 0; k < methods.size(); ++k) {
@@ -128,7 +129,7 @@ void reportStage(std::size_t s, const ident::ChainModel& model, const std::vecto
                          boxBoundMessage(st.names[static_cast<std::size_t>(i)], e, i));
     }
   }
-  sj["equations"] = st.rows;
+  sj["equations"] = st.rows.size();
   sj["identifies"] = st.names;
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const ident::Estimate& e = results[k].stages[s].estimate;
@@ -141,11 +142,11 @@ void reportStage(std::size_t s, const ident::ChainModel& model, const std::vecto
 
 // The stage (1-based; 0: none) after which each base parameter is determined: it then lies in
 // the span of the combinations identified so far (the directions are orthonormal, across stages too).
-std::vector<int> knownAfterStage(const ident::ChainSegmentalResult& ls, int rank) {
+std::vector<int> knownAfterStage(const ident::SegmentalResult& ls, int rank) {
   std::vector<int> stage_of(static_cast<std::size_t>(rank), 0);
   Eigen::VectorXd known_share = Eigen::VectorXd::Zero(rank);
   for (std::size_t s = 0; s < ls.stages.size(); ++s) {
-    const ident::ChainStageResult& st = ls.stages[s];
+    const ident::StageProblem& st = ls.stages[s].problem;
     for (Eigen::Index i = 0; i < rank; ++i) {
       known_share[i] += st.directions.row(i).squaredNorm();
       if (known_share[i] > 1.0 - 1e-9 && stage_of[static_cast<std::size_t>(i)] == 0) stage_of[static_cast<std::size_t>(i)] = static_cast<int>(s + 1);
@@ -155,7 +156,7 @@ std::vector<int> knownAfterStage(const ident::ChainSegmentalResult& ls, int rank
 }
 
 void printStageEstimates(const ident::BaseParameters& base, const std::vector<ident::Method>& methods,
-                         const std::vector<ident::ChainSegmentalResult>& results, const std::vector<int>& stage_of,
+                         const std::vector<ident::SegmentalResult>& results, const std::vector<int>& stage_of,
                          const std::optional<Eigen::VectorXd>& truth) {
   std::vector<std::string> header = {"base parameter", "known after stage"};
   for (ident::Method m : methods) header.push_back(ident::toString(m));
@@ -163,9 +164,9 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
   TextTable table(header);
   for (int i = 0; i < base.rank; ++i) {
     std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], core::toText(stage_of[static_cast<std::size_t>(i)])};
-    for (const ident::ChainSegmentalResult& r : results) row.push_back(fmt(r.beta[i], 6));
+    for (const ident::SegmentalResult& r : results) row.push_back(fmt(r.theta[i], 6));
     if (truth) {
-      const double ls = results.front().beta[i];
+      const double ls = results.front().theta[i];
       row.push_back(fmt((*truth)[i], 6));
       row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * (ls - (*truth)[i]) / std::abs((*truth)[i]), 3) : "-");
     }
@@ -175,7 +176,7 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
 }
 
 nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
-                          const std::vector<ident::ChainSegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
+                          const std::vector<ident::SegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
                           const std::vector<std::string>& problems) {
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -185,7 +186,7 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
   j["base_parameters"] = {{"names", loaded.base.names}};
   for (std::size_t k = 0; k < methods.size(); ++k) {
     j["base_parameters"]["methods"][ident::toString(methods[k])] =
-        std::vector<double>(results[k].beta.data(), results[k].beta.data() + results[k].beta.size());
+        std::vector<double>(results[k].theta.data(), results[k].theta.data() + results[k].theta.size());
   }
   if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
   j["status"] = problems.empty() ? "usable" : "not usable";
@@ -205,9 +206,9 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << loaded.base.rank
             << " base parameters; segmental strategy, distal joints first\n";
-  StageRecords records = readStages(a, model, log);
+  StageRecords records = readStages(a, loaded, log);
   const std::vector<ident::Method> methods = stageMethods(a);
-  const std::vector<ident::ChainSegmentalResult> results = identifyStages(a, loaded, records.stages, methods);
+  const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods);
   std::vector<std::string> problems;
   for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, model, methods, results, records.json[s], problems);
 

@@ -13,7 +13,7 @@
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/design/identifiability_advice.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <filesystem>
 #include <iostream>
@@ -106,7 +106,7 @@ struct ProcessedInput {
   ident::LegConstants c;
   ident::SignalOptions signals;
   std::optional<ident::BandChoice> band;
-  ident::ProcessedRecord s;
+  ident::RecordRows s;
 };
 
 ProcessedInput processInput(const Args& a) {
@@ -116,9 +116,10 @@ ProcessedInput processInput(const Args& a) {
   in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);
   in.signals = a.signals;
   try {
-    in.signals = ident::resolveSignalOptions(in.d, in.c, in.signals, false, &in.band);
+    const ident::Robot robot = ident::twoLinkLeg(in.c);
+    in.signals = ident::resolveSignalOptions(in.d, robot, in.signals, {}, &in.band);
     if (in.band) std::cout << "band: " << in.band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-    in.s = ident::processRecord(in.d, in.c, in.signals);
+    in.s = ident::processRecord(in.d, robot, in.signals);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(in.d));
   }
@@ -128,18 +129,19 @@ ProcessedInput processInput(const Args& a) {
 // Both equations with all 10 parameters, the hip's with the thigh's 5, the knee's with the shank's 5.
 std::vector<Block> blocksOf(const ProcessedInput& in, double noise_tau_Nm) {
   const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
-  const ident::ProcessedRecord& s = in.s;
-  const Eigen::MatrixXd& Hh = s.hip;
-  const Eigen::MatrixXd& Hk = s.knee;
+  const ident::RecordRows& s = in.s;
+  const Eigen::MatrixXd Hh = s.jointW(0);
+  const Eigen::MatrixXd Hk = s.jointW(1);
+  const Eigen::VectorXd tau_hip = s.jointY(0), tau_knee = s.jointY(1);
   // White torque noise of std noise_tau reaches the fit through this record's processing.
   const ident::TorqueNoisePath path = ident::torqueNoisePath(in.signals, 1.0 / in.d.sampleInterval_s(), in.d.size());
   const double sg = noise_tau_Nm;
-  Eigen::VectorXd y_all(2 * s.size());
-  y_all << s.tau_Nm.col(0), s.tau_Nm.col(1);
+  Eigen::VectorXd y_all(2 * s.samples());
+  y_all << tau_hip, tau_knee;
   return {
       {"both equations, all 10", all, {{Hh, path, sg}, {Hk, path, sg}}, y_all},
-      {"hip equation, params 1-5", thigh, {{pick(Hh, thigh), path, sg}}, s.tau_Nm.col(0)},
-      {"knee equation, params 6-10", shank, {{pick(Hk, shank), path, sg}}, s.tau_Nm.col(1)},
+      {"hip equation, params 1-5", thigh, {{pick(Hh, thigh), path, sg}}, tau_hip},
+      {"knee equation, params 6-10", shank, {{pick(Hk, shank), path, sg}}, tau_knee},
   };
 }
 
@@ -220,7 +222,7 @@ void run(const Args& a) {
   const std::vector<Block> blocks = blocksOf(in, a.noise_tau_Nm);
   const Reference ref = resolveReference(a);
   nlohmann::json j = reportJson(a, in, ref);
-  std::cout << "Record " << a.data << ": " << in.s.size() << " samples; torque noise " << a.noise_tau_Nm
+  std::cout << "Record " << a.data << ": " << in.s.samples() << " samples; torque noise " << a.noise_tau_Nm
             << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit).\n"
             << (ref.origin.empty() ? "Relative stds: not shown, no reference (--reference FILE: the truth or your leg's "
                                      "nominal parameters); the advice judges by collinearity."

@@ -156,7 +156,7 @@ void printResults(bool timing, const std::vector<MethodOutcome>& outcomes,
 struct Role {
   std::vector<std::string> files;
   std::vector<ident::Dataset> data;
-  ident::ProcessedRecord rows;  ///< the records' rows stacked
+  ident::RecordRows rows;  ///< the records' rows stacked
   /// Each record's processing as used: the options with every choice made from the data.
   std::vector<ident::SignalOptions> signals;
   std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
@@ -170,9 +170,11 @@ struct Excitation {
   double condition = 0.0;
   std::vector<std::pair<int, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
 };
-Excitation excitationOf(const ident::ProcessedRecord& r, bool knee_only) {
-  const ident::SegmentalProblem p = knee_only ? ident::kneeStage(r) : ident::bothEquations(r);
-  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(p.H, p.y, 0.0);
+Excitation excitationOf(const ident::RecordRows& r, bool knee_only) {
+  // The ten parameters of X (the knee armature's column, when fitted, is left out here).
+  const Eigen::MatrixXd H = knee_only ? Eigen::MatrixXd(r.jointW(1).middleCols(ident::kShankFirst, ident::kGroupSize))
+                                      : Eigen::MatrixXd(r.W.leftCols(ident::kNumParams));
+  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(H, knee_only ? r.jointY(1) : r.y, 0.0);
   Excitation e;
   e.condition = report.condition_number;
   if (!std::isfinite(e.condition)) return e;  // rank deficient: the stages say which columns
@@ -235,18 +237,21 @@ void checkThighLengths(const IdentifyArgs& a, const LogInput& log, const ident::
 }
 
 // Each role's records processed and stacked, with how well they excite the parameters.
-void processRoles(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, bool segmental, Role& primary,
+void processRoles(const LogInput& log, const ident::Robot& robot, const ident::SignalOptions& signals, bool segmental, Role& primary,
                   Role& knee) {
   for (Role* role : {&knee, &primary}) {
-    std::vector<ident::ProcessedRecord> rows;
+    std::vector<ident::RecordRows> rows;
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
       try {
         // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
         std::optional<ident::BandChoice> band;
-        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], c, a.signals, role == &knee, &band);
+        ident::BandRule rule;
+        rule.first_moving_joint = role == &knee ? 1 : 0;
+        // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
+        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band);
         if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-        rows.push_back(ident::processRecord(role->data[k], c, o));
+        rows.push_back(ident::processRecord(role->data[k], robot, o));
         role->signals.push_back(o);
         role->bands.push_back(band);
       } catch (const std::invalid_argument& e) {
@@ -278,11 +283,10 @@ void sizePsoBox(const IdentifyArgs& a, const std::vector<ident::Method>& methods
   // 10 x the largest |LS estimate| (a fixed +-50 is absurd for a 0.3 kg arm and tiny for a heavy leg).
   if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
       a.wide_box_option->count() == 0) {
-    const ident::SegmentalProblem all = ident::bothEquations(primary.rows);
-    double biggest = ident::solveLeastSquares(all.H, all.y, mo.ls).x.cwiseAbs().maxCoeff();
+    double biggest = ident::solveLeastSquares(primary.rows.W.leftCols(ident::kNumParams), primary.rows.y, mo.ls).x.cwiseAbs().maxCoeff();
     if (segmental) {
-      const ident::SegmentalProblem k = ident::kneeStage(knee.rows);
-      biggest = std::max(biggest, ident::solveLeastSquares(k.H, k.y, mo.ls).x.cwiseAbs().maxCoeff());
+      const Eigen::MatrixXd H = knee.rows.jointW(1).middleCols(ident::kShankFirst, ident::kGroupSize);
+      biggest = std::max(biggest, ident::solveLeastSquares(H, knee.rows.jointY(1), mo.ls).x.cwiseAbs().maxCoeff());
     }
     if (!(biggest > 0) || !std::isfinite(biggest)) {
       throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");
@@ -325,7 +329,7 @@ struct BandSensitivity {
   std::vector<std::string> over_one;  ///< parameters moved by more than one standard error
 };
 
-std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::LegConstants& c,
+std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::Robot& robot,
                                                const std::vector<MethodOutcome>& outcomes) {
   const MethodOutcome* ls = nullptr;
   for (const MethodOutcome& m : outcomes) {
@@ -337,7 +341,7 @@ std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role
   if (!any) return std::nullopt;
   BandSensitivity out;
   out.factor = 1.25;  // a quarter wider
-  std::vector<ident::ProcessedRecord> rows;
+  std::vector<ident::RecordRows> rows;
   for (std::size_t k = 0; k < primary.data.size(); ++k) {
     ident::SignalOptions o = primary.signals[k];
     if (primary.bands[k]) {
@@ -345,12 +349,12 @@ std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role
       o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
       if (a.signals.derivative_cutoff_from_data) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs);
     }
-    rows.push_back(ident::processRecord(primary.data[k], c, o));
+    rows.push_back(ident::processRecord(primary.data[k], robot, o));
   }
-  const ident::SegmentalProblem p = ident::bothEquations(ident::stackRecords(rows), ls->knee_armature.has_value());
+  const ident::RecordRows p = ident::stackRecords(rows);
   ident::LsOptions lo;
   lo.max_condition = std::numeric_limits<double>::max();
-  const Eigen::VectorXd wider = ident::solveLeastSquares(p.H, p.y, lo).x;
+  const Eigen::VectorXd wider = ident::solveLeastSquares(p.W, p.y, lo).x;
   const ConsistencyStep& cs = *ls->consistency;
   out.shift_se.resize(wider.size());
   for (Eigen::Index i = 0; i < wider.size(); ++i) {
@@ -591,6 +595,7 @@ void checkLegArguments(const IdentifyArgs& a) {
 struct LegRecords {
   Role primary, knee;  ///< --data or --both-data; --knee-data
   ident::LegConstants c;
+  ident::Robot robot;  ///< the 2-link leg of c (with the knee armature when asked)
   std::string constants_origin;
 };
 
@@ -605,7 +610,8 @@ LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {
   r.c = resolveConstants(a.constants, r.primary.data.front(), &r.constants_origin, log.thigh_length_m, log.gravity_mps2);
   checkThighLengths(a, log, r.c, r.primary, r.knee);
   std::cout << "constants: Lt " << fmt(r.c.thigh_length_m) << " m, g " << fmt(r.c.gravity_mps2) << " m/s^2 (" << r.constants_origin << ")\n";
-  processRoles(a, log, r.c, !single, r.primary, r.knee);
+  r.robot = ident::twoLinkLeg(r.c, a.knee_armature);
+  processRoles(log, r.robot, a.signals, !single, r.primary, r.knee);
   return r;
 }
 
@@ -617,10 +623,8 @@ struct ClosedLoopRecords {
 ClosedLoopRecords closedLoopRecords(const IdentifyArgs& a, const LegRecords& r) {
   const bool segmental = a.data.empty();
   ClosedLoopRecords cl;
-  cl.primary = closedLoopRecord(r.primary.data.front(), r.primary.files.front(), r.primary.rows, a.controller, false);
-  if (segmental) cl.knee = closedLoopRecord(r.knee.data.front(), r.knee.files.front(), r.knee.rows, a.controller, true);
-  cl.primary.signals = r.primary.signals.front();
-  if (segmental) cl.knee.signals = r.knee.signals.front();
+  cl.primary = closedLoopRecord(r.primary.data.front(), r.primary.files.front(), r.primary.rows, r.primary.signals.front(), a.controller);
+  if (segmental) cl.knee = closedLoopRecord(r.knee.data.front(), r.knee.files.front(), r.knee.rows, r.knee.signals.front(), a.controller, 1);
   return cl;
 }
 
@@ -633,16 +637,15 @@ MethodOutcome identifyBy(ident::Method m, const IdentifyArgs& a, const LegRecord
     std::vector<ident::BandIvRows> rows;
     for (std::size_t k = 0; k < primary.data.size(); ++k) {
       const double fm = primary.bands[k] ? primary.bands[k]->motion_bandwidth_hz : ident::motionBandwidth(primary.data[k]);
-      rows.push_back(ident::bandIvRows(primary.data[k], r.c, primary.signals[k], fm, a.knee_armature));
+      rows.push_back(ident::bandIvRows(primary.data[k], r.robot, primary.signals[k], fm));
     }
     return identifyAll(ident::solveBandIv(rows, mo.ls), a.knee_armature);
   }
   if (m == ident::Method::kIdimIv) {
     // Each record's instruments are processed as its measured rows were (its band).
-    return single ? identifyAllIdimIv(cl.primary, r.c, primary.signals.front(), a.iv, a.knee_armature)
-                  : identifySegmentedIdimIv(cl.knee, cl.primary, r.c, primary.signals.front(), a.iv);
+    return single ? identifyAllIdimIv(r.robot, cl.primary, a.iv) : identifySegmentedIdimIv(r.robot, cl.knee, cl.primary, a.iv);
   }
-  return single ? identifyAll(m, primary.rows, mo, a.knee_armature) : identifySegmented(m, r.knee.rows, primary.rows, mo);
+  return single ? identifyAll(m, primary.rows, mo) : identifySegmented(r.robot, m, r.knee.rows, primary.rows, mo);
 }
 
 // Every --validate record, processed in the band the fit used (its first record's, so the errors
@@ -652,9 +655,9 @@ std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(co
                                                                               const std::vector<MethodOutcome>& outcomes) {
   std::vector<std::pair<std::string, std::vector<Validation>>> validations;
   for (const std::string& file : a.validate) {
-    ident::ProcessedRecord rv;
+    ident::RecordRows rv;
     try {
-      rv = ident::processRecord(readLog(file, log), r.c, r.primary.signals.front());
+      rv = ident::processRecord(readLog(file, log), r.robot, r.primary.signals.front());
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(file + ": " + e.what());
     }
@@ -692,7 +695,7 @@ void run(const IdentifyArgs& a) {
       if (m.method == ident::Method::kLs) applyConsistency(m, r.primary.rows, r.c, a.consistency_options);
     }
   }
-  const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.c, outcomes) : std::nullopt;
+  const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
   const std::vector<std::pair<std::string, std::vector<Validation>>> validations = validateOutcomes(a, log, r, outcomes);
 
   printResults(a.timing, outcomes, validations, truths);
@@ -725,11 +728,11 @@ void addInputOptions(CLI::App& cmd, IdentifyArgs& args) {
                  "the '# controller_*' metadata exoid simulate writes)")
       ->capture_default_str()->delimiter(',')->group("Input");
   cmd.add_option("--controller", args.controller,
-                 "IDIM-IV: JSON of the rig's controller {\"kp\": [hip, knee], \"kd\": [..], \"ki\": [..],\n"
-                 "\"derivative_cutoff_hz\": .., \"integral_limit_Nm\": .., \"feedforward\": \"model\"|\"none\",\n"
-                 "\"hip_locked\": false}; a chain's (--model): {\"kp\": [one per joint], \"kd\": [..], \"feedforward\":\n"
-                 "\"model\"|\"none\", \"actuator_bandwidth_hz\": ..} (u = ff + kp (q_ref - q) + kd (qd_ref - qd)); default: the\n"
-                 "records' metadata")
+                 "IDIM-IV: JSON of the rig's controller, one gain per joint: {\"kp\": [..], \"kd\": [..], \"ki\": [..],\n"
+                 "\"derivative\": \"error_difference\"|\"measured_velocity\", \"derivative_cutoff_hz\": .., \"integral_limit_Nm\": ..,\n"
+                 "\"feedforward\": \"model\"|\"none\", \"actuator_bandwidth_hz\": .., \"locked\": [joints]} (u = ff + kp e + ki int(e)\n"
+                 "+ kd de, e = q_ref - q; de the error's filtered difference, or qd_ref - qd with the measured velocity);\n"
+                 "default: the records' metadata")
       ->check(CLI::ExistingFile)->group("Input");
   cmd.add_option("--validate", args.validate, "Validation record(s): torque error per joint (repeatable)")
       ->check(CLI::ExistingFile)->group("Input");

@@ -14,7 +14,7 @@
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/experiments/commands/chain_commands.hpp"
 #include "exoid/experiments/protocol/chain_bridge.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/render/chain_clip.hpp"
 #include "exoid/render/clip.hpp"
 #include "exoid/sim/serial_chain.hpp"
@@ -165,8 +165,8 @@ void addChainPrediction(const std::string& json_path, const ident::Dataset& d, c
                         const LoadedChain& loaded, render::OverlayTrack& track) {
   const Eigen::VectorXd beta = chainEstimateFrom(json_path, loaded);
   const ident::JointSignals s = ident::prepareSignals(d, signals);
-  const ident::ChainRecord rows = ident::chainRows(loaded.model, s);
-  const Eigen::VectorXd tau = loaded.base.baseRegressor(rows.W) * beta;
+  const ident::RecordRows rows = ident::recordRows(loaded.robot, s);
+  const Eigen::VectorXd tau = rows.W * beta;
   const std::size_t n = static_cast<std::size_t>(d.size());
   for (render::OverlayJoint& j : track.joints) j.tau_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
   if (s.size() > 0) {

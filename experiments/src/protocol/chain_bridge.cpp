@@ -64,7 +64,8 @@ LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::st
   c.chain = sim::serialChainFromFile(c.path);
   c.model = withArmature(chainModel(c.chain), armature);
   c.phi = standardParameters(c.chain, c.model);
-  c.base = ident::baseParameters(c.model);
+  c.robot = ident::chainRobot(c.model);
+  c.base = c.robot.basis;
   return c;
 }
 

@@ -28,12 +28,6 @@ std::string required(const ident::Dataset& d, const std::string& key, const std:
   return *v;
 }
 
-Eigen::Vector2d pairOf(const std::string& text, const std::string& where) {
-  const auto comma = text.find(',');
-  if (comma == std::string::npos) throw std::invalid_argument(where + ": expected 'hip,knee', got '" + text + "'");
-  return {parseNumber(text.substr(0, comma), where), parseNumber(text.substr(comma + 1), where)};
-}
-
 bool boolOf(const std::string& text, const std::string& where) {
   if (text == "true") return true;
   if (text == "false") return false;
@@ -58,98 +52,6 @@ ident::Feedforward feedforwardOf(const nlohmann::json& j, const std::string& pat
   }
 }
 
-}  // namespace
-
-ident::ControllerModel controllerFromMetadata(const ident::Dataset& d, const std::string& source) {
-  ident::ControllerModel c;
-  const auto key = [&](const std::string& k) { return required(d, k, source); };
-  const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
-  c.pid.kp_Nm_per_rad = pairOf(key("controller_kp_Nm_per_rad"), where("controller_kp_Nm_per_rad"));
-  c.pid.ki_Nm_per_rad_s = pairOf(key("controller_ki_Nm_per_rad_s"), where("controller_ki_Nm_per_rad_s"));
-  c.pid.kd_Nms_per_rad = pairOf(key("controller_kd_Nms_per_rad"), where("controller_kd_Nms_per_rad"));
-  c.pid.derivative_cutoff_hz = parseNumber(key("controller_derivative_cutoff_Hz"), where("controller_derivative_cutoff_Hz"));
-  c.pid.integral_limit_Nm = parseNumber(key("controller_integral_limit_Nm"), where("controller_integral_limit_Nm"));
-  c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
-  c.locked = {boolOf(key("hip_locked"), where("hip_locked")), false};
-  try {
-    c.validate();
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(source + ": " + e.what());
-  }
-  return c;
-}
-
-ident::ControllerModel readControllerJson(const std::string& path) {
-  const nlohmann::json j = readControllerObject(path);
-  static const char* const known[] = {"kp", "ki", "kd", "derivative_cutoff_hz", "integral_limit_Nm", "feedforward", "hip_locked"};
-  for (const auto& [k, v] : j.items()) {
-    bool ok = false;
-    for (const char* name : known) ok = ok || k == name;
-    if (!ok) throw std::invalid_argument(path + ": unknown field '" + k + "' (expected kp, ki, kd, derivative_cutoff_hz, integral_limit_Nm, feedforward, hip_locked)");
-  }
-  const auto pair = [&](const char* name, bool needed) -> Eigen::Vector2d {
-    if (!j.contains(name)) {
-      if (needed) throw std::invalid_argument(path + ": missing '" + name + "' ([hip, knee])");
-      return Eigen::Vector2d::Zero();
-    }
-    const auto& v = j[name];
-    if (!v.is_array() || v.size() != 2 || !v[0].is_number() || !v[1].is_number()) {
-      throw std::invalid_argument(path + ": '" + name + "' must be [hip, knee] numbers");
-    }
-    return {v[0].get<double>(), v[1].get<double>()};
-  };
-  ident::ControllerModel c;
-  c.pid.kp_Nm_per_rad = pair("kp", true);
-  c.pid.ki_Nm_per_rad_s = pair("ki", false);
-  c.pid.kd_Nms_per_rad = pair("kd", true);
-  const auto number = [&](const char* name, double fallback) {
-    if (!j.contains(name)) return fallback;
-    if (!j[name].is_number()) throw std::invalid_argument(path + ": '" + name + "' must be a number");
-    return j[name].get<double>();
-  };
-  c.pid.derivative_cutoff_hz = number("derivative_cutoff_hz", 0.0);
-  c.pid.integral_limit_Nm = number("integral_limit_Nm", 1e300);
-  c.feedforward = feedforwardOf(j, path);
-  if (j.contains("hip_locked")) {
-    if (!j["hip_locked"].is_boolean()) throw std::invalid_argument(path + ": 'hip_locked' must be true or false");
-    c.locked = {j["hip_locked"].get<bool>(), false};
-  }
-  try {
-    c.validate();
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
-  }
-  return c;
-}
-
-ident::Reference referenceOf(const ident::Dataset& d, const std::string& source) {
-  Eigen::MatrixX2d q(d.size(), 2);
-  for (int j = 0; j < 2; ++j) {
-    const std::string name = j == 0 ? "q_hip_ref" : "q_knee_ref";
-    bool found = false;
-    for (const auto& n : d.extra_names) found = found || n == name;
-    if (!found) {
-      throw std::invalid_argument(source + ": no '" + name + "' column; IDIM-IV simulates the controller tracking "
-                                  "its reference and needs q_hip_ref and q_knee_ref (rad)");
-    }
-    q.col(j) = d.extraColumn(name);
-  }
-  return ident::Reference::fromAngles(d.t_s, q);
-}
-
-ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source,
-                                         const ident::ProcessedRecord& rows, const std::string& controller_json,
-                                         bool knee_only_record) {
-  ident::ClosedLoopRecord r;
-  r.measured = rows;
-  r.controller = controller_json.empty() ? controllerFromMetadata(d, source) : readControllerJson(controller_json);
-  r.reference = referenceOf(d, source);
-  if (knee_only_record) r.controller.locked = {true, false};
-  return r;
-}
-
-namespace {
-
 Eigen::VectorXd listOf(const std::string& text, const std::string& where) {
   std::vector<double> v;
   std::size_t start = 0;
@@ -162,65 +64,133 @@ Eigen::VectorXd listOf(const std::string& text, const std::string& where) {
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-}  // namespace
-
-ident::ChainController chainControllerFromMetadata(const ident::Dataset& d, const std::string& source) {
-  if (const auto locked = d.metadata("locked_joints"); locked && !locked->empty()) {
-    throw std::invalid_argument(source + ": joints " + *locked + " are locked in this record (metadata 'locked_joints'); IDIM-IV "
-                                "simulates the closed loop of every joint: give it records in which every joint moves");
+// The joints named in a list ("hip,knee" or a JSON array) as a lock mask; throws naming an unknown one.
+std::vector<bool> lockMask(const std::vector<std::string>& names, const std::vector<std::string>& joints, const std::string& where) {
+  std::vector<bool> locked(joints.size(), false);
+  for (const std::string& n : names) {
+    const auto it = std::find(joints.begin(), joints.end(), n);
+    if (it == joints.end()) throw std::invalid_argument(where + ": '" + n + "' is not a joint of the record");
+    locked[static_cast<std::size_t>(it - joints.begin())] = true;
   }
-  ident::ChainController c;
-  const auto key = [&](const std::string& k) { return required(d, k, source); };
-  const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
-  c.kp_Nm_per_rad = listOf(key("controller_kp_Nm_per_rad"), where("controller_kp_Nm_per_rad"));
-  c.kd_Nms_per_rad = listOf(key("controller_kd_Nms_per_rad"), where("controller_kd_Nms_per_rad"));
-  c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
-  if (const auto bw = d.metadata("actuator_bandwidth_Hz")) c.actuator_bandwidth_hz = parseNumber(*bw, where("actuator_bandwidth_Hz"));
+  return locked;
+}
+
+std::vector<std::string> splitNames(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = text.find(',', start);
+    const std::string name = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!name.empty()) out.push_back(name);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+ident::Controller validated(ident::Controller c, const std::vector<std::string>& joints, const std::string& source) {
   try {
-    c.validate(static_cast<int>(d.dof()));
+    c.validate(joints);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(source + ": " + e.what());
   }
   return c;
 }
 
-ident::ChainController readChainControllerJson(const std::string& path, int dof) {
+}  // namespace
+
+ident::Controller controllerFromMetadata(const ident::Dataset& d, const std::string& source) {
+  ident::Controller c;
+  const auto key = [&](const std::string& k) { return required(d, k, source); };
+  const auto where = [&](const std::string& k) { return source + ": metadata '" + k + "'"; };
+  const auto optional = [&](const std::string& k, double fallback) {
+    const auto v = d.metadata(k);
+    return v ? parseNumber(*v, where(k)) : fallback;
+  };
+  c.kp_Nm_per_rad = listOf(key("controller_kp_Nm_per_rad"), where("controller_kp_Nm_per_rad"));
+  c.kd_Nms_per_rad = listOf(key("controller_kd_Nms_per_rad"), where("controller_kd_Nms_per_rad"));
+  if (const auto ki = d.metadata("controller_ki_Nm_per_rad_s")) c.ki_Nm_per_rad_s = listOf(*ki, where("controller_ki_Nm_per_rad_s"));
+  c.derivative_cutoff_hz = optional("controller_derivative_cutoff_Hz", 0.0);
+  c.integral_limit_Nm = optional("controller_integral_limit_Nm", 1e300);
+  c.actuator_bandwidth_hz = optional("actuator_bandwidth_Hz", 0.0);
+  if (const auto law = d.metadata("controller_law"); law && *law == "pd_measured_velocity") c.derivative = ident::DerivativeSource::kMeasuredVelocity;
+  c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
+  std::vector<std::string> locked;
+  if (const auto hip = d.metadata("hip_locked"); hip && boolOf(*hip, where("hip_locked"))) locked.push_back("hip");
+  if (const auto names = d.metadata("locked_joints")) {
+    for (const std::string& n : splitNames(*names)) locked.push_back(n);
+  }
+  if (!locked.empty()) c.locked = lockMask(locked, d.joints, where(d.metadata("locked_joints") ? "locked_joints" : "hip_locked"));
+  return validated(c, d.joints, source);
+}
+
+ident::Controller readControllerJson(const std::string& path, const std::vector<std::string>& joints) {
   const nlohmann::json j = readControllerObject(path);
+  static const char* const known[] = {"kp",           "ki",          "kd",     "derivative", "derivative_cutoff_hz", "integral_limit_Nm",
+                                      "feedforward", "actuator_bandwidth_hz", "locked", "hip_locked"};
   for (const auto& [k, v] : j.items()) {
-    if (k != "kp" && k != "kd" && k != "feedforward" && k != "actuator_bandwidth_hz") {
-      throw std::invalid_argument(path + ": unknown field '" + k + "' (a chain's controller: kp, kd, feedforward, actuator_bandwidth_hz)");
+    bool ok = false;
+    for (const char* name : known) ok = ok || k == name;
+    if (!ok) {
+      throw std::invalid_argument(path + ": unknown field '" + k + "' (expected kp, ki, kd, derivative, derivative_cutoff_hz, "
+                                  "integral_limit_Nm, feedforward, actuator_bandwidth_hz, locked, hip_locked)");
     }
   }
-  const auto gains = [&](const char* name) {
-    if (!j.contains(name)) throw std::invalid_argument(path + ": missing '" + name + "' (one number per joint, " + std::to_string(dof) + ")");
+  const auto dof = joints.size();
+  const auto gains = [&](const char* name, bool needed) -> Eigen::VectorXd {
+    if (!j.contains(name)) {
+      if (needed) throw std::invalid_argument(path + ": missing '" + name + "' (one number per joint, " + std::to_string(dof) + ")");
+      return Eigen::VectorXd::Zero(static_cast<Eigen::Index>(dof));
+    }
     const auto& v = j[name];
-    if (!v.is_array() || static_cast<int>(v.size()) != dof) {
+    if (!v.is_array() || v.size() != dof) {
       throw std::invalid_argument(path + ": '" + name + "' must be an array of " + std::to_string(dof) + " numbers (one per joint)");
     }
-    Eigen::VectorXd g(dof);
-    for (int i = 0; i < dof; ++i) {
-      if (!v[static_cast<std::size_t>(i)].is_number()) throw std::invalid_argument(path + ": '" + name + "' must hold numbers");
-      g[i] = v[static_cast<std::size_t>(i)].get<double>();
+    Eigen::VectorXd g(static_cast<Eigen::Index>(dof));
+    for (std::size_t i = 0; i < dof; ++i) {
+      if (!v[i].is_number()) throw std::invalid_argument(path + ": '" + name + "' must hold numbers");
+      g[static_cast<Eigen::Index>(i)] = v[i].get<double>();
     }
     return g;
   };
-  ident::ChainController c;
-  c.kp_Nm_per_rad = gains("kp");
-  c.kd_Nms_per_rad = gains("kd");
+  const auto number = [&](const char* name, double fallback) {
+    if (!j.contains(name)) return fallback;
+    if (!j[name].is_number()) throw std::invalid_argument(path + ": '" + name + "' must be a number");
+    return j[name].get<double>();
+  };
+  ident::Controller c;
+  c.kp_Nm_per_rad = gains("kp", true);
+  c.ki_Nm_per_rad_s = gains("ki", false);
+  c.kd_Nms_per_rad = gains("kd", true);
+  c.derivative_cutoff_hz = number("derivative_cutoff_hz", 0.0);
+  c.integral_limit_Nm = number("integral_limit_Nm", 1e300);
+  c.actuator_bandwidth_hz = number("actuator_bandwidth_hz", 0.0);
   c.feedforward = feedforwardOf(j, path);
-  if (j.contains("actuator_bandwidth_hz")) {
-    if (!j["actuator_bandwidth_hz"].is_number()) throw std::invalid_argument(path + ": 'actuator_bandwidth_hz' must be a number");
-    c.actuator_bandwidth_hz = j["actuator_bandwidth_hz"].get<double>();
+  if (j.contains("derivative")) {
+    const auto& v = j["derivative"];
+    if (v == "measured_velocity") {
+      c.derivative = ident::DerivativeSource::kMeasuredVelocity;
+    } else if (v != "error_difference") {
+      throw std::invalid_argument(path + ": 'derivative' must be \"error_difference\" or \"measured_velocity\"");
+    }
   }
-  try {
-    c.validate(dof);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": " + e.what());
+  std::vector<std::string> locked;
+  if (j.contains("hip_locked")) {
+    if (!j["hip_locked"].is_boolean()) throw std::invalid_argument(path + ": 'hip_locked' must be true or false");
+    if (j["hip_locked"].get<bool>()) locked.push_back("hip");
   }
-  return c;
+  if (j.contains("locked")) {
+    if (!j["locked"].is_array()) throw std::invalid_argument(path + ": 'locked' must be an array of joint names");
+    for (const auto& n : j["locked"]) {
+      if (!n.is_string()) throw std::invalid_argument(path + ": 'locked' must be an array of joint names");
+      locked.push_back(n.get<std::string>());
+    }
+  }
+  if (!locked.empty()) c.locked = lockMask(locked, joints, path + ": 'locked'");
+  return validated(c, joints, path);
 }
 
-ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::string& source) {
+ident::Reference referenceOf(const ident::Dataset& d, const std::string& source) {
   Eigen::MatrixXd q(d.size(), d.dof());
   for (Eigen::Index j = 0; j < d.dof(); ++j) {
     const std::string name = "q_" + d.joints[static_cast<std::size_t>(j)] + "_ref";
@@ -231,10 +201,25 @@ ident::ChainReference chainReferenceOf(const ident::Dataset& d, const std::strin
     q.col(j) = d.extraColumn(name);
   }
   try {
-    return ident::ChainReference::fromAngles(d.t_s, q);
+    return ident::Reference::fromAngles(d.t_s, q);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(source + ": the q_<joint>_ref columns: " + e.what());
   }
+}
+
+ident::ClosedLoopRecord closedLoopRecord(const ident::Dataset& d, const std::string& source, const ident::RecordRows& rows,
+                                         const ident::SignalOptions& signals, const std::string& controller_json,
+                                         Eigen::Index locked_below) {
+  ident::ClosedLoopRecord r;
+  r.measured = rows;
+  r.signals = signals;
+  r.controller = controller_json.empty() ? controllerFromMetadata(d, source) : readControllerJson(controller_json, d.joints);
+  r.reference = referenceOf(d, source);
+  if (locked_below > 0) {
+    r.controller.locked.assign(static_cast<std::size_t>(d.dof()), false);
+    for (Eigen::Index j = 0; j < locked_below; ++j) r.controller.locked[static_cast<std::size_t>(j)] = true;
+  }
+  return r;
 }
 
 }  // namespace exoid::experiments

@@ -122,34 +122,28 @@ MethodOutcome allOutcome(ident::Method m, ident::Estimate e, bool knee_armature)
   return out;
 }
 
-// The outcome of the segmental strategy's two stages.
-MethodOutcome segmentalOutcome(ident::Method m, const ident::SegmentalResult& r) {
+// The outcome of the segmental strategy's stages, each named after its first moving joint.
+MethodOutcome segmentalOutcome(const ident::Robot& robot, ident::Method m, const ident::SegmentalResult& r) {
   MethodOutcome out;
   out.method = m;
-  out.x = r.x;
-  out.stages.push_back({"knee", range(ident::kShankFirst, ident::kGroupSize), r.knee});
-  out.stages.push_back({"hip", range(ident::kThighFirst, ident::kGroupSize), r.hip});
+  out.x = r.theta.head<kNumParams>();
+  for (const ident::StageResult& st : r.stages) {
+    out.stages.push_back({robot.chain.joints[static_cast<std::size_t>(st.problem.first_joint)].name, st.problem.parameters, st.estimate});
+  }
   for (Stage& st : out.stages) nameColumns(st);
   checkPlausibility(out);
   return out;
 }
 }  // namespace
 
-MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
-                          bool knee_armature) {
-  // Both equations in time order (hip row, knee row per sample), so RLS sees the record in order.
-  const ident::SegmentalProblem all = ident::bothEquations(r, knee_armature);
-  return allOutcome(m, ident::estimate(m, all.H, all.y, o), knee_armature);
+MethodOutcome identifyAll(ident::Method m, const ident::RecordRows& r, const ident::MethodOptions& o) {
+  // Every equation in time order (hip row, knee row per sample), so RLS sees the record in order.
+  return allOutcome(m, ident::estimate(m, r.W, r.y, o), r.W.cols() > kNumParams);
 }
 
 MethodOutcome identifyAll(ident::Estimate e, bool knee_armature) {
   const ident::Method m = e.method;
   return allOutcome(m, std::move(e), knee_armature);
-}
-
-MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
-                          const ident::MethodOptions& o) {
-  return identifyAll(m, ident::regressorRecord(s, c), o);
 }
 
 std::vector<std::string> ConsistencyStep::withinNoise() const {
@@ -162,13 +156,12 @@ std::vector<std::string> ConsistencyStep::withinNoise() const {
   return out;
 }
 
-void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options) {
   if (m.stages.size() != 1 || m.stages.front().name != "all") {
     throw std::invalid_argument("applyConsistency: needs a fit of all parameters at once (one stage 'all')");
   }
   const bool armature = m.knee_armature.has_value();
-  const ident::SegmentalProblem p = ident::bothEquations(r, armature);
   const Eigen::VectorXd x = m.stages.front().estimate.x;
   // Rank, conditioning: reported as not usable already; the plain plausibility rule stays.
   if (!ident::usable(m.stages.front().estimate.summary.status)) return;
@@ -176,45 +169,34 @@ void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const i
   step.unconstrained = x;
   step.significance_sigmas = options.significance_sigmas;
   // One channel, both equations of a sample one step (their residuals are correlated).
-  const Eigen::MatrixXd cov = ident::residualCovariance(p.H, p.y - p.H * x, ident::interleavedChannels(p.H.rows(), 1), -1, 2);
+  const Eigen::MatrixXd cov = ident::residualCovariance(p.W, p.y - p.W * x, ident::interleavedChannels(p.W.rows(), 1), -1, 2);
   step.std_err = cov.diagonal().cwiseSqrt();
-  step.fit = ident::solveConsistentLeastSquares(p.H, p.y, c.thigh_length_m, x, cov, options);
+  step.fit = ident::solveConsistentLeastSquares(p.W, p.y, c.thigh_length_m, x, cov, options);
   m.x = step.fit.x.head(kNumParams);
   if (armature) m.knee_armature = step.fit.x[ident::kKneeArmature];
   m.implausible = step.significant();
   m.consistency = std::move(step);
 }
 
-MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
-                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o) {
-  return segmentalOutcome(m, ident::identifySegmental(m, knee_record, both_record, o));
+MethodOutcome identifySegmented(const ident::Robot& robot, ident::Method m, const ident::RecordRows& knee_record,
+                                const ident::RecordRows& both_record, const ident::MethodOptions& o) {
+  return segmentalOutcome(robot, m, ident::identifySegmental(robot, {{1, knee_record}, {0, both_record}}, m, o));
 }
 
-MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
-                                const ident::JointSignals& both_record, const ident::LegConstants& c,
-                                const ident::MethodOptions& o) {
-  return identifySegmented(m, ident::regressorRecord(knee_record, c), ident::regressorRecord(both_record, c), o);
+MethodOutcome identifySegmentedIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& knee_record,
+                                      const ident::ClosedLoopRecord& both_record, const ident::IvOptions& options) {
+  return segmentalOutcome(robot, ident::Method::kIdimIv, ident::identifySegmentalIdimIv(robot, {{1, knee_record}, {0, both_record}}, options));
 }
 
-MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
-                                      const ident::LegConstants& c, const ident::SignalOptions& signals,
-                                      const ident::IvOptions& options) {
-  return segmentalOutcome(ident::Method::kIdimIv, ident::identifySegmentalIv(knee_record, both_record, c, signals, options));
+MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& record, const ident::IvOptions& options) {
+  return allOutcome(ident::Method::kIdimIv, ident::identifyIdimIv(robot, {record}, options), robot.knee_armature);
 }
 
-MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
-                                const ident::SignalOptions& signals, const ident::IvOptions& options,
-                                bool knee_armature) {
-  return allOutcome(ident::Method::kIdimIv, ident::identifyAllIv(record, c, signals, options, knee_armature), knee_armature);
-}
-
-Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature) {
-  return {ident::torqueError(r.tau_Nm.col(0), r.hip * x),
-          ident::torqueError(r.tau_Nm.col(1), r.knee * x + knee_armature * r.knee_armature)};
-}
-
-Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c) {
-  return validate(ident::regressorRecord(s, c), x);
+Validation validate(const ident::RecordRows& r, const ident::ParamVector& x, double knee_armature) {
+  const Eigen::MatrixXd hip = r.jointW(0), knee = r.jointW(1);
+  const Eigen::VectorXd ia2_column = knee.cols() > kNumParams ? Eigen::VectorXd(knee.col(ident::kKneeArmature)) : Eigen::VectorXd::Zero(knee.rows());
+  return {ident::torqueError(r.jointY(0), hip.leftCols<kNumParams>() * x),
+          ident::torqueError(r.jointY(1), knee.leftCols<kNumParams>() * x + knee_armature * ia2_column)};
 }
 
 nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices) {

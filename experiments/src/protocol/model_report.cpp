@@ -29,7 +29,7 @@ std::string list(const std::vector<int>& indices, const std::vector<std::string>
 void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out, const std::vector<std::string>& armature) {
   if (!json_out.empty()) core::checkOutputWritable(json_out);
   const LoadedChain loaded = loadChain(model_name, armature);
-  const auto& [path, chain, model, phi, base] = loaded;
+  const auto& [path, chain, model, phi, base, robot] = loaded;
   const ident::BaseParameterOptions options;
   const std::vector<std::string> names = model.standardParameterNames();
 

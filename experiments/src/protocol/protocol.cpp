@@ -115,16 +115,22 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     const Eigen::Index trim = c.signals.edgeTrimSamples(1.0 / r.data.sampleInterval_s());
     r.exact_q.tau_Nm = r.data.tau_Nm.middleRows(trim, r.exact_q.size());
     r.ideal = alignedExact(r.data, "ideal", c.signals);
+    r.robot = ident::twoLinkLeg(constantsOf(r.sim.truth));
+    r.processed_rows = ident::recordRows(r.robot, r.processed);
+    r.exact_rows = ident::recordRows(r.robot, r.exact_q);
     if (k != 0 && k != 2) continue;  // the parallel arms identify on records 1 and 3 only
-    const ident::LegConstants lc = constantsOf(r.sim.truth);
-    r.closed_loop.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals));
+    r.closed_loop.signals = parallelSignals(c.signals);
+    r.closed_loop.measured = ident::processRecord(r.data, r.robot, r.closed_loop.signals);
     r.closed_loop.reference = referenceOf(r.data, "record " + core::toText(k + 1));
     r.closed_loop.controller = controllerOf(sc, k < 2);
     r.closed_loop_base = r.closed_loop;
-    r.closed_loop_base.measured = ident::processRecord(r.data, lc, parallelSignals(c.signals, true));
+    r.closed_loop_base.signals = parallelSignals(c.signals, true);
+    r.closed_loop_base.measured = ident::processRecord(r.data, r.robot, r.closed_loop_base.signals);
     // Record 1's hip is held by the rig's lock: no hip torque is measured, its knee equation judges.
-    r.default_signals = ident::resolveSignalOptions(r.data, lc, defaultIdentifySignals(), k == 0);
-    r.default_rows = ident::processRecord(r.data, lc, r.default_signals);
+    ident::BandRule rule;
+    rule.first_moving_joint = k == 0 ? 1 : 0;
+    r.default_signals = ident::resolveSignalOptions(r.data, r.robot, defaultIdentifySignals(), rule);
+    r.default_rows = ident::processRecord(r.data, r.robot, r.default_signals);
   }
   return out;
 }
@@ -136,8 +142,10 @@ Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc) {
   t.g_mps2 = lc.gravity_mps2;
   ident::MethodOptions o;
   o.report_optimality_gap = false;
-  const ident::SegmentalResult bf = ident::identifySegmental(ident::Method::kLs, r[0].ideal, r[2].ideal, lc, o);
-  t.best_fit = bf.x;
+  const ident::Robot robot = ident::twoLinkLeg(lc);
+  const ident::SegmentalResult bf =
+      ident::identifySegmental(robot, {{1, ident::recordRows(robot, r[0].ideal)}, {0, ident::recordRows(robot, r[2].ideal)}}, ident::Method::kLs, o);
+  t.best_fit = bf.theta.head<ident::kNumParams>();
   const ident::ParamVector lo1 = toParamVector(r[0].sim.lumped_band.min), hi1 = toParamVector(r[0].sim.lumped_band.max);
   const ident::ParamVector lo3 = toParamVector(r[2].sim.lumped_band.min), hi3 = toParamVector(r[2].sim.lumped_band.max);
   t.band_min << lo3.head<5>(), lo1.tail<5>();
@@ -147,34 +155,32 @@ Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc) {
 
 namespace {
 
-MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
-                         const ProtocolConfig& c, const ident::MethodOptions& o) {
+MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const ProtocolConfig& c, const ident::MethodOptions& o) {
+  const ident::Robot& robot = r[0].robot;
+  const auto segmented = [&](ident::Method m, const ident::RecordRows& knee, const ident::RecordRows& both) {
+    return identifySegmented(robot, m, knee, both, o);
+  };
   switch (v) {
-    case Variant::kLsParallel:
-      return identifySegmented(ident::Method::kLs, r[0].closed_loop.measured, r[2].closed_loop.measured, o);
-    case Variant::kIdimIv:
-      return identifySegmentedIdimIv(r[0].closed_loop, r[2].closed_loop, lc, parallelSignals(c.signals), c.iv);
-    case Variant::kLsBase:
-      return identifySegmented(ident::Method::kLs, r[0].closed_loop_base.measured, r[2].closed_loop_base.measured, o);
-    case Variant::kIdimIvBase:
-      return identifySegmentedIdimIv(r[0].closed_loop_base, r[2].closed_loop_base, lc, parallelSignals(c.signals, true), c.iv);
-    case Variant::kDefault:
-      return identifySegmented(ident::Method::kLs, r[0].default_rows, r[2].default_rows, o);
-    case Variant::kLs: return identifySegmented(ident::Method::kLs, r[0].processed, r[2].processed, lc, o);
-    case Variant::kRls: return identifySegmented(ident::Method::kRls, r[0].processed, r[2].processed, lc, o);
-    case Variant::kPso: return identifySegmented(ident::Method::kPso, r[0].processed, r[2].processed, lc, o);
-    case Variant::kRlsPso: return identifySegmented(ident::Method::kRlsPso, r[0].processed, r[2].processed, lc, o);
-    case Variant::kLad: return identifySegmented(ident::Method::kLad, r[0].processed, r[2].processed, lc, o);
-    case Variant::kLsExact: return identifySegmented(ident::Method::kLs, r[0].exact_q, r[2].exact_q, lc, o);
+    case Variant::kLsParallel: return segmented(ident::Method::kLs, r[0].closed_loop.measured, r[2].closed_loop.measured);
+    case Variant::kIdimIv: return identifySegmentedIdimIv(robot, r[0].closed_loop, r[2].closed_loop, c.iv);
+    case Variant::kLsBase: return segmented(ident::Method::kLs, r[0].closed_loop_base.measured, r[2].closed_loop_base.measured);
+    case Variant::kIdimIvBase: return identifySegmentedIdimIv(robot, r[0].closed_loop_base, r[2].closed_loop_base, c.iv);
+    case Variant::kDefault: return segmented(ident::Method::kLs, r[0].default_rows, r[2].default_rows);
+    case Variant::kLs: return segmented(ident::Method::kLs, r[0].processed_rows, r[2].processed_rows);
+    case Variant::kRls: return segmented(ident::Method::kRls, r[0].processed_rows, r[2].processed_rows);
+    case Variant::kPso: return segmented(ident::Method::kPso, r[0].processed_rows, r[2].processed_rows);
+    case Variant::kRlsPso: return segmented(ident::Method::kRlsPso, r[0].processed_rows, r[2].processed_rows);
+    case Variant::kLad: return segmented(ident::Method::kLad, r[0].processed_rows, r[2].processed_rows);
+    case Variant::kLsExact: return segmented(ident::Method::kLs, r[0].exact_rows, r[2].exact_rows);
     case Variant::kLsStacked: {
       // Record 1's hip is held by the rig's lock, not its motor: no hip torque is measured there,
       // so only its knee equation enters; record 3 gives both equations.
-      const Eigen::MatrixXd H1 = ident::jointRegressor(r[0].processed, ident::Joint::kKnee, lc);
-      const Eigen::MatrixXd H3 = ident::stackedRegressor(r[2].processed, lc);
+      const Eigen::MatrixXd H1 = r[0].processed_rows.jointW(1);
+      const Eigen::MatrixXd& H3 = r[2].processed_rows.W;
       Eigen::MatrixXd H(H1.rows() + H3.rows(), ident::kNumParams);
       H << H1, H3;
       Eigen::VectorXd y(H.rows());
-      y << r[0].processed.tau_Nm.col(1), ident::stackedTorque(r[2].processed);
+      y << r[0].processed_rows.jointY(1), r[2].processed_rows.y;
       MethodOutcome m;
       m.method = ident::Method::kLs;
       Stage st{"stacked", {0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, ident::estimate(ident::Method::kLs, H, y, o)};
@@ -206,11 +212,11 @@ Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident:
   // The fitted rows: the parallel arms fit the filtered, decimated columns themselves.
   const auto rows = [&](int k, ident::Joint joint) -> Eigen::MatrixXd {
     const Record& rec = r[static_cast<std::size_t>(k)];
-    if (parallel) {
-      const ident::ProcessedRecord& p = byDefault ? rec.default_rows : base ? rec.closed_loop_base.measured : rec.closed_loop.measured;
-      return joint == ident::Joint::kHip ? p.hip : p.knee;
-    }
-    return ident::jointRegressor(exact ? rec.exact_q : rec.processed, joint, lc);
+    const ident::RecordRows& p = !parallel ? (exact ? rec.exact_rows : rec.processed_rows)
+                                 : byDefault ? rec.default_rows
+                                 : base      ? rec.closed_loop_base.measured
+                                             : rec.closed_loop.measured;
+    return p.jointW(static_cast<Eigen::Index>(joint));
   };
   const Eigen::MatrixXd K1 = rows(0, ident::Joint::kKnee);
   const Eigen::MatrixXd H3 = rows(2, ident::Joint::kHip);
@@ -236,7 +242,7 @@ ProtocolResult runProtocol(const ProtocolConfig& c) {
   for (Variant v : c.variants) {
     VariantScore s;
     s.variant = v;
-    s.outcome = runVariant(v, res.records, lc, c, o);
+    s.outcome = runVariant(v, res.records, c, o);
     const Eigen::MatrixX2d knee_pred = ident::predictTorque(res.records[1].processed, s.outcome.x, lc);
     const Eigen::MatrixX2d hip_pred = ident::predictTorque(res.records[3].processed, s.outcome.x, lc);
     s.knee_validation = ident::torqueError(res.records[1].processed.tau_Nm.col(1), knee_pred.col(1));

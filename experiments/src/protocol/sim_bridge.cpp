@@ -61,15 +61,19 @@ BestFit bestFitTruth(const ident::Dataset& d, const ident::LegConstants& c, cons
   const ident::JointSignals s = exactSignals(d, "ideal");
   BestFit b;
   b.x = fallback;
-  // Knee block from the knee equation; thigh block from the hip equation minus the knee part.
-  const ident::SegmentalProblem knee = ident::kneeStage(s, c);
+  // Knee block from the knee equation; thigh block from the hip equation minus the knee part: the
+  // segmental strategy's two stages on the one record.
+  const ident::Robot robot = ident::twoLinkLeg(c);
+  const ident::RecordRows rows = ident::recordRows(robot, s);
+  const ident::SegmentalPlan plan(robot, {1, 0});
+  const ident::StageProblem knee = plan.problem(0, rows, {});
   const ident::LsResult lk = ident::solveLeastSquares(knee.H, knee.y);
   if (lk.summary.status == ident::Status::kConverged) {
     b.x.segment<ident::kGroupSize>(ident::kShankFirst) = lk.x;
   } else {
     for (int i = ident::kShankFirst; i < ident::kShankFirst + ident::kGroupSize; ++i) b.from_fallback.emplace_back(ident::paramName(i));
   }
-  const ident::SegmentalProblem hip = ident::hipStage(s, b.x.segment<ident::kGroupSize>(ident::kShankFirst), c);
+  const ident::StageProblem hip = plan.problem(1, rows, {b.x.segment<ident::kGroupSize>(ident::kShankFirst)});
   const ident::LsResult lh = ident::solveLeastSquares(hip.H, hip.y);
   if (lh.summary.status == ident::Status::kConverged) {
     b.x.segment<ident::kGroupSize>(ident::kThighFirst) = lh.x;
@@ -166,13 +170,13 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
 
 }  // namespace
 
-ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked) {
-  ident::ControllerModel c;
-  c.pid.kp_Nm_per_rad = cfg.gains.kp_Nm_per_rad;
-  c.pid.ki_Nm_per_rad_s = cfg.gains.ki_Nm_per_rad_s;
-  c.pid.kd_Nms_per_rad = cfg.gains.kd_Nms_per_rad;
-  c.pid.derivative_cutoff_hz = cfg.gains.derivative_cutoff_Hz;
-  c.pid.integral_limit_Nm = cfg.gains.integral_limit_Nm;
+ident::Controller controllerOf(const sim::SimConfig& cfg, bool hip_locked) {
+  ident::Controller c;
+  c.kp_Nm_per_rad = cfg.gains.kp_Nm_per_rad;
+  c.ki_Nm_per_rad_s = cfg.gains.ki_Nm_per_rad_s;
+  c.kd_Nms_per_rad = cfg.gains.kd_Nms_per_rad;
+  c.derivative_cutoff_hz = cfg.gains.derivative_cutoff_Hz;
+  c.integral_limit_Nm = cfg.gains.integral_limit_Nm;
   c.feedforward = cfg.feedforward ? ident::Feedforward::kModel : ident::Feedforward::kNone;
   c.locked = {hip_locked, false};
   return c;

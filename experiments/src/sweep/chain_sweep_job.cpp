@@ -6,11 +6,11 @@
 #include "exoid/experiments/protocol/chain_bridge.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
-#include "exoid/ident/model/chain_band_iv.hpp"
-#include "exoid/ident/model/chain_estimate.hpp"
-#include "exoid/ident/model/chain_idim_iv.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/estimators/band_iv.hpp"
+#include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/ident/signals/band.hpp"
 
 #include <algorithm>
@@ -41,7 +41,7 @@ struct JointScores {
   std::vector<double> rms_Nm, rel_to_truth;
 };
 
-JointScores scoreOn(const ident::ChainRecord& v, const Eigen::MatrixXd& Wv, const Eigen::VectorXd& x, const Eigen::VectorXd& truth) {
+JointScores scoreOn(const ident::RecordRows& v, const Eigen::MatrixXd& Wv, const Eigen::VectorXd& x, const Eigen::VectorXd& truth) {
   const Eigen::Index dof = v.dof;
   const Eigen::VectorXd residual = v.y - Wv * x, deviation = Wv * (x - truth), reference = Wv * truth;
   JointScores s;
@@ -69,25 +69,21 @@ nlohmann::json methodJson(ident::Method m, bool usable, const std::string& messa
 }
 
 // A method other than LS on the fit record's rows (iv-band and IDIM-IV on the record itself).
-ident::Estimate otherEstimate(ident::Method m, const ident::ChainModel& model, const ident::BaseParameters& base,
-                              const ident::Dataset& d, const ident::ChainRecord& rec, const std::optional<ident::BandChoice>& band,
+ident::Estimate otherEstimate(ident::Method m, const ident::Robot& robot,
+                              const ident::Dataset& d, const ident::RecordRows& rec, const std::optional<ident::BandChoice>& band,
                               const ident::SignalOptions& fit_signals, const ident::MethodOptions& mo) {
   if (m == ident::Method::kIvBand) {
     const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
-    return ident::solveBandIv({ident::chainBandIvRows(d, model, base, fit_signals, fm)}, mo.ls);
+    return ident::solveBandIv({ident::bandIvRows(d, robot, fit_signals, fm)}, mo.ls);
   }
   if (m == ident::Method::kIdimIv) {
     // The record's own controller (its metadata) and reference, instruments processed in its band.
-    ident::ChainClosedLoopRecord r;
-    r.measured = rec;
-    r.signals = fit_signals;
-    r.reference = chainReferenceOf(d, "the fit record");
-    r.controller = chainControllerFromMetadata(d, "the fit record");
+    const ident::ClosedLoopRecord r = closedLoopRecord(d, "the fit record", rec, fit_signals, "");
     ident::IvOptions iv;
     iv.ls = mo.ls;
-    return ident::identifyChainIdimIv(model, base, {r}, iv);
+    return ident::identifyIdimIv(robot, {r}, iv);
   }
-  return ident::estimate(m, base.baseRegressor(rec.W), rec.y, mo);
+  return ident::estimate(m, rec.W, rec.y, mo);
 }
 
 }  // namespace chain_sweep_run
@@ -106,18 +102,18 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const ident::Dataset d = chainDataset(fit);
   const ident::SignalOptions signals = defaultIdentifySignals();
   std::optional<ident::BandChoice> band;
-  const ident::ChainRecord rec = ident::processChainRecord(d, model, signals, &band);
+  const ident::RecordRows rec = ident::processRecord(d, loaded.robot, signals, {}, &band);
   const ident::SignalOptions fit_signals = band ? ident::withBand(signals, *band) : signals;
   ident::ChainEstimateOptions eo;
   eo.ls = c.base.methods.ls;
   eo.consistent = false;
-  const ident::ChainEstimate est = ident::estimateChain(model, base, rec, loaded.phi, eo);
+  const ident::ChainEstimate est = ident::estimateChain(loaded.robot, rec, loaded.phi, eo);
   ident::MethodOptions mo = c.base.methods;
   mo.rls_pso.pso.seed = core::deriveSeed(seed, 100);  // each run's own swarm, as the APAL protocol's
   if (!c.origin.count("identification.wide_box")) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
 
-  const ident::ChainRecord v = ident::processChainRecord(chainDataset(check), model, fit_signals);
-  const Eigen::MatrixXd Wv = base.baseRegressor(v.W);
+  const ident::RecordRows v = ident::processRecord(chainDataset(check), loaded.robot, fit_signals);
+  const Eigen::MatrixXd& Wv = v.W;
   nlohmann::json j;
   j["base_parameters"] = base.names;
   j["truth"] = toVector(truth);
@@ -135,7 +131,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
     }
     ident::Estimate e;
     try {
-      e = otherEstimate(m, model, base, d, rec, band, fit_signals, mo);
+      e = otherEstimate(m, loaded.robot, d, rec, band, fit_signals, mo);
     } catch (const std::exception& ex) {
       // A method that cannot run on this record (e.g. without what IDIM-IV needs) fails alone:
       // the other methods' results stand.

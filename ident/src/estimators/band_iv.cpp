@@ -2,8 +2,6 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
-#include "exoid/ident/leg/params.hpp"
-#include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/signals/signals.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
 
@@ -11,6 +9,7 @@
 #include <Eigen/SVD>
 
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 namespace exoid::ident {
@@ -32,19 +31,20 @@ Dataset instrumentRecord(const Dataset& d, const SignalOptions& o, double instru
   return smooth;
 }
 
-BandIvRows bandIvRows(const Dataset& d, const LegConstants& c, const SignalOptions& o, double instrument_cutoff_hz,
-                      bool knee_armature) {
-  // The same record with every angle (and recorded derivative) low-passed at the motion's band.
+BandIvRows bandIvRows(const Dataset& d, const Robot& robot, const SignalOptions& o, double instrument_cutoff_hz) {
+  // The same record with every angle (and recorded derivative) low-passed at the motion's band,
+  // processed in the band chosen on the record itself (so rows and instruments align).
   const Dataset smooth = instrumentRecord(d, o, instrument_cutoff_hz);
-  const SegmentalProblem measured = bothEquations(processRecord(d, c, o), knee_armature);
-  const SegmentalProblem instruments = bothEquations(processRecord(smooth, c, o), knee_armature);
-  if (instruments.H.rows() != measured.H.rows()) throw std::logic_error("iv-band: instruments and rows do not align");
-  BandIvRows out{measured.H, instruments.H, measured.y};
+  std::optional<BandChoice> band;
+  const RecordRows measured = processRecord(d, robot, o, {}, &band);
+  const RecordRows instruments = processRecord(smooth, robot, band ? withBand(o, *band) : o);
+  if (instruments.W.rows() != measured.W.rows()) throw std::logic_error("iv-band: instruments and rows do not align");
+  BandIvRows out{measured.W, instruments.W, measured.y};
   // The Coulomb columns instrument themselves: sgn(qd) of noisy velocities is not the smooth
   // motion's plus zero-mean noise (the sign flips near reversals shift its mean), and a smooth
   // instrument would turn that shift into bias; taken as they are they cost least squares'
-  // behaviour on those two parameters only.
-  for (const int j : {kFc1, kFc2}) out.Z.col(j) = out.H.col(j);
+  // behaviour on those parameters only.
+  for (const int j : robot.coulomb) out.Z.col(j) = out.H.col(j);
   return out;
 }
 

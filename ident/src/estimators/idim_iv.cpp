@@ -133,27 +133,25 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
                                             " standard errors after " + core::toText(options.max_iterations) + " iterations");
 }
 
-Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
-                             const SignalOptions& signals, ProcessedRecord& out, double knee_armature_kgm2) {
-  const SignalOptions& o = r.signals ? *r.signals : signals;
+Instruments instrumentRows(const Robot& robot, const Eigen::VectorXd& theta, const ClosedLoopRecord& r, RecordRows& out) {
   Instruments z;
   // The rate exactly as processRecord computes it from the record's timestamps.
   const double fs = 1.0 / ((r.reference.t_s[r.reference.size() - 1] - r.reference.t_s[0]) / static_cast<double>(r.reference.size() - 1));
-  const ClosedLoopRun run = simulateClosedLoop(x, c, r.controller, r.reference, knee_armature_kgm2);
+  const ClosedLoopRun run = simulateClosedLoop(robot, theta, r.controller, r.reference);
   if (run.ok) {
-    out = parallelProcess(run.states, c, o, fs);
+    out = parallelProcess(run.states, robot, r.signals, fs);
   } else {
     JointSignals ref;
     ref.t_s = r.reference.t_s;
     ref.q_rad = r.reference.q_rad;
     ref.qd_radps = r.reference.qd_radps;
     ref.qdd_radps2 = r.reference.qdd_radps2;
-    ref.tau_Nm = Eigen::MatrixX2d::Zero(ref.size(), 2);
-    out = parallelProcess(ref, c, o, fs);
+    ref.tau_Nm = Eigen::MatrixXd::Zero(ref.size(), robot.dof());
+    out = parallelProcess(ref, robot, r.signals, fs);
     z.fixed = true;
     z.message = "instruments from the reference (the model of this iteration cannot be simulated: " + run.message + ")";
   }
-  if (out.size() != r.measured.size()) {
+  if (out.W.rows() != r.measured.W.rows()) {
     throw std::invalid_argument("IDIM-IV: the reference has " + core::toText(r.reference.size()) +
                                 " samples but the measured record's rows do not come from as many (process it with the same options)");
   }
@@ -162,51 +160,69 @@ Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const 
 }
 
 namespace {
-void requireParallel(const SignalOptions& signals) {
-  if (signals.processing != Processing::kParallel) {
-    throw std::invalid_argument("IDIM-IV needs the parallel processing (processing = parallel): its instruments "
-                                "are processed like the measured rows, which the paper's processing cannot do");
+void requireParallel(const ClosedLoopRecord& r) {
+  if (r.signals.processing != Processing::kParallel || r.signals.cutoff_from_data || r.signals.derivative_cutoff_from_data) {
+    throw std::invalid_argument("IDIM-IV needs each record's parallel processing (processing = parallel) with its band fixed: its "
+                                "instruments are processed like the measured rows, which the paper's processing cannot do");
   }
 }
 }  // namespace
 
-SegmentalResult identifySegmentalIv(const ClosedLoopRecord& knee_record, const ClosedLoopRecord& both_record,
-                                    const LegConstants& c, const SignalOptions& signals, const IvOptions& options,
-                                    const ParamVector& x_start) {
-  requireParallel(signals);
-  SegmentalResult r;
-  ParamVector x_full = x_start;
-  const SegmentalProblem knee = kneeStage(knee_record.measured);
-  r.knee = iterateInstrumentalVariables(knee.H, knee.y, [&](const Eigen::VectorXd& xk) {
-    x_full.segment<kGroupSize>(kShankFirst) = xk;
-    ProcessedRecord instr;
-    Instruments z = instrumentRecord(x_full, c, knee_record, signals, instr);
-    if (z.ok) z.Z = kneeStage(instr).H;
-    return z;
+Estimate identifyIdimIv(const Robot& robot, const std::vector<ClosedLoopRecord>& records, const IvOptions& options) {
+  if (records.empty()) throw std::invalid_argument("IDIM-IV: no records");
+  std::vector<RecordRows> measured;
+  for (const ClosedLoopRecord& r : records) {
+    requireParallel(r);
+    measured.push_back(r.measured);
+  }
+  const RecordRows stacked = stackRecords(measured);
+  return iterateInstrumentalVariables(stacked.W, stacked.y, [&](const Eigen::VectorXd& theta) {
+    Instruments all;
+    all.ok = true;
+    all.Z.resize(stacked.W.rows(), stacked.W.cols());
+    Eigen::Index row = 0;
+    for (const ClosedLoopRecord& r : records) {
+      RecordRows instr;
+      const Instruments z = instrumentRows(robot, theta, r, instr);
+      all.Z.middleRows(row, instr.W.rows()) = instr.W;
+      row += instr.W.rows();
+      all.fixed = all.fixed || z.fixed;
+      if (!z.message.empty()) all.message += (all.message.empty() ? "" : "; ") + z.message;
+    }
+    return all;
   }, options);
-  x_full.segment<kGroupSize>(kShankFirst) = r.knee.x;
-  const SegmentalProblem hip = hipStage(both_record.measured, r.knee.x);
-  r.hip = iterateInstrumentalVariables(hip.H, hip.y, [&](const Eigen::VectorXd& xh) {
-    x_full.segment<kGroupSize>(kThighFirst) = xh;
-    ProcessedRecord instr;
-    Instruments z = instrumentRecord(x_full, c, both_record, signals, instr);
-    if (z.ok) z.Z = instr.hip.middleCols(kThighFirst, kGroupSize);
-    return z;
-  }, options);
-  r.x << r.hip.x, r.knee.x;
-  return r;
 }
 
-Estimate identifyAllIv(const ClosedLoopRecord& record, const LegConstants& c, const SignalOptions& signals,
-                       const IvOptions& options, bool knee_armature) {
-  requireParallel(signals);
-  const SegmentalProblem all = bothEquations(record.measured, knee_armature);
-  return iterateInstrumentalVariables(all.H, all.y, [&](const Eigen::VectorXd& x) {
-    ProcessedRecord instr;
-    Instruments z = instrumentRecord(x.head<kNumParams>(), c, record, signals, instr, knee_armature ? x[kKneeArmature] : 0.0);
-    if (z.ok) z.Z = bothEquations(instr, knee_armature).H;
-    return z;
-  }, options);
+SegmentalResult identifySegmentalIdimIv(const Robot& robot, const std::vector<ClosedLoopStage>& stages, const IvOptions& options,
+                                        const BaseParameterOptions& structure) {
+  std::vector<Eigen::Index> first;
+  for (const ClosedLoopStage& st : stages) {
+    requireParallel(st.record);
+    first.push_back(st.first_joint);
+  }
+  const SegmentalPlan plan(robot, first, structure);
+  SegmentalResult out;
+  std::vector<Eigen::VectorXd> found;
+  for (int s = 0; s < plan.stages(); ++s) {
+    const ClosedLoopRecord& record = stages[static_cast<std::size_t>(s)].record;
+    StageResult res;
+    res.problem = plan.problem(s, record.measured, found);
+    const StageProblem& p = res.problem;
+    res.estimate = iterateInstrumentalVariables(p.H, p.y, [&](const Eigen::VectorXd& x) {
+      RecordRows instr;
+      Instruments z = instrumentRows(robot, p.theta(x), record, instr);
+      if (z.ok) {
+        z.Z = p.parameters.empty() ? Eigen::MatrixXd(instr.W(p.rows, Eigen::all) * p.directions) : Eigen::MatrixXd(instr.W(p.rows, p.parameters));
+      }
+      return z;
+    }, options);
+    res.problem.H.resize(0, 0);
+    res.problem.y.resize(0);
+    found.push_back(res.estimate.x);
+    out.stages.push_back(std::move(res));
+  }
+  out.theta = plan.assemble(found);
+  return out;
 }
 
 }  // namespace exoid::ident

@@ -11,17 +11,19 @@
 
 namespace exoid::ident {
 
-ChainEstimate estimateChain(const ChainModel& model, const BaseParameters& base, const ChainRecord& record,
-                            const Eigen::VectorXd& phi_start, const ChainEstimateOptions& options) {
+ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const Eigen::VectorXd& phi_start,
+                            const ChainEstimateOptions& options) {
+  const ChainModel& model = robot.chain;
+  const BaseParameters& base = robot.basis;
   const Eigen::Index p = model.standardParameterCount();
-  if (record.W.cols() != p || record.W.rows() != record.y.size() || phi_start.size() != p) {
-    throw std::invalid_argument("chain estimate: expected " + core::toText(p) + " regressor columns and a start of " + core::toText(p) +
-                                " standard parameters for model '" + model.name + "'");
+  if (record.W.cols() != robot.parameters() || record.W.rows() != record.y.size() || phi_start.size() != p) {
+    throw std::invalid_argument("chain estimate: expected " + core::toText(robot.parameters()) + " regressor columns and a start of " +
+                                core::toText(p) + " standard parameters for model '" + model.name + "'");
   }
   ChainEstimate out;
   out.names = base.names;
   out.rows = record.W.rows();
-  const Eigen::MatrixXd Wb = base.baseRegressor(record.W);
+  const Eigen::MatrixXd& Wb = record.W;
   out.ls = solveLeastSquares(Wb, record.y, options.ls);
   out.beta = out.ls.x;
   out.std_error = Eigen::VectorXd::Constant(base.rank, std::numeric_limits<double>::quiet_NaN());

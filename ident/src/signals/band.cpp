@@ -2,9 +2,6 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/parallel_for.hpp"
-#include "exoid/ident/estimators/least_squares.hpp"
-#include "exoid/ident/leg/params.hpp"
-#include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/signals/spectrum.hpp"
 
 #include <algorithm>
@@ -231,53 +228,9 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   return out;
 }
 
-BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule) {
-  d.requireJoints({"hip", "knee"}, "the 2-link leg's band choice");
-  // The pilot: least squares of the leg's equations (the knee's alone when knee_only) at the
-  // pilot band, its torque predicted from the measured states.
-  return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
-    const ProcessedRecord pilot_rows = processRecord(record, c, pilot);
-    const SegmentalProblem p = rule.knee_only ? SegmentalProblem{pilot_rows.knee, pilot_rows.tau_Nm.col(1)} : bothEquations(pilot_rows);
-    LsOptions ls;
-    ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
-    const Eigen::VectorXd theta = solveLeastSquares(p.H, p.y, ls).x;
-    // One pass over the states (no N x 10 regressors held): the predicted torque itself.
-    const Eigen::MatrixX2d predicted = predictTorque(differentiatedStates(record, pilot), theta, c);
-    PilotTorques t;
-    if (rule.knee_only) {
-      t.predicted_Nm = predicted.col(1);
-      t.measured_Nm = record.tau_Nm.col(1);
-    } else {
-      t.predicted_Nm = predicted;
-      t.measured_Nm = record.tau_Nm;
-    }
-    return t;
-  });
-}
-
 double derivativeCutoffFor(double cutoff_hz, double sample_rate_hz, const BandRule& rule) {
   const double fd = rule.derivative_factor * cutoff_hz;
   return fd < 0.5 * sample_rate_hz ? fd : 0.0;
-}
-
-SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only,
-                                   std::optional<BandChoice>* chosen) {
-  if (chosen) chosen->reset();
-  if (o.processing != Processing::kParallel || !(o.cutoff_from_data || o.derivative_cutoff_from_data)) return o;
-  if (o.cutoff_from_data && o.filter) {
-    BandRule rule;
-    rule.knee_only = knee_only;
-    const BandChoice band = chooseBand(d, c, o, rule);
-    if (chosen) *chosen = band;
-    return withBand(o, band);
-  }
-  SignalOptions r = o;
-  r.cutoff_from_data = false;  // unfiltered (--no-filter): no band to choose
-  if (o.derivative_cutoff_from_data) {
-    r.derivative_cutoff_from_data = false;
-    r.derivative_cutoff_hz = derivativeCutoffFor(o.cutoff_hz, 1.0 / d.sampleInterval_s());
-  }
-  return r;
 }
 
 SignalOptions withBand(const SignalOptions& base, const BandChoice& choice) {

@@ -2,7 +2,6 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/parallel_for.hpp"
-#include "exoid/ident/signals/band.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -102,11 +101,9 @@ JointSignals recordedSignals(const Dataset& d) {
   return s;
 }
 
-namespace {
-
 // Enough rows left once the filter's edges are trimmed and the rows decimated (a clear message, not
 // a least-squares size error later).
-void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
+void checkRecordLength(Eigen::Index n, Eigen::Index trim, int r) {
   if (n - 2 * trim < 20) {
     throw std::invalid_argument("record too short: " + core::toText(n) + " samples, and the processing trims " +
                                 core::toText(trim) + " at each end (the filter's edge transients, edge_trim_s) and "
@@ -118,13 +115,11 @@ void checkLength(Eigen::Index n, Eigen::Index trim, int r) {
   }
 }
 
-}  // namespace
-
 JointSignals prepareSignals(const Dataset& d, const SignalOptions& o) {
   const double dt = d.sampleInterval_s();
   const double fs = 1.0 / dt;
   o.validateFor(fs);
-  checkLength(d.size(), o.edgeTrimSamples(fs), 1);
+  checkRecordLength(d.size(), o.edgeTrimSamples(fs), 1);
   const bool recorded = o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2;
   SosFilter lowpass;
   if (o.filter) lowpass = butterworthLowpass(o.filter_order, o.cutoff_hz, fs);
@@ -162,12 +157,6 @@ JointSignals trimEdges(const JointSignals& in, Eigen::Index trim) {
   s.tau_Nm = in.tau_Nm.middleRows(trim, keep);
   if (in.base.rows() > 0) s.base = in.base.middleRows(trim, keep);
   return s;
-}
-
-ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c) {
-  Eigen::MatrixXd hip(s.size(), kNumParams), knee(s.size(), kNumParams);
-  jointRegressors(s, c, hip, knee);
-  return {std::move(hip), std::move(knee), s.tau_Nm, s.qdd_radps2.col(1), s};
 }
 
 namespace {
@@ -215,71 +204,6 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs,
 
 }  // namespace
 
-namespace {
-
-// A record of n rows, every field sized (states too; base-motion columns when `base`).
-ProcessedRecord allocated(Eigen::Index n, bool base) {
-  ProcessedRecord out;
-  out.hip.resize(n, kNumParams);
-  out.knee.resize(n, kNumParams);
-  out.tau_Nm.resize(n, 2);
-  out.knee_armature.resize(n);
-  JointSignals& st = out.states;
-  st.t_s.resize(n);
-  st.q_rad.resize(n, 2);
-  st.qd_radps.resize(n, 2);
-  st.qdd_radps2.resize(n, 2);
-  st.tau_Nm.resize(n, 2);
-  if (base) st.base.resize(n, 4);
-  return out;
-}
-
-// The regressor columns that are not zero by construction (13: nonzeroRegressorColumns) and the
-// torques side by side, N x 15, for the parallel filter (one pass over all). The zero columns
-// would filter to zero and the knee armature's (qdd2) is the hip's Js column, so neither is held
-// (a block's largest buffer, a third smaller).
-constexpr int kRegressorColumns = kHipColumns + kNumParams - kKneeFirstColumn;
-Eigen::MatrixXd regressorColumns(const JointSignals& s, const LegConstants& c) {
-  Eigen::MatrixXd all(s.size(), kRegressorColumns + 2);
-  nonzeroRegressorColumns(s, c, all.leftCols(kRegressorColumns));
-  all.rightCols(2) = s.tau_Nm;
-  return all;
-}
-
-// A record of the states at local indices first, first + r, ... <= last; its rows come later.
-ProcessedRecord keptStates(const JointSignals& s, Eigen::Index first, Eigen::Index last, int r) {
-  const Eigen::Index m = last < first ? 0 : (last - first) / r + 1;
-  ProcessedRecord out = allocated(m, s.base.rows() > 0);
-  JointSignals& st = out.states;
-  for (Eigen::Index k = 0; k < m; ++k) {
-    const Eigen::Index i = first + k * r;
-    st.t_s[k] = s.t_s[i];
-    st.q_rad.row(k) = s.q_rad.row(i);
-    st.qd_radps.row(k) = s.qd_radps.row(i);
-    st.qdd_radps2.row(k) = s.qdd_radps2.row(i);
-    if (s.base.rows() > 0) st.base.row(k) = s.base.row(i);
-  }
-  return out;
-}
-
-// `all` filtered (in place), and its rows at the same indices as keptStates' into out.
-void filteredRows(Eigen::MatrixXd& all, const SignalOptions& o, double fs, Eigen::Index first, int r, ProcessedRecord& out) {
-  constexpr int kKneeColumns = kNumParams - kKneeFirstColumn;
-  if (o.filter) filtfiltInPlace(butterworthLowpass(o.filter_order, o.cutoff_hz, fs), all);
-  out.hip.rightCols(kNumParams - kHipColumns).setZero();
-  out.knee.leftCols(kKneeFirstColumn).setZero();
-  for (Eigen::Index k = 0; k < out.size(); ++k) {
-    const Eigen::Index i = first + k * r;
-    out.hip.row(k).head<kHipColumns>() = all.row(i).head<kHipColumns>();
-    out.knee.row(k).tail<kKneeColumns>() = all.row(i).segment<kKneeColumns>(kHipColumns);
-    out.tau_Nm.row(k) = all.row(i).tail<2>();
-    out.knee_armature[k] = all(i, kHipColumns - 1);  // qdd2: the hip's Js column
-  }
-  out.states.tau_Nm = out.tau_Nm;
-}
-
-}  // namespace
-
 Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) {
   // Twenty periods of the slowest filter's cutoff: its impulse response (and the pre-filter's)
   // has decayed below 1e-15 there (a 2nd-order Butterworth's pole radius at 10 Hz, 1 kHz is
@@ -289,94 +213,14 @@ Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) 
   return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
 }
 
-JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) {
-  return parallelStates(d, o, 1.0 / d.sampleInterval_s(), 0, d.size());
-}
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) { return differentiatedStates(d, o, 0, d.size()); }
 
-ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& options) {
-  if (options.processing == Processing::kPaper) return regressorRecord(prepareSignals(d, options), c);
-  const SignalOptions o = resolveSignalOptions(d, c, options);
-  const double fs = 1.0 / d.sampleInterval_s();
-  o.validateFor(fs);
-  const Eigen::Index n = d.size();
-  const Eigen::Index margin = parallelBlockMargin(o, fs), block = std::max<Eigen::Index>(o.block_samples, 4 * margin);
-  if (n <= block + 2 * margin) return parallelProcess(parallelStates(d, o, fs, 0, n), c, o, fs);
-  // A long log, a block at a time with `margin` samples of context on each side: memory stays
-  // bounded by the block, and the kept rows are the full-length ones to rounding (the margin).
-  const Eigen::Index trim = o.edgeTrimSamples(fs);
-  const int r = o.decimationFactor(fs);
-  checkLength(n, trim, r);
-  struct Block {
-    Eigen::Index lo, hi, first, last;  // context [lo, hi); kept rows first, first + r, ... <= last (global)
-  };
-  std::vector<Block> blocks;
-  for (Eigen::Index a = 0; a < n; a += block) {
-    const Eigen::Index b = std::min(n, a + block), lo = std::max<Eigen::Index>(0, a - margin), hi = std::min(n, b + margin);
-    // Kept global rows: trim + k r within [a, b) and [trim, n - trim).
-    const Eigen::Index first_g = std::max(a, trim), last_g = std::min(b, n - trim) - 1;
-    if (last_g < first_g) continue;
-    const Eigen::Index first_k = first_g + (r - (first_g - trim) % r) % r;
-    if (first_k > last_g) continue;
-    blocks.push_back({lo, hi, first_k, last_g});
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o, Eigen::Index from, Eigen::Index to) {
+  if (from < 0 || to > d.size() || to - from < 2) {
+    throw std::invalid_argument("differentiatedStates: rows [" + core::toText(from) + ", " + core::toText(to) + ") of a record of " +
+                                core::toText(d.size()));
   }
-  std::vector<ProcessedRecord> parts(blocks.size());
-  const auto processBlock = [&](std::size_t k) {
-    const Block& bk = blocks[k];
-    JointSignals s = parallelStates(d, o, fs, bk.lo, bk.hi);
-    Eigen::MatrixXd all = regressorColumns(s, c);
-    parts[k] = keptStates(s, bk.first - bk.lo, bk.last - bk.lo, r);
-    s = JointSignals{};  // the block's states freed before the filter takes its buffer
-    filteredRows(all, o, fs, bk.first - bk.lo, r, parts[k]);
-  };
-  core::parallelFor(blocks.size(), o.threads, processBlock);
-  return stackRecords(parts);
-}
-
-ProcessedRecord parallelProcess(const JointSignals& s, const LegConstants& c, const SignalOptions& o,
-                                double sample_rate_hz) {
-  o.validateFor(sample_rate_hz);
-  const double fs = sample_rate_hz;
-  const Eigen::Index trim = o.edgeTrimSamples(fs);
-  const int r = o.decimationFactor(fs);
-  checkLength(s.size(), trim, r);
-  Eigen::MatrixXd all = regressorColumns(s, c);
-  ProcessedRecord out = keptStates(s, trim, s.size() - trim - 1, r);
-  filteredRows(all, o, fs, trim, r, out);
-  return out;
-}
-
-ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records) {
-  if (records.empty()) throw std::invalid_argument("stackRecords: no records");
-  if (records.size() == 1) return records.front();
-  Eigen::Index n = 0;
-  const bool base = records.front().states.base.rows() > 0;
-  for (const ProcessedRecord& r : records) {
-    if ((r.states.base.rows() > 0) != base) {
-      throw std::invalid_argument("stackRecords: some records have base-motion columns and others not");
-    }
-    n += r.size();
-  }
-  ProcessedRecord out = allocated(n, base);
-  JointSignals& st = out.states;
-  Eigen::Index at = 0;
-  for (const ProcessedRecord& r : records) {
-    const Eigen::Index m = r.size();
-    out.hip.middleRows(at, m) = r.hip;
-    out.knee.middleRows(at, m) = r.knee;
-    out.tau_Nm.middleRows(at, m) = r.tau_Nm;
-    out.knee_armature.segment(at, m) = r.knee_armature.size() == m ? r.knee_armature : Eigen::VectorXd::Zero(m);
-    if (r.states.size() != m) throw std::invalid_argument("stackRecords: a record's states do not align with its rows");
-    {
-      st.t_s.segment(at, m) = r.states.t_s;
-      st.q_rad.middleRows(at, m) = r.states.q_rad;
-      st.qd_radps.middleRows(at, m) = r.states.qd_radps;
-      st.qdd_radps2.middleRows(at, m) = r.states.qdd_radps2;
-      st.tau_Nm.middleRows(at, m) = r.states.tau_Nm;
-      if (base) st.base.middleRows(at, m) = r.states.base;
-    }
-    at += m;
-  }
-  return out;
+  return parallelStates(d, o, 1.0 / d.sampleInterval_s(), from, to);
 }
 
 }  // namespace exoid::ident

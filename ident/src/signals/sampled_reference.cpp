@@ -8,10 +8,9 @@
 
 namespace exoid::ident {
 
-template <class Matrix>
-void SampledReference<Matrix>::validate() const {
+void SampledReference::validate() const {
   const Eigen::Index n = t_s.size();
-  for (const Matrix* m : {&q_rad, &qd_radps, &qdd_radps2}) {
+  for (const Eigen::MatrixXd* m : {&q_rad, &qd_radps, &qdd_radps2}) {
     if (m->rows() != n || m->cols() != q_rad.cols()) {
       throw std::invalid_argument("reference: t, q, qd and qdd must have the same number of samples (and q, qd, qdd of joints)");
     }
@@ -29,8 +28,7 @@ void SampledReference<Matrix>::validate() const {
   }
 }
 
-template <class Matrix>
-SampledReference<Matrix> SampledReference<Matrix>::fromAngles(const Eigen::VectorXd& t_s, const Matrix& q_ref_rad) {
+SampledReference SampledReference::fromAngles(const Eigen::VectorXd& t_s, const Eigen::MatrixXd& q_ref_rad) {
   if (t_s.size() != q_ref_rad.rows() || t_s.size() < 5) {
     throw std::invalid_argument("reference: need >= 5 samples of t and of every reference angle");
   }
@@ -43,8 +41,5 @@ SampledReference<Matrix> SampledReference<Matrix>::fromAngles(const Eigen::Vecto
   r.validate();
   return r;
 }
-
-template struct SampledReference<Eigen::MatrixX2d>;
-template struct SampledReference<Eigen::MatrixXd>;
 
 }  // namespace exoid::ident

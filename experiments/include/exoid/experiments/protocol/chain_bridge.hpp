@@ -3,6 +3,7 @@
 // ChainModel and its standard parameter vector: the one place the two meet.
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
+#include "exoid/ident/model/robot.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
 #include <Eigen/Core>
@@ -32,6 +33,7 @@ struct LoadedChain {
   ident::ChainModel model;
   Eigen::VectorXd phi;
   ident::BaseParameters base;
+  ident::Robot robot;  ///< model in its base parameters
 };
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {});
 

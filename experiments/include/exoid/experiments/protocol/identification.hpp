@@ -1,12 +1,12 @@
 #pragma once
 // Identification runs as the CLI and the experiments use them: one method on one record (all
 // 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
-#include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/leg/metrics.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -72,34 +72,26 @@ std::vector<BoundHit> boxBoundHits(const MethodOutcome& m);
 /// "Mxt = 50 is on its box's bound [-50, 50]".
 std::string describe(const BoundHit& h);
 
-/// All 10 parameters from both joint equations of one record (rows in time order); with
-/// knee_armature also Ia2.
-MethodOutcome identifyAll(ident::Method m, const ident::ProcessedRecord& r, const ident::MethodOptions& o,
-                          bool knee_armature = false);
-MethodOutcome identifyAll(ident::Method m, const ident::JointSignals& s, const ident::LegConstants& c,
-                          const ident::MethodOptions& o);
+/// All parameters from every equation of one record (rows in time order): the 10 of X, and Ia2
+/// when the rows have the knee armature's column (a robot made with it: ident::twoLinkLeg).
+MethodOutcome identifyAll(ident::Method m, const ident::RecordRows& r, const ident::MethodOptions& o);
 /// The outcome of an estimate of all parameters made elsewhere (iv-band), stage "all".
 MethodOutcome identifyAll(ident::Estimate e, bool knee_armature = false);
-/// The paper's segmental strategy.
-MethodOutcome identifySegmented(ident::Method m, const ident::ProcessedRecord& knee_record,
-                                const ident::ProcessedRecord& both_record, const ident::MethodOptions& o);
-MethodOutcome identifySegmented(ident::Method m, const ident::JointSignals& knee_record,
-                                const ident::JointSignals& both_record, const ident::LegConstants& c,
-                                const ident::MethodOptions& o);
-/// IDIM-IV with the segmental strategy (ident::identifySegmentalIv): stages "knee" and "hip".
-MethodOutcome identifySegmentedIdimIv(const ident::ClosedLoopRecord& knee_record, const ident::ClosedLoopRecord& both_record,
-                                  const ident::LegConstants& c, const ident::SignalOptions& signals,
-                                  const ident::IvOptions& options);
-/// IDIM-IV on both equations of one record, all 10 parameters (stage "all").
-MethodOutcome identifyAllIdimIv(const ident::ClosedLoopRecord& record, const ident::LegConstants& c,
-                            const ident::SignalOptions& signals, const ident::IvOptions& options,
-                            bool knee_armature = false);
+/// The paper's segmental strategy: the knee parameters from knee_record (hip fixed), the hip's
+/// from both_record's hip equation with the knee part subtracted (ident::identifySegmental).
+MethodOutcome identifySegmented(const ident::Robot& robot, ident::Method m, const ident::RecordRows& knee_record,
+                                const ident::RecordRows& both_record, const ident::MethodOptions& o);
+/// IDIM-IV with the segmental strategy (ident::identifySegmentalIdimIv): stages "knee" and "hip".
+MethodOutcome identifySegmentedIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& knee_record,
+                                      const ident::ClosedLoopRecord& both_record, const ident::IvOptions& options);
+/// IDIM-IV on every equation of one record, all parameters (stage "all").
+MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& record, const ident::IvOptions& options);
 
 /// Makes m (an all-parameter LS fit of the rows of r) physically consistent: standard errors from
 /// the residuals, ident::solveConsistentLeastSquares, m.x the constrained estimate; a violation
 /// within options.significance_sigmas is consistent with the bound, a larger one stays in
 /// m.implausible (not usable). Throws std::invalid_argument unless m has one stage "all".
-void applyConsistency(MethodOutcome& m, const ident::ProcessedRecord& r, const ident::LegConstants& c,
+void applyConsistency(MethodOutcome& m, const ident::RecordRows& r, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options = {});
 
 /// Per-joint validation torque errors of X on a record.
@@ -107,9 +99,8 @@ struct Validation {
   ident::TorqueErrorStats hip;
   ident::TorqueErrorStats knee;
 };
-/// knee_armature: Ia2 (its term Ia2 qdd2 joins the knee prediction).
-Validation validate(const ident::ProcessedRecord& r, const ident::ParamVector& x, double knee_armature = 0.0);
-Validation validate(const ident::JointSignals& s, const ident::ParamVector& x, const ident::LegConstants& c);
+/// knee_armature: Ia2 (its term Ia2 qdd2 joins the knee prediction; the rows then have its column).
+Validation validate(const ident::RecordRows& r, const ident::ParamVector& x, double knee_armature = 0.0);
 
 /// {"Mxt": ..., ...} and back (all 10 names required; unknown names rejected with the name).
 nlohmann::json paramsJson(const ident::ParamVector& x);

@@ -5,7 +5,7 @@
 // it once and reports; `exoid sweep` runs it over a grid of conditions and seeds.
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/sim/simulate.hpp"
 
 #include <array>
@@ -62,6 +62,9 @@ struct Record {
   ident::JointSignals processed;  ///< measured signals after the paper's processing
   ident::JointSignals exact_q;    ///< exact q, qd, qdd with the raw measured torque (same trim)
   ident::JointSignals ideal;      ///< exact states with the ideal (vibration-free) torques
+  /// The 2-link leg of the record's constants (Lt, g), in the paper's X.
+  ident::Robot robot;
+  ident::RecordRows processed_rows, exact_rows;  ///< the rows of `processed` and of `exact_q`
   /// Parallel-processed rows (parallelSignals) with the reference and controller of the run;
   /// filled for the identification records (trajectories 1 and 3) only.
   ident::ClosedLoopRecord closed_loop;
@@ -69,7 +72,7 @@ struct Record {
   ident::ClosedLoopRecord closed_loop_base;
   /// The default arm's rows and the processing they were made with (the band chosen from this
   /// record); identification records only.
-  ident::ProcessedRecord default_rows;
+  ident::RecordRows default_rows;
   ident::SignalOptions default_signals;
 };
 

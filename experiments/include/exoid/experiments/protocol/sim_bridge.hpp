@@ -1,6 +1,6 @@
 #pragma once
 // Where sim meets ident: simulated tables as datasets, exact signals, and the best-fit truth.
-#include "exoid/ident/leg/closed_loop.hpp"
+#include "exoid/ident/model/closed_loop.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/sim/simulate.hpp"
@@ -41,7 +41,7 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
 
 /// exoid's simulated controller as IDIM-IV models it: its PID gains, model feedforward when
 /// cfg.feedforward, the hip locked on the knee-only trajectories.
-ident::ControllerModel controllerOf(const sim::SimConfig& cfg, bool hip_locked);
+ident::Controller controllerOf(const sim::SimConfig& cfg, bool hip_locked);
 
 /// Flags of `exoid simulate` (shared with render and the experiments that simulate). With
 /// choose_trajectory, also --trajectory and the Fourier-series flags (the protocol runs 1-4).

@@ -14,14 +14,13 @@
 // instruments.
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/estimators/methods.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
-#include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <vector>
 
 namespace exoid::ident {
 
-/// One record's rows (both equations in time order, bothEquations' layout) and its instruments.
+/// One record's rows (every joint's equation in time order, RecordRows' layout) and its instruments.
 struct BandIvRows {
   Eigen::MatrixXd H, Z;
   Eigen::VectorXd y;
@@ -32,12 +31,12 @@ struct BandIvRows {
 /// non-parallel o (the instruments must be processed like the rows) or a cutoff outside (0, Nyquist).
 Dataset instrumentRecord(const Dataset& d, const SignalOptions& o, double instrument_cutoff_hz);
 
-/// The rows of record d processed by o (o's choices already made: resolveSignalOptions) and its
-/// instruments from the angles low-passed at instrument_cutoff_hz. knee_armature: the 11th column.
-/// Throws std::invalid_argument for a non-parallel o, a cutoff outside (0, Nyquist) or as
-/// processRecord does.
-BandIvRows bandIvRows(const Dataset& d, const LegConstants& c, const SignalOptions& o, double instrument_cutoff_hz,
-                      bool knee_armature = false);
+/// The robot's rows of record d processed by o (every joint's equation; the band o leaves to the
+/// data chosen once, on d, and used for both) and its instruments, the same processing of d with
+/// its angles (and recorded derivatives) low-passed at instrument_cutoff_hz. The Coulomb columns
+/// instrument themselves (band_iv.cpp says why). Throws std::invalid_argument for a non-parallel
+/// o, a cutoff outside (0, Nyquist) or as processRecord does.
+BandIvRows bandIvRows(const Dataset& d, const Robot& robot, const SignalOptions& o, double instrument_cutoff_hz);
 
 /// x = (Z^T H)^-1 Z^T y over the records' rows stacked, column-scaled, by column-pivoted QR of
 /// Z^T H. Estimate.method = kIvBand; rank and condition_number of Z^T H (scaled); status as LS's

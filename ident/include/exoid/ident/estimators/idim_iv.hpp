@@ -5,10 +5,10 @@
 // estimate loses the bias that noisy regressor columns (differentiated encoder noise) give LS;
 // the measured torque stays the output. Starts from LS; iterates until the step is a small
 // fraction of each parameter's standard error.
-#include "exoid/ident/leg/closed_loop.hpp"
 #include "exoid/ident/estimators/methods.hpp"
-#include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/model/closed_loop.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <functional>
 #include <optional>
@@ -55,33 +55,35 @@ Estimate iterateInstrumentalVariables(const Eigen::MatrixXd& H, const Eigen::Vec
 
 /// One record as IDIM-IV needs it: its measured rows and what reproduces its motion.
 struct ClosedLoopRecord {
-  ProcessedRecord measured;  ///< parallelProcess of the measured record (processRecord, kParallel)
-  Reference reference;       ///< the controller's reference, full length at the record's rate
-  ControllerModel controller;
-  /// The options `measured` was processed with, when they are the record's own (a band chosen from
-  /// its data): instrumentRecord then uses them instead of the options it is given.
-  std::optional<SignalOptions> signals;
+  RecordRows measured;    ///< processRecord of the measured record, parallel processing
+  SignalOptions signals;  ///< what `measured` was processed with: kParallel, its band fixed (withBand)
+  Reference reference;    ///< the controller's reference, full length at the record's rate
+  Controller controller;
 };
 
-/// The instrument rows of a record for parameters x: the closed-loop simulation of x, processed
-/// by parallelProcess with the measured record's options (so rows align with `measured`). When
-/// the model x cannot be simulated (an iterate with M(q) not positive definite, e.g. Jt < 0 on a
-/// poorly exciting record), the instruments come from the reference itself, the limit of perfect
-/// tracking: still free of the measurement noise, so still consistent, but fixed (the iteration
-/// stops) and said in the message.
-Instruments instrumentRecord(const ParamVector& x, const LegConstants& c, const ClosedLoopRecord& r,
-                             const SignalOptions& signals, ProcessedRecord& out, double knee_armature_kgm2 = 0.0);
+/// The instrument rows of a record for parameters theta: the closed-loop simulation of theta,
+/// processed by parallelProcess with the measured record's options (so rows align with
+/// `measured`). When theta cannot be simulated (an iterate with M(q) not positive definite, e.g.
+/// Jt < 0 on a poorly exciting record), the instruments come from the reference itself, the limit
+/// of perfect tracking: still free of the measurement noise, so still consistent, but fixed (the
+/// iteration stops) and said in the message. Throws std::invalid_argument when the reference and
+/// the measured rows do not align.
+Instruments instrumentRows(const Robot& robot, const Eigen::VectorXd& theta, const ClosedLoopRecord& record, RecordRows& out);
 
-/// IDIM-IV with the segmental strategy: knee parameters from the knee record (its instruments from
-/// the simulated knee record), then hip parameters from the two-joint record with the knee part
-/// subtracted. Requires signals.processing == kParallel (instruments and measurements must be
-/// processed alike). `x_start` supplies the parameters a stage does not estimate when it
-/// simulates (the hip's, in the knee stage; irrelevant when the hip is locked).
-SegmentalResult identifySegmentalIv(const ClosedLoopRecord& knee_record, const ClosedLoopRecord& both_record,
-                                    const LegConstants& c, const SignalOptions& signals, const IvOptions& options,
-                                    const ParamVector& x_start = ParamVector::Zero());
-/// IDIM-IV on both equations of one record, all 10 parameters (11 with knee_armature: Ia2 last).
-Estimate identifyAllIv(const ClosedLoopRecord& record, const LegConstants& c, const SignalOptions& signals,
-                       const IvOptions& options, bool knee_armature = false);
+/// IDIM-IV over one or more records fitted together (their rows stacked), every parameter:
+/// x0 = LS, then x_{k+1} = IV(H, y, Z(x_k)) until each step is below options.step_tolerance
+/// standard errors. Throws std::invalid_argument for no records or a record not processed in
+/// parallel with its band fixed.
+Estimate identifyIdimIv(const Robot& robot, const std::vector<ClosedLoopRecord>& records, const IvOptions& options = {});
+
+/// IDIM-IV with the segmental strategy (segmental.hpp): each stage's combinations from its record,
+/// its instruments from that record's closed loop (the parameters later stages find start at 0,
+/// irrelevant where their joints are locked). Throws as identifyIdimIv and SegmentalPlan do.
+struct ClosedLoopStage {
+  Eigen::Index first_joint = 0;
+  ClosedLoopRecord record;
+};
+SegmentalResult identifySegmentalIdimIv(const Robot& robot, const std::vector<ClosedLoopStage>& stages, const IvOptions& options = {},
+                                        const BaseParameterOptions& structure = {});
 
 }  // namespace exoid::ident

@@ -1,6 +1,7 @@
 #pragma once
 // The corrected 2-link regressor: [T_hip; T_knee] = Y(q, qd, qdd) X (paper.md, "Regressor").
 #include "exoid/ident/leg/params.hpp"
+#include "exoid/ident/signals/joint_signals.hpp"
 
 #include <Eigen/Core>
 
@@ -44,22 +45,6 @@ struct BaseMotion {
 /// BaseMotion::still(c.gravity_mps2) this is regressorRows above.
 void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
                    const Eigen::Vector2d& qdd, const BaseMotion& base, RegressorRow& hip, RegressorRow& knee);
-
-/// Time series of the joints (the APAL leg: column 0 = hip, 1 = knee; a chain: its joints base to
-/// tip), SI units. Rows are samples.
-struct JointSignals {
-  Eigen::VectorXd t_s;
-  Eigen::MatrixXd q_rad;
-  Eigen::MatrixXd qd_radps;
-  Eigen::MatrixXd qdd_radps2;
-  Eigen::MatrixXd tau_Nm;
-  /// Optional base motion per sample, columns (f_x, f_z, omega, alpha) as in BaseMotion; empty =
-  /// a still base under gravity (LegConstants::gravity_mps2).
-  Eigen::Matrix<double, Eigen::Dynamic, 4> base;
-  Eigen::Index size() const { return t_s.size(); }
-  /// Throws std::invalid_argument if the sizes disagree or a value is not finite.
-  void validate() const;
-};
 
 /// N x 10 regressor of one joint's equation over a record.
 Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c);

@@ -4,7 +4,8 @@
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
-#include "exoid/ident/model/chain_processing.hpp"
+#include "exoid/ident/model/robot.hpp"
+#include "exoid/ident/signals/processing.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 
 #include <Eigen/Core>
@@ -36,10 +37,10 @@ struct ChainEstimate {
   Eigen::Index rows = 0;
 };
 
-/// Fits the record's rows in the base parameters of `base`; phi_start (standard parameters,
+/// Fits the record's rows in the robot's parameters; phi_start (standard parameters,
 /// e.g. the model file's nominal ones) starts the consistent fit. Throws std::invalid_argument
 /// on sizes that disagree.
-ChainEstimate estimateChain(const ChainModel& model, const BaseParameters& base, const ChainRecord& record,
-                            const Eigen::VectorXd& phi_start, const ChainEstimateOptions& options = {});
+ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const Eigen::VectorXd& phi_start,
+                            const ChainEstimateOptions& options = {});
 
 }  // namespace exoid::ident

@@ -11,12 +11,12 @@
 // the states:
 //
 // 1. The motion's bandwidth f_m: the frequency below which `motion_fraction` of the angles'
-//    (mean-removed) variance lies, both joints' power pooled (Welch, 2 s segments; a joint held
+//    (mean-removed) variance lies, every joint's power pooled (Welch, 2 s segments; a joint held
 //    still, whose angle is encoder noise, does not set it).
-// 2. A pilot fit: least squares over both equations, parallel processing at pilot_factor x f_m.
+// 2. A pilot fit: least squares over every joint's equation, parallel processing at pilot_factor x f_m.
 // 3. The consistency scan: the torque the pilot predicts from the measured states (the regressor
 //    of the unfiltered states) against the torque measured, in bands of scan_band_hz from f_m up
-//    (Welch; both joints' power pooled, as the stacked fit sees them). The band ends where the
+//    (Welch; every joint's power pooled, as the stacked fit sees them). The band ends where the
 //    prediction's amplitude first exceeds inconsistency_ratio x the measurement's: there at
 //    least 1 - 1 / ratio^2 (3/4 at 2) of the columns' power is foreign to the torque.
 // 4. cutoff = that frequency, at most max_factor x f_m; the derivative pre-filter at
@@ -24,8 +24,8 @@
 //    (1/5)^8 = 2.6e-6: exact data stay exact); decimation fs / (5 cutoff).
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
-#include "exoid/ident/leg/regressor.hpp"
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,11 +46,9 @@ struct BandRule {
   double max_factor = 5.0;
   /// Derivative pre-filter = derivative_factor x cutoff. Range >= 2. Default 5.
   double derivative_factor = 5.0;
-  /// Scan the knee equation only: a record whose hip is held by a lock, not its motor (the
-  /// segmental strategy's knee record), measures no hip joint torque.
-  bool knee_only = false;
-  /// The same for a chain's record with the joints above this one locked (chain_segmental.hpp):
-  /// the chain's pilot fits and scans the equations of joints first_moving_joint.. only. >= 0.
+  /// The record's joints above this one are held by a lock, not their motors (a segmental
+  /// strategy's stage, e.g. the APAL leg's knee record with its hip fixed): the pilot fits and
+  /// the scan reads the equations of joints first_moving_joint.. only. >= 0.
   Eigen::Index first_moving_joint = 0;
   /// The pilot fit and the consistency scan read the record's central pilot_max_samples at most
   /// (default 2^17: 131 s at 1 kHz, 65 of the scan's 2 s Welch segments; never fewer than 24 /
@@ -90,13 +88,8 @@ struct BandChoice {
 };
 
 /// The motion's bandwidth of record d: the frequency below which `fraction` (in (0.5, 1)) of the
-/// angles' mean-removed variance lies, both joints' power pooled (Welch, 2 s segments).
+/// angles' mean-removed variance lies, every joint's power pooled (Welch, 2 s segments).
 double motionBandwidth(const Dataset& d, double fraction = 0.99);
-
-/// The band of record d (parallel processing; `base` supplies the other options). Throws
-/// std::invalid_argument as processRecord does (too short, bad options), and for a record sampled
-/// below 20 Hz or too short to choose a band.
-BandChoice chooseBand(const Dataset& d, const LegConstants& c, const SignalOptions& base, const BandRule& rule = {});
 
 /// The torque a pilot fit predicts from the measured states along the record it is given (N x k)
 /// and the torque measured that it is compared with (N x k): the model's part of chooseBand. The
@@ -106,20 +99,15 @@ struct PilotTorques {
   Eigen::MatrixXd predicted_Nm, measured_Nm;
 };
 using PilotFit = std::function<PilotTorques(const Dataset& record, const SignalOptions& pilot)>;
-/// chooseBand for any model: the same rule, the model's pilot given as a function.
+/// The band of record d (parallel processing; `base` supplies the other options), the robot's
+/// pilot given as a function (processing.hpp's chooseBand gives it). Throws
+/// std::invalid_argument for a record sampled below 20 Hz or too short to choose a band, and as
+/// the processing does (bad options).
 BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const BandRule& rule, const PilotFit& pilot_fit);
 
 /// The derivative pre-filter for a cutoff: rule.derivative_factor x cutoff_hz, or 0 (none) when
 /// that is at or above the Nyquist frequency of sample_rate_hz.
 double derivativeCutoffFor(double cutoff_hz, double sample_rate_hz, const BandRule& rule = {});
-
-/// o with the choices it leaves to the data made for record d: the band (cutoff_from_data, parallel
-/// processing, filtering on; chooseBand with rule.knee_only = knee_only: a record whose hip is held
-/// by a lock is judged by its knee equation) and the derivative pre-filter
-/// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use). o itself when it leaves
-/// none or uses the paper's processing. chosen, when given, receives the band (or is reset).
-SignalOptions resolveSignalOptions(const Dataset& d, const LegConstants& c, const SignalOptions& o, bool knee_only = false,
-                                   std::optional<BandChoice>* chosen = nullptr);
 
 /// base with the choice's cutoff (and derivative cutoff, when base leaves it to the data) in place
 /// of the ones to be chosen (SignalOptions::cutoff_from_data, derivative_cutoff_from_data).

@@ -2,7 +2,7 @@
 // From a recorded dataset to the signals the regressor needs: velocities and accelerations by
 // differentiation (or from recorded columns), zero-phase low-pass filtering (paper Sec. 3).
 #include "exoid/ident/io/dataset.hpp"
-#include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/joint_signals.hpp"
 #include "exoid/ident/signals/signals.hpp"
 
 #include <vector>
@@ -107,43 +107,17 @@ JointSignals trimEdges(const JointSignals& s, Eigen::Index trim);
 /// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).
 JointSignals recordedSignals(const Dataset& d);
 
-/// The rows an estimator fits: each joint's regressor (N x 10) and the torques, processed alike,
-/// with the states they were built from (same rows).
-struct ProcessedRecord {
-  Eigen::MatrixXd hip;     ///< hip equation rows
-  Eigen::MatrixXd knee;    ///< knee equation rows
-  Eigen::MatrixX2d tau_Nm;  ///< measured torques, processed like the rows
-  /// The knee rows' column of the optional knee armature Ia2 (kKneeArmature): qdd2, processed like
-  /// the rows. The hip rows' column is 0.
-  Eigen::VectorXd knee_armature;
-  JointSignals states;     ///< states at the rows (for the parallel processing: unfiltered)
-  Eigen::Index size() const { return tau_Nm.rows(); }
-};
-
-/// Several records' rows as one record, in order: each was processed on its own (its filter, edge
-/// trims and decimation), so no seam between records enters the fit. States are concatenated
-/// too (their times are each record's own). Throws std::invalid_argument for none, or when some
-/// have base-motion or knee-armature columns and others not.
-ProcessedRecord stackRecords(const std::vector<ProcessedRecord>& records);
-
-/// The regressor of signals as they are (no further processing).
-ProcessedRecord regressorRecord(const JointSignals& s, const LegConstants& c);
-/// A record processed by o.processing: kPaper = regressorRecord(prepareSignals(d, o)); kParallel =
-/// parallel filtering and decimation (see Processing). Throws std::invalid_argument as
-/// prepareSignals does.
-ProcessedRecord processRecord(const Dataset& d, const LegConstants& c, const SignalOptions& o);
-/// processRecord first makes the choices o leaves to the data (resolveSignalOptions, band.hpp).
 /// The parallel processing's full-rate states of record d: recorded derivatives, else five-point
-/// differences of the angles after the derivative pre-filter (unfiltered angles and torques).
+/// differences of the angles after the derivative pre-filter (unfiltered angles and torques), and
+/// the base motion from the IMU columns when o.base_terms asks for it.
 JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o);
+/// Rows [from, to) of the same, computed from those rows alone (a long log's block with its margins).
+JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o, Eigen::Index from, Eigen::Index to);
 /// Samples of context on each side of a block of the parallel processing: enough for the
 /// pre-filter, differences and parallel filter of the block's edges to die out before its kept rows.
 Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz);
-
-/// The parallel filtering and decimation of states sampled at sample_rate_hz (whatever
-/// o.processing says): the rows processRecord gives for kParallel once it has the states. Rows
-/// align with processRecord's for a record of the same length and rate (IDIM-IV's instruments).
-ProcessedRecord parallelProcess(const JointSignals& states, const LegConstants& c, const SignalOptions& o,
-                                double sample_rate_hz);
+/// Throws std::invalid_argument naming the numbers when a record of n samples, trimmed by `trim`
+/// at each end and decimated by r, leaves fewer than 20 rows.
+void checkRecordLength(Eigen::Index n, Eigen::Index trim, int r);
 
 }  // namespace exoid::ident
