@@ -95,7 +95,7 @@ TEST_P(ProcessingOnEveryLeg, BlocksOfALongLogGiveTheWholeRecordsRows) {
   const Dataset d = leg.record(30.0, false);  // angles only: pre-filter and differences too
   SignalOptions whole = parallel(), blocks = parallel();
   whole.block_samples = 1000000;
-  blocks.block_samples = 1;  // -> 4 margins (8032 samples at 10 Hz, 1 kHz): four blocks of 30000
+  blocks.block_samples = 1;  // -> 4 margins (4196 samples at 10 Hz, 1 kHz): eight blocks of 30000
   ASSERT_GT(d.size(), 4 * parallelBlockMargin(blocks, 1000.0) + 2 * parallelBlockMargin(blocks, 1000.0));
   const RecordRows a = processRecord(d, leg.robot, whole), b = processRecord(d, leg.robot, blocks);
   ASSERT_EQ(a.W.rows(), b.W.rows());
@@ -112,7 +112,7 @@ TEST_P(ProcessingOnEveryLeg, BlocksOnSeveralThreadsAreTheSameBytesAsOnOne) {
   const LegCase leg = GetParam()();
   const Dataset d = leg.record(30.0, false);
   SignalOptions one = parallel();
-  one.block_samples = 1;  // four blocks of 30000
+  one.block_samples = 1;  // eight blocks of 30000
   one.threads = 1;
   const RecordRows a = processRecord(d, leg.robot, one);
   for (int threads : {2, 3, 0}) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <stdexcept>
 
 namespace exoid::ident {
@@ -16,6 +17,26 @@ Eigen::Matrix<double, 1, 6> inertiaRow(const Eigen::Vector3d& v, const Eigen::Ve
   r << v.x() * x.x(), v.x() * x.y() + v.y() * x.x(), v.x() * x.z() + v.z() * x.x(), v.y() * x.y(),
       v.y() * x.z() + v.z() * x.y(), v.z() * x.z();
   return r;
+}
+
+// The rotation by q about a unit axis: written out for a coordinate axis (+-x, +-y, +-z: nearly
+// every robot file's joints), Rodrigues' formula otherwise.
+Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& axis, double q) {
+  const double c = std::cos(q), s = std::sin(q);
+  Eigen::Matrix3d R;
+  if (axis.y() == 0.0 && axis.z() == 0.0 && std::abs(axis.x()) == 1.0) {
+    const double t = axis.x() * s;
+    R << 1.0, 0.0, 0.0, 0.0, c, -t, 0.0, t, c;
+  } else if (axis.x() == 0.0 && axis.z() == 0.0 && std::abs(axis.y()) == 1.0) {
+    const double t = axis.y() * s;
+    R << c, 0.0, t, 0.0, 1.0, 0.0, -t, 0.0, c;
+  } else if (axis.x() == 0.0 && axis.y() == 0.0 && std::abs(axis.z()) == 1.0) {
+    const double t = axis.z() * s;
+    R << c, -t, 0.0, t, c, 0.0, 0.0, 0.0, 1.0;
+  } else {
+    R = Eigen::AngleAxisd(q, axis).toRotationMatrix();
+  }
+  return R;
 }
 
 void requireSize(const char* what, Eigen::Index got, int dof) {
@@ -53,7 +74,7 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
     const ChainJoint& j = model.joints[uk];
     // Link k's motion in its own frame.
     // Most robot files place joint frames unrotated: skip the product then (same bits).
-    const Eigen::Matrix3d turn = Eigen::AngleAxisd(q[k], j.axis).toRotationMatrix();
+    const Eigen::Matrix3d turn = rotationAbout(j.axis, q[k]);
     const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
     const Eigen::Vector3d& p = j.parent_p_joint_m;
     const Eigen::Vector3d a_joint = a + wd.cross(p) + w.cross(w.cross(p));  // the joint origin, parent frame
@@ -100,6 +121,61 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
       column += 2;
     }
     if (j.armature) out(k, column++) = qdd[k];
+  }
+}
+
+// The same links' wrenches from phi itself: forward, each link's motion in its own frame (as the
+// regressor's); its wrench about its origin, f = m a + wd x h + w x (w x h), n = I wd + w x (I w) +
+// h x a (h = m c, I about the origin); backward, each link carries its children's, and its joint
+// the moment about its axis, plus its own friction and armature.
+void chainInverseDynamicsInto(const ChainModel& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                              const Eigen::Ref<const Eigen::VectorXd>& qd, const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                              const ChainBaseMotion& base, const Eigen::Ref<const Eigen::VectorXd>& phi, ChainRegressorWorkspace& work,
+                              Eigen::Ref<Eigen::VectorXd> tau) {
+  const int n = model.dof();
+  requireSize("q", q.size(), n);
+  requireSize("qd", qd.size(), n);
+  requireSize("qdd", qdd.size(), n);
+  if (phi.size() != model.standardParameterCount()) {
+    throw std::invalid_argument("chain inverse dynamics: expected " + core::toText(model.standardParameterCount()) +
+                                " standard parameters, got " + core::toText(static_cast<long long>(phi.size())));
+  }
+  const std::size_t un = static_cast<std::size_t>(n);
+  work.R.resize(un);
+  work.force.resize(un);
+  work.moment.resize(un);
+  const std::vector<JointParameterLayout> layout = model.layout();
+  Eigen::Vector3d w = base.omega_radps, wd = base.alpha_radps2, a = base.specific_force_mps2;
+  for (int k = 0; k < n; ++k) {
+    const std::size_t uk = static_cast<std::size_t>(k);
+    const ChainJoint& j = model.joints[uk];
+    const Eigen::Matrix3d turn = rotationAbout(j.axis, q[k]);
+    const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
+    const Eigen::Vector3d& p = j.parent_p_joint_m;
+    const Eigen::Vector3d a_joint = a + wd.cross(p) + w.cross(w.cross(p));
+    const Eigen::Vector3d w_carried = R.transpose() * w;
+    w = w_carried + j.axis * qd[k];
+    wd = R.transpose() * wd + w_carried.cross(j.axis * qd[k]) + j.axis * qdd[k];
+    a = R.transpose() * a_joint;
+    work.R[uk] = R;
+    const auto l = phi.segment<kLinkParams>(layout[uk].link);
+    const Eigen::Vector3d h(l[1], l[2], l[3]);
+    Eigen::Matrix3d I;
+    I << l[4], l[5], l[6], l[5], l[7], l[8], l[6], l[8], l[9];
+    work.force[uk] = l[0] * a + wd.cross(h) + w.cross(w.cross(h));
+    work.moment[uk] = I * wd + w.cross(I * w) + h.cross(a);
+  }
+  for (int k = n - 1; k >= 0; --k) {
+    const std::size_t uk = static_cast<std::size_t>(k);
+    const ChainJoint& j = model.joints[uk];
+    tau[k] = j.axis.dot(work.moment[uk]);
+    if (j.friction) tau[k] += phi[layout[uk].friction] * static_cast<double>((qd[k] > 0.0) - (qd[k] < 0.0)) + phi[layout[uk].friction + 1] * qd[k];
+    if (j.armature) tau[k] += phi[layout[uk].armature] * qdd[k];
+    if (k > 0) {  // the parent carries this link's wrench, moved to its own origin and frame
+      const Eigen::Vector3d f = work.R[uk] * work.force[uk];
+      work.force[uk - 1] += f;
+      work.moment[uk - 1] += work.R[uk] * work.moment[uk] + j.parent_p_joint_m.cross(f);
+    }
   }
 }
 

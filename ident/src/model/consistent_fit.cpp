@@ -138,9 +138,18 @@ class BarrierSolver {
     return steps;
   }
 
-  // The barrier's value, gradient and Hessian at a feasible phi (t q included).
-  double value(const Eigen::VectorXd& phi, double t) const {
-    double v = t * objective(phi);
+  // The barrier's change from a feasible phi to a feasible trial (t q included): q's change from
+  // the residual r and the step's image d, (2 r.d + d.d) / scale, not as a difference of two
+  // values of t q (at a large t their rounding, 1e-16 t q, exceeds the change a Newton step makes:
+  // the line search would stall short of the gap the stopping rule promises).
+  double change(const Eigen::VectorXd& phi, const Eigen::VectorXd& trial, double t) const {
+    const Eigen::VectorXd r = RC_ * phi - target_, d = RC_ * (trial - phi);
+    return t * (2.0 * r.dot(d) + d.squaredNorm()) / scale_ + barrierTerms(trial) - barrierTerms(phi);
+  }
+
+  // The barrier's own terms (without t q) at a feasible phi.
+  double barrierTerms(const Eigen::VectorXd& phi) const {
+    double v = 0.0;
     for (const JointParameterLayout& l : coords_.layout) {
       const LinkVector link = phi.segment<kLinkParams>(l.link);
       Eigen::LLT<Eigen::Matrix4d> llt(pseudoInertia(link));
@@ -151,6 +160,7 @@ class BarrierSolver {
     return v;
   }
 
+  // The barrier's gradient and Hessian at a feasible phi (t q included).
   void derivatives(const Eigen::VectorXd& phi, double t, Eigen::VectorXd& g, Eigen::MatrixXd& H) const {
     g = (2.0 * t / scale_) * (RC_.transpose() * (RC_ * phi - target_));
     H = t * Q2_;
@@ -185,6 +195,8 @@ class BarrierSolver {
  private:
   // Newton steps at t until the decrement says the centre is reached; stalled when rounding stops
   // the line search first (the problem's conditioning at this t: a larger t cannot do better).
+  // The search halves the step down to 1e-12: next to the boundary a feasible step can be that
+  // short, and stopping at 1e-6 left the last centring (and the gap it promises) undone.
   int centre(Eigen::VectorXd& phi, double t, int max_newton, bool& stalled) const {
     Eigen::VectorXd g;
     Eigen::MatrixXd H;
@@ -198,13 +210,12 @@ class BarrierSolver {
       const double decrement = -g.dot(step);  // Newton decrement squared
       if (!(decrement > 1e-9)) return it + 1;  // within 1e-9 / 2 of the centre: rounding beyond
       double s = 1.0;
-      const double f0 = value(phi, t);
-      while (s > 1e-6) {
+      while (s > 1e-12) {
         const Eigen::VectorXd trial = phi + s * step;
-        if (feasible(trial) && value(trial, t) <= f0 - 0.25 * s * decrement) break;
+        if (feasible(trial) && change(phi, trial, t) <= -0.25 * s * decrement) break;
         s *= 0.5;
       }
-      if (s <= 1e-6) {
+      if (s <= 1e-12) {
         stalled = true;
         return it + 1;
       }

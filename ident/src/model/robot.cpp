@@ -1,9 +1,11 @@
 #include "exoid/ident/model/robot.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/core/parallel_for.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/ident/leg/params.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -68,6 +70,14 @@ void requireSize(const char* what, Eigen::Index got, int dof) {
 
 BaseMotion planar(const ChainBaseMotion& b) {
   return {b.specific_force_mps2.x(), b.specific_force_mps2.z(), b.omega_radps.y(), b.alpha_radps2.y()};
+}
+
+// A chain robot's theta as standard parameters: its base parameters on their own (independent)
+// columns, 0 elsewhere, so Y phi = Y_base theta.
+const Eigen::VectorXd& standardOf(const Robot& robot, const Eigen::VectorXd& theta, Eigen::VectorXd& phi) {
+  phi.setZero(robot.chain.standardParameterCount());
+  for (int i = 0; i < robot.basis.rank; ++i) phi[robot.basis.independent[static_cast<std::size_t>(i)]] = theta[i];
+  return phi;
 }
 
 }  // namespace
@@ -186,9 +196,9 @@ Eigen::VectorXd robotTorque(const Robot& robot, const Eigen::VectorXd& q, const 
     const double ia2 = robot.knee_armature ? theta[kKneeArmature] : 0.0;
     return Eigen::Vector2d(hip.dot(x), knee.dot(x) + ia2 * qdd[1]);
   }
-  work.rows.resize(robot.dof(), robot.parameters());
-  robotRowsInto(robot, q, qd, qdd, ChainBaseMotion::still(robot.chain), work, work.rows);
-  return work.rows * theta;
+  Eigen::VectorXd tau(robot.dof());
+  chainInverseDynamicsInto(robot.chain, q, qd, qdd, ChainBaseMotion::still(robot.chain), standardOf(robot, theta, work.phi), work.chain, tau);
+  return tau;
 }
 
 ChainBaseMotion baseMotionAt(const Robot& robot, const JointSignals& s, Eigen::Index i) {
@@ -217,19 +227,36 @@ void structuralColumns(const Robot& robot, const JointSignals& s, Eigen::Ref<Eig
     if (robot.knee_armature) out.col(kColumns) = s.qdd_radps2.col(1);
     return;
   }
-  RobotWorkspace work;
-  Eigen::MatrixXd Y(dof, robot.parameters());
-  for (Eigen::Index i = 0; i < s.size(); ++i) {
-    robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
-                  baseMotionAt(robot, s, i), work, Y);
-    Eigen::Index at = 0;
-    for (int j = 0; j < dof; ++j) {
-      for (const int c : robot.joint_columns[static_cast<std::size_t>(j)]) out(i, at++) = Y(j, c);
+  // A chain: each state's standard regressor, its structural entries (the standard column each
+  // base parameter is) gathered into a row of a chunk of samples, the chunk copied into `out`
+  // column by column (a row at a time would touch every column's cache line per sample).
+  std::vector<Eigen::Index> gather;  // joint j's entry of standard column c at j + dof c (Y is column-major)
+  for (int j = 0; j < dof; ++j) {
+    for (const int c : robot.joint_columns[static_cast<std::size_t>(j)]) {
+      gather.push_back(j + dof * static_cast<Eigen::Index>(robot.basis.independent[static_cast<std::size_t>(c)]));
     }
+  }
+  constexpr Eigen::Index kChunk = 256;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> chunk(kChunk, out.cols());
+  Eigen::MatrixXd Y(dof, robot.chain.standardParameterCount());
+  ChainRegressorWorkspace work;
+  Eigen::VectorXd q(dof), qd(dof), qdd(dof);  // a row of a column-major matrix, copied once (a Ref to it would copy per call)
+  for (Eigen::Index i0 = 0; i0 < s.size(); i0 += kChunk) {
+    const Eigen::Index m = std::min(kChunk, s.size() - i0);
+    for (Eigen::Index k = 0; k < m; ++k) {
+      const Eigen::Index i = i0 + k;
+      q = s.q_rad.row(i).transpose();
+      qd = s.qd_radps.row(i).transpose();
+      qdd = s.qdd_radps2.row(i).transpose();
+      chainRegressorInto(robot.chain, q, qd, qdd, baseMotionAt(robot, s, i), work, Y);
+      double* row = chunk.row(k).data();
+      for (std::size_t g = 0; g < gather.size(); ++g) row[g] = Y.data()[gather[g]];
+    }
+    out.middleRows(i0, m) = chunk.topRows(m);
   }
 }
 
-Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const Eigen::VectorXd& theta) {
+Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const Eigen::VectorXd& theta, int threads) {
   if (theta.size() != robot.parameters()) {
     throw std::invalid_argument("predictTorques: expected " + core::toText(robot.parameters()) + " parameters, got " +
                                 core::toText(theta.size()));
@@ -240,14 +267,25 @@ Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const 
     return tau;
   }
   s.validate();
-  RobotWorkspace work;
-  Eigen::MatrixXd Y(robot.dof(), robot.parameters());
+  // A chain: its inverse dynamics at each state (Newton-Euler, O(dof)), in chunks of samples on
+  // `threads` (each chunk alone: the same bytes whatever the number).
+  Eigen::VectorXd phi_buffer;
+  const Eigen::VectorXd phi = standardOf(robot, theta, phi_buffer);
   Eigen::MatrixXd tau(s.size(), robot.dof());
-  for (Eigen::Index i = 0; i < s.size(); ++i) {
-    robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
-                  baseMotionAt(robot, s, i), work, Y);
-    tau.row(i) = (Y * theta).transpose();
-  }
+  constexpr Eigen::Index kChunk = 8192;
+  const auto chunks = static_cast<std::size_t>((s.size() + kChunk - 1) / kChunk);
+  core::parallelFor(chunks, threads, [&](std::size_t c) {
+    ChainRegressorWorkspace work;
+    Eigen::VectorXd row(robot.dof()), q(robot.dof()), qd(robot.dof()), qdd(robot.dof());
+    const Eigen::Index from = static_cast<Eigen::Index>(c) * kChunk, to = std::min(s.size(), from + kChunk);
+    for (Eigen::Index i = from; i < to; ++i) {
+      q = s.q_rad.row(i).transpose();
+      qd = s.qd_radps.row(i).transpose();
+      qdd = s.qdd_radps2.row(i).transpose();
+      chainInverseDynamicsInto(robot.chain, q, qd, qdd, baseMotionAt(robot, s, i), phi, work, row);
+      tau.row(i) = row.transpose();
+    }
+  });
   return tau;
 }
 

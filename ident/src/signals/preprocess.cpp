@@ -205,12 +205,16 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs,
 }  // namespace
 
 Eigen::Index parallelBlockMargin(const SignalOptions& o, double sample_rate_hz) {
-  // Twenty periods of the slowest filter's cutoff: its impulse response (and the pre-filter's)
-  // has decayed below 1e-15 there (a 2nd-order Butterworth's pole radius at 10 Hz, 1 kHz is
-  // 0.957: 0.957^2000 ~ 1e-38), so a block's own edges do not reach the rows it keeps.
-  double slowest = o.filter ? o.cutoff_hz : sample_rate_hz;
-  if (o.derivative_cutoff_hz > 0.0) slowest = std::min(slowest, o.derivative_cutoff_hz);
-  return static_cast<Eigen::Index>(std::ceil(20.0 * sample_rate_hz / slowest)) + 8;
+  // Long enough for the filters' response to a block's own edges to die out before the rows it
+  // keeps: a Butterworth of order N at fc has its slowest poles at -2 pi fc sin(pi / 2N) (+-j ...),
+  // so its impulse response decays by e^-46 = 1e-20 in 46 / (2 pi sin(pi / 2N)) periods of fc:
+  // 10.4 at order 2 (the default), 19.1 at 4 (the derivative pre-filter), 37.5 at 8.
+  const auto periods = [](int order) { return 46.0 / (2.0 * M_PI * std::sin(M_PI / (2.0 * order))); };
+  double samples = 0.0;
+  if (o.filter) samples = periods(o.filter_order) * sample_rate_hz / o.cutoff_hz;
+  if (o.derivative_cutoff_hz > 0.0) samples = std::max(samples, periods(4) * sample_rate_hz / o.derivative_cutoff_hz);
+  // Plus the differences' stencils (two samples each side, twice).
+  return static_cast<Eigen::Index>(std::ceil(samples)) + 8;
 }
 
 JointSignals differentiatedStates(const Dataset& d, const SignalOptions& o) { return differentiatedStates(d, o, 0, d.size()); }

@@ -32,6 +32,10 @@ Eigen::VectorXd RecordRows::jointY(Eigen::Index j) const { return y(rowsOfJoint(
 
 namespace {
 
+// The columns a block of block_samples rows is sized for: up to 32 (the 2-link leg has 15, 16 with
+// its knee armature); a robot with more gets proportionally fewer rows a block.
+constexpr Eigen::Index kBlockColumns = 32;
+
 void checkJoints(const Robot& robot, const JointSignals& s) {
   s.validate();
   if (s.q_rad.cols() != robot.dof()) {
@@ -61,19 +65,24 @@ JointSignals keptStates(const JointSignals& s, Eigen::Index first, Eigen::Index 
   return out;
 }
 
-// The structurally nonzero columns then the torques, one row per sample (samples x (S + dof)):
-// one filter pass treats every column alike, and a column that is zero by construction is never held.
-Eigen::MatrixXd columnsAndTorques(const Robot& robot, const JointSignals& s) {
+// The structurally nonzero columns then the torques, one row per sample (samples x (S + dof)), into
+// `all`: one filter pass treats every column alike, and a column that is zero by construction is
+// never held.
+void columnsAndTorques(const Robot& robot, const JointSignals& s, Eigen::Ref<Eigen::MatrixXd> all) {
   const Eigen::Index structural = robot.structuralColumnCount();
-  Eigen::MatrixXd all(s.size(), structural + robot.dof());
   structuralColumns(robot, s, all.leftCols(structural));
   all.rightCols(robot.dof()) = s.tau_Nm;
+}
+
+Eigen::MatrixXd columnsAndTorques(const Robot& robot, const JointSignals& s) {
+  Eigen::MatrixXd all(s.size(), robot.structuralColumnCount() + robot.dof());
+  columnsAndTorques(robot, s, all);
   return all;
 }
 
 // `all` (filtered) at rows first, first + r, ... into out's W and y (m samples), the states' torques
 // the processed ones.
-void keptRows(const Robot& robot, const Eigen::MatrixXd& all, Eigen::Index first, int r, RecordRows& out) {
+void keptRows(const Robot& robot, const Eigen::Ref<const Eigen::MatrixXd>& all, Eigen::Index first, int r, RecordRows& out) {
   const Eigen::Index dof = robot.dof(), m = out.states.size(), structural = robot.structuralColumnCount();
   out.dof = dof;
   out.W = Eigen::MatrixXd::Zero(m * dof, robot.parameters());
@@ -104,9 +113,12 @@ RecordRows recordRows(const Robot& robot, const JointSignals& s) {
   out.y.resize(n * dof);
   out.record_rows = {n * dof};
   RobotWorkspace work;
+  Eigen::VectorXd q(dof), qd(dof), qdd(dof);
   for (Eigen::Index i = 0; i < n; ++i) {
-    robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
-                  baseMotionAt(robot, s, i), work, out.W.middleRows(i * dof, dof));
+    q = s.q_rad.row(i).transpose();
+    qd = s.qd_radps.row(i).transpose();
+    qdd = s.qdd_radps2.row(i).transpose();
+    robotRowsInto(robot, q, qd, qdd, baseMotionAt(robot, s, i), work, out.W.middleRows(i * dof, dof));
     out.y.segment(i * dof, dof) = s.tau_Nm.row(i).transpose();
   }
   out.states = s;
@@ -137,7 +149,12 @@ RecordRows processRecord(const Dataset& d, const Robot& robot, const SignalOptio
   const double fs = 1.0 / d.sampleInterval_s();
   o.validateFor(fs);
   const Eigen::Index n = d.size();
-  const Eigen::Index margin = parallelBlockMargin(o, fs), block = std::max<Eigen::Index>(o.block_samples, 4 * margin);
+  // A block holds block_samples rows of up to kBlockColumns columns (regressor and torques side by
+  // side): a robot with more gets proportionally fewer samples a block (but at least four margins),
+  // so memory stays bounded by the threads times the block, not by the log or the robot's width.
+  const Eigen::Index columns = robot.structuralColumnCount() + robot.dof();
+  const Eigen::Index margin = parallelBlockMargin(o, fs),
+                     block = std::max<Eigen::Index>(o.block_samples * kBlockColumns / std::max(columns, kBlockColumns), 4 * margin);
   if (n <= block + 2 * margin) return parallelProcess(differentiatedStates(d, o), robot, o, fs);
   // A long log, a block at a time with `margin` samples of context on each side: memory stays
   // bounded by the block, and the kept rows are the full-length ones to rounding (the margin).
@@ -159,13 +176,19 @@ RecordRows processRecord(const Dataset& d, const Robot& robot, const SignalOptio
   }
   std::vector<RecordRows> parts(blocks.size());
   const SosFilter lowpass = o.filter ? butterworthLowpass(o.filter_order, o.cutoff_hz, fs) : SosFilter{};
-  core::parallelFor(blocks.size(), o.threads, [&](std::size_t k) {
+  // Each worker fills and filters its blocks in one buffer of its own, allocated once: a fresh one
+  // per block is memory the kernel zeroes again every time.
+  std::vector<Eigen::MatrixXd> buffers(static_cast<std::size_t>(core::resolveThreads(o.threads)));
+  core::parallelForWorkers(blocks.size(), o.threads, [&](std::size_t k, std::size_t worker) {
     const Block& bk = blocks[k];
     JointSignals s = differentiatedStates(d, o, bk.lo, bk.hi);
     checkJoints(robot, s);
-    Eigen::MatrixXd all = columnsAndTorques(robot, s);
+    Eigen::MatrixXd& buffer = buffers[worker];
+    if (buffer.rows() < s.size()) buffer.resize(block + 2 * margin, columns);
+    auto all = buffer.topRows(s.size());
+    columnsAndTorques(robot, s, all);
     parts[k].states = keptStates(s, bk.first - bk.lo, keptCount(bk.first, bk.last, r), r);
-    s = JointSignals{};  // the block's states freed before the filter takes its buffer
+    s = JointSignals{};
     if (o.filter) filtfiltInPlace(lowpass, all);
     keptRows(robot, all, bk.first - bk.lo, r, parts[k]);
   });
@@ -235,7 +258,7 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
                                              : solveLeastSquares(rows.W(rows.rowsOfJointsFrom(first), Eigen::all),
                                                                  rows.y(rows.rowsOfJointsFrom(first)), ls).x;
     // One pass over the states (no full-rate rows held): the predicted torque itself.
-    const Eigen::MatrixXd predicted = predictTorques(robot, differentiatedStates(record, pilot), theta);
+    const Eigen::MatrixXd predicted = predictTorques(robot, differentiatedStates(record, pilot), theta, pilot.threads);
     PilotTorques t;
     t.predicted_Nm = predicted.rightCols(dof - first);
     t.measured_Nm = record.tau_Nm.rightCols(dof - first);

@@ -12,5 +12,8 @@ namespace exoid::core {
 int resolveThreads(int threads);
 
 void parallelFor(std::size_t n, int threads, const std::function<void(std::size_t)>& fn);
+/// The same, fn(i, worker) also told which worker (0 .. resolveThreads(threads) - 1) runs it, so
+/// that each worker can reuse its own buffers from one call to the next.
+void parallelForWorkers(std::size_t n, int threads, const std::function<void(std::size_t, std::size_t)>& fn);
 
 }  // namespace exoid::core

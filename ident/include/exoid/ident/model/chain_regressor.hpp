@@ -37,10 +37,21 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
                         const Eigen::Ref<const Eigen::VectorXd>& qd, const Eigen::Ref<const Eigen::VectorXd>& qdd,
                         const ChainBaseMotion& base, ChainRegressorWorkspace& work, Eigen::Ref<Eigen::MatrixXd> out);
 
+/// tau = Y(q, qd, qdd) phi directly, by the recursive Newton-Euler algorithm (O(dof), where the
+/// regressor is O(dof^2)): a model's inverse dynamics for its closed loop, its feedforward and the
+/// torque it predicts along a long record. Same conventions and sizes as chainRegressorInto.
+void chainInverseDynamicsInto(const ChainModel& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                              const Eigen::Ref<const Eigen::VectorXd>& qd, const Eigen::Ref<const Eigen::VectorXd>& qdd,
+                              const ChainBaseMotion& base, const Eigen::Ref<const Eigen::VectorXd>& phi, ChainRegressorWorkspace& work,
+                              Eigen::Ref<Eigen::VectorXd> tau);
+
 struct ChainRegressorWorkspace {
   /// Joint i's axis and origin seen from the link being processed (its frame), per joint i.
   std::vector<Eigen::Vector3d> axis_seen, origin_seen;
   std::vector<int> link_column;  ///< first column of each link's parameters
+  /// Inverse dynamics: each link's rotation from its parent, offset, and wrench about its origin.
+  std::vector<Eigen::Matrix3d> R;
+  std::vector<Eigen::Vector3d> force, moment;
 };
 
 }  // namespace exoid::ident

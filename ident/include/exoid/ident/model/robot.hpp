@@ -58,8 +58,8 @@ Robot twoLinkLeg(const LegConstants& c, bool knee_armature = false);
 /// What robotRowsInto reuses between calls.
 struct RobotWorkspace {
   ChainRegressorWorkspace chain;
-  Eigen::MatrixXd Y;     ///< the standard regressor at the state (chains)
-  Eigen::MatrixXd rows;  ///< the robot's rows at the state (robotTorque)
+  Eigen::MatrixXd Y;    ///< the standard regressor at the state (chains)
+  Eigen::VectorXd phi;  ///< theta as standard parameters (robotTorque)
 };
 
 /// The dof x parameters() rows at one state (joint-relative rates), into `out` (already sized).
@@ -85,8 +85,9 @@ ChainBaseMotion baseMotionAt(const Robot& robot, const JointSignals& s, Eigen::I
 /// joint 0's joint_columns, then joint 1's, ... Throws std::invalid_argument on sizes that disagree.
 void structuralColumns(const Robot& robot, const JointSignals& s, Eigen::Ref<Eigen::MatrixXd> out);
 
-/// s.size() x dof: the torques theta predicts along the signals.
-Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const Eigen::VectorXd& theta);
+/// s.size() x dof: the torques theta predicts along the signals (a chain's by Newton-Euler, in
+/// chunks on `threads`, 0 = the machine's cores: the same bytes whatever the number).
+Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const Eigen::VectorXd& theta, int threads = 1);
 
 /// theta of standard parameters phi (combination * phi). Throws on a size mismatch.
 Eigen::VectorXd fromStandard(const Robot& robot, const Eigen::VectorXd& phi);
