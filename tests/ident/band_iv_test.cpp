@@ -114,7 +114,7 @@ TEST_P(BandIvOnEveryLeg, RefusesWhatItCannotDo) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Legs, BandIvOnEveryLeg, ::testing::Values(&apalLeg, &chainLeg),
-                         [](const ::testing::TestParamInfo<LegCase (*)()>& info) { return info.index == 0 ? "Apal" : "Leg3Chain"; });
+                         [](const ::testing::TestParamInfo<LegCase (*)()>& leg) { return leg.index == 0 ? "Apal" : "Leg3Chain"; });
 
 }  // namespace
 }  // namespace exoid::ident

@@ -162,7 +162,7 @@ TEST_P(ProcessingOnEveryLeg, ExactDataOnAShakingBaseGiveExactParametersWithTheBa
 }
 
 INSTANTIATE_TEST_SUITE_P(Legs, ProcessingOnEveryLeg, ::testing::Values(&apalLeg, &chainLeg),
-                         [](const ::testing::TestParamInfo<LegCase (*)()>& info) { return info.index == 0 ? "Apal" : "Leg3Chain"; });
+                         [](const ::testing::TestParamInfo<LegCase (*)()>& leg) { return leg.index == 0 ? "Apal" : "Leg3Chain"; });
 
 // The 2-link leg's hand-written rows (the fast path) and the RNEA regressor of its chain in base
 // parameters are the same model: for any standard parameters phi, the torques Y_X (G phi) and
