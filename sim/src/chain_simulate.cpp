@@ -88,6 +88,12 @@ ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed
   return f;
 }
 
+SensorOptions idealTorqueSensing() {
+  SensorOptions o;
+  o.tau_bandwidth_Hz = 0.0;
+  return o;
+}
+
 void ChainSimConfig::validate() const {
   auto need = [](bool ok, const char* field, const char* what) {
     if (!ok) throw std::invalid_argument(std::string("chain simulation: '") + field + "' must be " + what);
@@ -95,9 +101,9 @@ void ChainSimConfig::validate() const {
   need(!model_path.empty(), "model_path", "a model file");
   need(duration_s > 0.0 && std::isfinite(duration_s), "duration_s", "> 0");
   need(dt_s > 0.0 && dt_s <= 0.01, "dt_s", "in (0, 0.01]");
-  need(encoder_noise_rad >= 0.0 && std::isfinite(encoder_noise_rad), "encoder_noise_rad", ">= 0");
-  need(encoder_resolution_rad >= 0.0 && std::isfinite(encoder_resolution_rad), "encoder_resolution_rad", ">= 0");
-  need(torque_noise_Nm >= 0.0 && std::isfinite(torque_noise_Nm), "torque_noise_Nm", ">= 0");
+  sensors.validate();
+  need(sensors.tau_bandwidth_Hz * dt_s < 0.5, "sensors.tau_bandwidth_Hz", "below the Nyquist frequency 1 / (2 dt)");
+  need(vibration_level >= 0.0 && vibration_level <= 20.0, "vibration_level", "in [0, 20] (0 = a rigid stand)");
   need(std::isfinite(coulomb_v0_radps), "coulomb_v0_radps", "a number (< 0: the model's, 0: sgn)");
   need(bandwidth_hz > 0.0 && bandwidth_hz < 0.1 / dt_s, "bandwidth_hz", "in (0, 0.1 / dt_s)");
   need(actuator_bandwidth_hz >= 0.0 && std::isfinite(actuator_bandwidth_hz), "actuator_bandwidth_hz", ">= 0");
@@ -106,9 +112,22 @@ void ChainSimConfig::validate() const {
 
 namespace {
 
+// The rig's model: on a rigid stand (the file's mount joints removed from its text, so the base is
+// exactly still) at vibration level 0, else the file as it is.
+ModelPtr loadChainRig(const ChainSimConfig& config) {
+  if (config.vibration_level == 0.0) {
+    const std::string xml = readFileBytes(config.model_path);
+    if (xml.find("class=\"mount\"") != std::string::npos) {
+      return compileMjcf(stripMountJoints(xml, config.model_path), "'" + config.model_path + "' (mount removed)");
+    }
+  }
+  return loadMjcfFile(config.model_path);
+}
+
 // The chain's driven joints in the model: names, Coulomb friction, addresses and motors.
 struct DrivenJoints {
   std::vector<int> ids;
+  std::vector<int> mount;  ///< the mount's joints (every other joint: between the world and the chain)
   std::vector<std::string> names;
   std::vector<double> coulomb;
   std::vector<int> dofadr, qposadr, actuator;
@@ -121,10 +140,18 @@ DrivenJoints drivenJoints(const mjModel* m, const std::string& path) {
   DrivenJoints j;
   j.ids = drivenHinges(m, path);
   const int dof = j.dof();
-  if (m->nv != dof) {
-    throw std::invalid_argument("chain simulation: '" + path + "' has " + std::to_string(m->nv) + " degrees of freedom but its motors drive " +
-                                std::to_string(dof) +
-                                " hinges: every joint must be driven (a passive joint or a free base is not a serial chain exoid simulates)");
+  // Every other joint must be the mount's: a slide or hinge above the chain's first link.
+  const int first_body = m->jnt_bodyid[j.ids.front()];
+  for (int k = 0; k < m->njnt; ++k) {
+    if (std::find(j.ids.begin(), j.ids.end(), k) != j.ids.end()) continue;
+    bool above = false;
+    for (int b = m->body_parentid[first_body]; b > 0 && !above; b = m->body_parentid[b]) above = m->jnt_bodyid[k] == b;
+    if (!above || (m->jnt_type[k] != mjJNT_SLIDE && m->jnt_type[k] != mjJNT_HINGE)) {
+      throw std::invalid_argument("chain simulation: '" + path + "' has joint '" + jointName(m, k) + "' that no motor drives and that is not " +
+                                  "a mount's (a slide or hinge between the world and the chain): a passive joint or a free base is not a " +
+                                  "serial chain exoid simulates");
+    }
+    j.mount.push_back(k);
   }
   const auto n = static_cast<std::size_t>(dof);
   j.coulomb.resize(n);
@@ -195,7 +222,7 @@ int integrationSubsteps(const ChainSimConfig& config, const DrivenJoints& joints
 }
 
 // The table's columns (see ChainSimResult::table).
-std::vector<std::string> chainColumns(const std::vector<std::string>& names, bool record_derivatives) {
+std::vector<std::string> chainColumns(const std::vector<std::string>& names, bool record_derivatives, bool mounted) {
   std::vector<std::string> columns{"t"};
   for (const char* prefix : {"q_", "tau_"}) {
     for (const std::string& j : names) columns.push_back(prefix + j);
@@ -209,6 +236,11 @@ std::vector<std::string> chainColumns(const std::vector<std::string>& names, boo
     for (const std::string& j : names) columns.push_back(prefix + j + "_true");
   }
   for (const std::string& j : names) columns.push_back("q_" + j + "_ref");
+  if (mounted) {
+    for (const char* c : {"base_acc_x", "base_acc_z", "base_gyro_y"}) columns.emplace_back(c);
+    if (record_derivatives) columns.emplace_back("base_alpha_y");
+    for (const char* c : {"base_x", "base_z", "base_pitch"}) columns.emplace_back(c);
+  }
   return columns;
 }
 
@@ -218,8 +250,10 @@ class ChainRig {
  public:
   ChainRig(mjModel* m, const DrivenJoints& joints, const ChainSimConfig& config)
       : m_(m), joints_(joints), config_(config), dof_(joints.dof()), data_(makeData(m)), ref_data_(makeData(m)), d_(data_.get()),
-        dr_(ref_data_.get()), v0_(config.coulomb_v0_radps), encoder_(streamSeed(config.seed, kStreamEncoder)),
-        torque_sensor_(streamSeed(config.seed, kStreamTorque)), motor_(dof_), command_(dof_) {}
+        dr_(ref_data_.get()), v0_(config.coulomb_v0_radps), sensors_(config.sensors, joints.dof(), config.seed, config.dt_s),
+        base_body_(chainBaseBody(m, m->jnt_bodyid[joints.ids.front()])), motor_(dof_), command_(dof_), tau_read_(dof_) {}
+
+  bool mounted() const { return !joints_.mount.empty(); }
 
   // At rest on the reference at t = 0; PD gains from the joint-space inertia there, each joint a
   // second-order loop at bandwidth_hz, damping ratio 0.7; the substeps per sample. Returns them.
@@ -230,6 +264,17 @@ class ChainRig {
       d_->qvel[joints_.dofAdr(i)] = qd_ref_[i];
     }
     mj_forward(m_, d_);
+    // A mount's springs pre-loaded so that the base starts in static equilibrium (as the APAL
+    // leg's pedestal): at rest, spring = bias force on each mount coordinate.
+    for (const int k : joints_.mount) {
+      const double stiffness = m_->jnt_stiffness[k];
+      if (stiffness > 0.0) m_->qpos_spring[m_->jnt_qposadr[k]] = d_->qfrc_bias[m_->jnt_dofadr[k]] / stiffness;
+    }
+    if (mounted()) {
+      mj_forward(m_, d_);
+      base_rest_p_ = Eigen::Map<const Eigen::Vector3d>(d_->xpos + 3 * base_body_);
+      base_rest_R_ = baseRotation();
+    }
     std::vector<mjtNum> M(static_cast<std::size_t>(m_->nv) * static_cast<std::size_t>(m_->nv));
     mj_fullM(m_, M.data(), d_->qM);
     substeps_ = integrationSubsteps(config_, joints_, M, m_->nv, v0_);
@@ -258,6 +303,7 @@ class ChainRig {
     read();
     control();
     if (k == 0 || config_.actuator_bandwidth_hz <= 0.0) motor_ = command_;  // at rest on the reference at t = 0: no start transient
+    if (k == 0) sensors_.resetTorqueFilters(motor_);  // the torque sensors read the holding torque from the start
     // 3.-4. the row: state, acceleration and joint torque at t_k
     applyTorque();
     mj_forward(m_, d_);
@@ -285,10 +331,8 @@ class ChainRig {
     for (int i = 0; i < dof_; ++i) {
       q_[i] = d_->qpos[joints_.qposAdr(i)];
       qd_[i] = d_->qvel[joints_.dofAdr(i)];
-      double reading = q_[i] + config_.encoder_noise_rad * encoder_.normal();
-      if (config_.encoder_resolution_rad > 0.0) reading = config_.encoder_resolution_rad * std::round(reading / config_.encoder_resolution_rad);
-      q_read_[i] = reading;
     }
+    sensors_.angles(q_, q_read_);
   }
 
   // 2. controller: inverse dynamics at the reference, Coulomb, PD on the readings
@@ -322,7 +366,8 @@ class ChainRig {
       tau[i] = d_->qfrc_actuator[joints_.dofAdr(i)];
       qdd[i] = d_->qacc[joints_.dofAdr(i)];
     }
-    for (int i = 0; i < dof_; ++i) table.values(k, c++) = tau[i] + config_.torque_noise_Nm * torque_sensor_.normal();
+    sensors_.torques(tau, tau_read_);
+    for (int i = 0; i < dof_; ++i) table.values(k, c++) = tau_read_[i];
     if (config_.record_derivatives) {
       for (int i = 0; i < dof_; ++i) table.values(k, c++) = qd_[i];
       for (int i = 0; i < dof_; ++i) table.values(k, c++) = qdd[i];
@@ -331,6 +376,26 @@ class ChainRig {
       for (int i = 0; i < dof_; ++i) table.values(k, c++) = (*v)[i];
     }
     for (int i = 0; i < dof_; ++i) table.values(k, c++) = q_ref_[i];
+    if (!mounted()) return;
+    // The base IMU at the chain's base frame (chainBaseBody: the stand): MuJoCo's
+    // accelerometer and gyro there (specific force and rate, in that frame), with their noise;
+    // then the frame's exact displacement and pitch from rest.
+    mj_rnePostConstraint(m_, d_);
+    mjtNum acc[6], vel[6];
+    mj_objectAcceleration(m_, d_, mjOBJ_XBODY, base_body_, acc, 1);
+    mj_objectVelocity(m_, d_, mjOBJ_XBODY, base_body_, vel, 1);
+    const Eigen::Vector3d imu = sensors_.imu(Eigen::Vector3d(acc[3], acc[5], vel[1]));
+    for (int i = 0; i < 3; ++i) table.values(k, c++) = imu[i];
+    if (config_.record_derivatives) table.values(k, c++) = acc[1];  // the pitch acceleration, exact
+    const Eigen::Vector3d p = base_rest_R_.transpose() * (Eigen::Map<const Eigen::Vector3d>(d_->xpos + 3 * base_body_) - base_rest_p_);
+    const Eigen::Matrix3d R = base_rest_R_.transpose() * baseRotation();
+    table.values(k, c++) = p.x();
+    table.values(k, c++) = p.z();
+    table.values(k, c++) = std::atan2(R(0, 2), R(0, 0));
+  }
+
+  Eigen::Matrix3d baseRotation() const {
+    return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d_->xmat + 9 * base_body_);
   }
 
   // Advance to t_k+1 in substeps: friction follows the velocity, the motor the command.
@@ -354,23 +419,31 @@ class ChainRig {
   mjData* d_;
   mjData* dr_;
   double v0_;
-  Rng encoder_, torque_sensor_;
+  Sensors sensors_;
+  int base_body_;
+  Eigen::Vector3d base_rest_p_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d base_rest_R_ = Eigen::Matrix3d::Identity();
   int substeps_ = 1;
   Eigen::VectorXd kp_, kd_;
   double lag_ = 1.0;
-  Eigen::VectorXd motor_, command_;
+  Eigen::VectorXd motor_, command_, tau_read_;
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_, qd_, q_read_;
   double tracking_ss_ = 0.0;
 };
 
 }  // namespace
 
+bool hasCompliantMount(const std::string& model_path) {
+  const ModelPtr model = loadMjcfFile(model_path);
+  return !drivenJoints(model.get(), model_path).mount.empty();
+}
+
 ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   config_in.validate();
   ChainSimResult r;
   r.config = config_in;
   ChainSimConfig& config = r.config;
-  const ModelPtr model = loadMjcfFile(config.model_path);
+  const ModelPtr model = loadChainRig(config);
   mjModel* m = model.get();
   m->opt.timestep = config.dt_s;
   // The joints' ranges are the design's limits, checked on the reference below; as MuJoCo
@@ -378,6 +451,18 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   // torque) whenever the tracked state grazes a range the reference touches: off.
   m->opt.disableflags |= mjDSBL_LIMIT;
   const DrivenJoints joints = drivenJoints(m, config.model_path);
+  if (config.vibration_level > 0.0) {
+    if (joints.mount.empty()) {
+      throw std::invalid_argument("chain simulation: vibration_level > 0 needs a compliant mount, but '" + config.model_path +
+                                  "' has no joint between the world and the chain (the MJCF's <joint class=\"mount\" .../>, as "
+                                  "models/leg3.xml's pedestal)");
+    }
+    const double L = config.vibration_level;  // natural frequencies / L, the same damping ratio
+    for (const int k : joints.mount) {
+      m->jnt_stiffness[k] /= L * L;
+      m->dof_damping[m->jnt_dofadr[k]] /= L;
+    }
+  }
   r.chain = serialChainFromMjcf(m, joints.ids, joints.coulomb, config.model_path);
   r.chain.name = m->nnames > 0 && m->names[0] ? m->names : config.model_path;
   if (config.trajectory.dof() == 0) config.trajectory = defaultChainTrajectory(r.chain, config.seed);
@@ -393,7 +478,7 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   ChainRig rig(m, joints, config);
   r.substeps = rig.start();
   const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
-  r.table.names = chainColumns(joints.names, config.record_derivatives);
+  r.table.names = chainColumns(joints.names, config.record_derivatives, !joints.mount.empty());
   r.table.values.resize(n, static_cast<Eigen::Index>(r.table.names.size()));
   for (Eigen::Index k = 0; k < n; ++k) rig.sample(k, r.table);
   r.tracking_rms_rad = rig.trackingRms(n);
@@ -420,7 +505,9 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
                       {"controller_kd_Nms_per_rad", list(r.kd_Nms_per_rad)},
                       {"controller_law", "pd_measured_velocity"},
                       {"feedforward", "true"},
-                      {"actuator_bandwidth_Hz", bw}};
+                      {"actuator_bandwidth_Hz", bw},
+                      {"vibration_level", std::to_string(config.vibration_level)}};
+  if (config.sensors.encoder_backlash_deg > 0.0) r.table.metadata.emplace_back("encoder_backlash_deg", std::to_string(config.sensors.encoder_backlash_deg));
   if (!config.locked.empty()) {
     std::string locked;
     for (const std::string& j : config.locked) locked += (locked.empty() ? "" : ",") + j;

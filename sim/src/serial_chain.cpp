@@ -64,6 +64,12 @@ void lumpBodies(const mjModel* m, const mjData* d, const std::vector<int>& bodie
 
 }  // namespace
 
+int chainBaseBody(const mjModel* m, int first_body) {
+  int base = m->body_parentid[first_body];
+  while (base > 0 && m->body_jntnum[base] == 0) base = m->body_parentid[base];
+  return base;
+}
+
 SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints, const std::vector<double>& coulomb_Nm,
                                 const std::string& source) {
   if (joints.empty()) throw std::invalid_argument("'" + source + "': no joints given for the chain");
@@ -76,8 +82,11 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
   chain.gravity_mps2 = Eigen::Map<const Eigen::Vector3d>(m->opt.gravity);
   std::vector<int> bodies;
   for (int j : joints) bodies.push_back(m->jnt_bodyid[j]);
-  Eigen::Matrix3d R_parent = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d o_parent = Eigen::Vector3d::Zero();
+  // The chain's base frame at qpos0 (the world, or a stand that moves on its mount); gravity in it.
+  const int base = chainBaseBody(m, bodies.front());
+  Eigen::Matrix3d R_parent = bodyRotation(d.get(), base);
+  Eigen::Vector3d o_parent = Eigen::Map<const Eigen::Vector3d>(d->xpos + 3 * base);
+  chain.gravity_mps2 = R_parent.transpose() * chain.gravity_mps2;
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const int j = joints[i], b = bodies[i];
     const std::string at = "'" + source + "', joint '" + nameOf(m, mjOBJ_JOINT, j) + "'";

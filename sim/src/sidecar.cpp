@@ -34,7 +34,8 @@ nlohmann::json configJson(const SimConfig& c) {
                   {"quantisation_deg", c.sensors.quantisation_deg},
                   {"encoder_backlash_deg", c.sensors.encoder_backlash_deg},
                   {"noise_tau_Nm", c.sensors.noise_tau_Nm},
-                  {"tau_bias_Nm", {{"hip", c.sensors.tau_bias_Nm[0]}, {"knee", c.sensors.tau_bias_Nm[1]}}},
+                  {"tau_bias_Nm", {{"hip", c.sensors.tau_bias_Nm.empty() ? 0.0 : c.sensors.tau_bias_Nm[0]},
+                                   {"knee", c.sensors.tau_bias_Nm.empty() ? 0.0 : c.sensors.tau_bias_Nm[1]}}},
                   {"tau_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},
                   {"imu_acc_noise_mps2", c.sensors.imu_acc_noise_mps2},
                   {"imu_gyro_noise_radps", c.sensors.imu_gyro_noise_radps}};

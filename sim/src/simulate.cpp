@@ -120,7 +120,7 @@ struct Simulator::Impl {
     fb.emplace(m, leg.idx);
     ideal.emplace(loadLeg(cfg.model_path, cfg.variant, /*force_welded=*/true));
     traj.emplace(cfg.trajectorySpec(), cfg.ramp_s);
-    sensors.emplace(cfg.sensors, cfg.seed, cfg.dt_s);
+    sensors.emplace(cfg.sensors, 2, cfg.seed, cfg.dt_s);
     pid.emplace(cfg.gains, cfg.dt_s);
     act.emplace(cfg.actuators, cfg.dt_s);
     floor.emplace(cfg.floor, cfg.seed);
@@ -230,7 +230,8 @@ struct Simulator::Impl {
     const Eigen::Vector2d q(d->qpos[x.qadr[0]], d->qpos[x.qadr[1]]);
     const Eigen::Vector2d qd(d->qvel[x.vadr[0]], d->qvel[x.vadr[1]]);
     recordState(q, qd, ref, row);
-    const Eigen::Vector2d qm = sensors->angles(q);
+    Eigen::Vector2d qm;
+    sensors->angles(q, qm);
     row[kQHip] = qm[0];
     row[kQKnee] = qm[1];
     drive(step, t, ref, qm, qd, row);
@@ -256,7 +257,8 @@ struct Simulator::Impl {
     checkStepHealth(m, d, t, "integration");
     row[kTauHipTrue] = tau[0];
     row[kTauKneeTrue] = tau[1];
-    const Eigen::Vector2d tm = sensors->torques(tau);
+    Eigen::Vector2d tm;
+    sensors->torques(tau, tm);
     row[kTauHip] = tm[0];
     row[kTauKnee] = tm[1];
   }

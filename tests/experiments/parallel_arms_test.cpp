@@ -102,7 +102,7 @@ TEST(ParallelArms, DefaultProcessingIsUnbiasedAndAsPreciseAsItsBoundUnderTorqueN
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
   const ident::ParamVector x0 = r.scores[0].outcome.x;
   const double sigma = 0.5;
-  const Eigen::VectorXd bound = noiseStd(Variant::kLsParallel, r.records, lc, c.signals, sigma);
+  const Eigen::VectorXd bound = noiseStd(Variant::kLsParallel, r.records, c.signals, sigma);
   const int seeds = 200;  // cheap (no simulation per seed): a sharper band than the required 50
   std::mt19937_64 gen(20261201);
   std::normal_distribution<double> noise(0.0, sigma);

@@ -193,7 +193,7 @@ TEST(Reproduce, NoiseStdMatchesMonteCarloOnSimulatedRecords) {
   const ProtocolResult r = runProtocol(c);
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
   const double sigma = 0.5;
-  const Eigen::VectorXd predicted = noiseStd(Variant::kLs, r.records, lc, c.signals, sigma);
+  const Eigen::VectorXd predicted = noiseStd(Variant::kLs, r.records, c.signals, sigma);
   std::mt19937_64 gen(8);
   std::normal_distribution<double> noise(0.0, sigma);
   ident::MethodOptions mo;

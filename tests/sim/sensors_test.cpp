@@ -24,7 +24,7 @@ TEST(RandomStreams, EachNoiseSourceHasItsOwnStream) {
 TEST(SensorsTest, QuantisationOnlyIsUniformWithinHalfACount) {
   SensorOptions o;
   o.quantisation_deg = 0.01;
-  Sensors s(o, 3, kDt);
+  Sensors s(o, 2, 3, kDt);
   Rng truth(11);
   const double r = o.quantisation_deg * kDeg, a = r / 2;
   double se2 = 0;
@@ -47,7 +47,7 @@ TEST(SensorsTest, QuantisationOnlyIsUniformWithinHalfACount) {
 TEST(SensorsTest, AngleNoiseHasTheSetStandardDeviation) {
   SensorOptions o;
   o.noise_q_deg = 0.02;
-  Sensors s(o, 5, kDt);
+  Sensors s(o, 2, 5, kDt);
   const double sigma = o.noise_q_deg * kDeg;
   double se = 0, se2 = 0;
   const Eigen::Vector2d q(-0.5, 1.3);
@@ -66,7 +66,7 @@ TEST(SensorsTest, TorqueNoiseAndBias) {
   SensorOptions o;
   o.noise_tau_Nm = 0.5;
   o.tau_bias_Nm = {0.3, -0.2};
-  Sensors s(o, 9, kDt);
+  Sensors s(o, 2, 9, kDt);
   const Eigen::Vector2d tau(10.0, -4.0);
   s.resetTorqueFilters(tau);  // a constant torque: the anti-aliasing filter passes it unchanged
   Eigen::Vector2d se = Eigen::Vector2d::Zero(), se2 = Eigen::Vector2d::Zero();
@@ -87,7 +87,7 @@ TEST(SensorsTest, NoiseFreeSensorsAreExact) {
   SensorOptions ideal;
   ideal.tau_bandwidth_Hz = 0.0;  // no anti-aliasing filter
   ideal.imu_acc_noise_mps2 = ideal.imu_gyro_noise_radps = 0.0;
-  Sensors s(ideal, 1, kDt);
+  Sensors s(ideal, 2, 1, kDt);
   EXPECT_EQ(s.imu(Eigen::Vector3d(0.1, 9.81, -0.01)), Eigen::Vector3d(0.1, 9.81, -0.01));
   const Eigen::Vector2d q(0.123456789, -1.5);
   EXPECT_EQ(s.angles(q), q);
@@ -100,7 +100,7 @@ TEST(SensorsTest, StreamsAreIndependentOfOtherSettings) {
   a.noise_q_deg = 0.01;
   SensorOptions b = a;
   b.noise_tau_Nm = 1.0;
-  Sensors sa(a, 77, kDt), sb(b, 77, kDt);
+  Sensors sa(a, 2, 77, kDt), sb(b, 2, 77, kDt);
   for (int i = 0; i < 100; ++i) {
     sb.torques(Eigen::Vector2d::Zero());
     EXPECT_EQ(sa.angles(Eigen::Vector2d(0.1, 0.2)), sb.angles(Eigen::Vector2d(0.1, 0.2)));
@@ -115,7 +115,7 @@ TEST(SensorsTest, TorqueFilterIsTheBilinearButterworth) {
   SensorOptions o;  // 200 Hz
   const double wn = 2 * M_PI * o.tau_bandwidth_Hz;
   for (const double f : {o.tau_bandwidth_Hz, 1.0}) {
-    Sensors s(o, 1, kDt);
+    Sensors s(o, 2, 1, kDt);
     const double w = 2 * M_PI * f;
     double corr_sin = 0, corr_cos = 0;
     const int settle = 5000, n = 20000;  // whole periods of 1 Hz and 200 Hz
@@ -140,7 +140,7 @@ TEST(SensorsTest, TorqueFilterIsTheBilinearButterworth) {
 
 TEST(SensorsTest, ImuNoiseHasTheSetStandardDeviations) {
   SensorOptions o;
-  Sensors s(o, 4, kDt);
+  Sensors s(o, 2, 4, kDt);
   const Eigen::Vector3d truth(0.2, 9.81, 0.01);
   Eigen::Vector3d se2 = Eigen::Vector3d::Zero();
   for (int i = 0; i < kN; ++i) se2 += (s.imu(truth) - truth).cwiseAbs2();
@@ -156,7 +156,7 @@ TEST(SensorsTest, EncoderBacklashIsAPlayOperator) {
   // b/2 (the definition of a play operator).
   SensorOptions o;
   o.encoder_backlash_deg = 0.5;
-  Sensors s(o, 3, kDt);
+  Sensors s(o, 2, 3, kDt);
   const double b = 0.5 * kDeg;
   double worst = 0.0;
   int standing = 0;

@@ -68,9 +68,10 @@ sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
   c.model_path = s.model_path;
   c.duration_s = s.duration_s;
   c.dt_s = s.dt_s;
-  c.encoder_noise_rad = s.sensors.noise_q_deg * M_PI / 180.0;
-  c.encoder_resolution_rad = s.sensors.quantisation_deg * M_PI / 180.0;
-  c.torque_noise_Nm = s.sensors.noise_tau_Nm;
+  c.sensors = s.sensors;
+  c.sensors.tau_bandwidth_Hz = 0.0;  // the chain rig's torque sensor: ideal unless --torque-sensor-bandwidth
+  c.sensors.tau_bias_Nm.clear();     // the APAL leg's hip and knee biases
+  c.vibration_level = s.variant.vibration_level;
   c.seed = s.seed;
   return c;
 }
@@ -94,9 +95,14 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   j["config"] = {{"duration_s", c.duration_s},
                  {"dt_s", c.dt_s},
                  {"seed", c.seed},
-                 {"encoder_noise_rad", c.encoder_noise_rad},
-                 {"encoder_resolution_rad", c.encoder_resolution_rad},
-                 {"torque_noise_Nm", c.torque_noise_Nm},
+                 {"encoder_noise_deg", c.sensors.noise_q_deg},
+                 {"quantisation_deg", c.sensors.quantisation_deg},
+                 {"encoder_backlash_deg", c.sensors.encoder_backlash_deg},
+                 {"torque_noise_Nm", c.sensors.noise_tau_Nm},
+                 {"torque_sensor_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},
+                 {"imu_acc_noise_mps2", c.sensors.imu_acc_noise_mps2},
+                 {"imu_gyro_noise_radps", c.sensors.imu_gyro_noise_radps},
+                 {"vibration_level", c.vibration_level},
                  {"coulomb_v0_radps", c.coulomb_v0_radps},
                  {"bandwidth_hz", c.bandwidth_hz},
                  {"record_derivatives", c.record_derivatives},
@@ -284,23 +290,6 @@ sim::ChainFourier readChainExcitation(const std::string& path) {
   return f;
 }
 
-Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParameters& base) {
-  std::ifstream in(path);
-  const nlohmann::json t = nlohmann::json::parse(in, nullptr, false);
-  if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("base_parameters")) {
-    throw std::invalid_argument("--truth '" + path + "': expected a chain simulation's sidecar with truth.base_parameters");
-  }
-  Eigen::VectorXd v(base.rank);
-  for (int i = 0; i < base.rank; ++i) {
-    const std::string& name = base.names[static_cast<std::size_t>(i)];
-    if (!t["truth"]["base_parameters"].contains(name)) {
-      throw std::invalid_argument("--truth '" + path + "': no base parameter '" + name + "' (a sidecar of another model?)");
-    }
-    v[i] = t["truth"]["base_parameters"][name].get<double>();
-  }
-  return v;
-}
-
 void throwIfUnusable(const std::vector<std::string>& problems) {
   if (problems.empty()) return;
   std::string all;
@@ -319,13 +308,13 @@ struct ChainFitRecords {
   std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
 
-ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
-  const ident::ChainModel& model = loaded.model;
+ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ident::Dataset>& data) {
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
   const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
   ChainFitRecords fit;
-  for (const std::string& file : a.data) {
-    const ident::Dataset d = readLog(file, log);
+  for (std::size_t r = 0; r < data.size(); ++r) {
+    const std::string& file = a.data[r];
+    const ident::Dataset& d = data[r];
     std::optional<ident::BandChoice> band;
     fit.records.push_back(ident::processRecord(d, loaded.robot, a.signals, {}, &band));
     const ident::SignalOptions used = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, loaded.robot, a.signals);
@@ -570,13 +559,17 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.stages.empty()) return identifyChainStages(a);
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   prepareOutput(a.json_out);
-  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const LoadedChain still = loadChain(a.model, a.armature);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
+  std::vector<ident::Dataset> data;
+  for (const std::string& file : a.data) data.push_back(readLog(file, log));
+  const LoadedChain loaded = a.moving_base_parameters ? movingBase(still, data, a.signals) : still;
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
   prepareOutput(a.plot);
-  const ChainFitRecords fit = readFitRecords(a, loaded, log);
+  const ChainFitRecords fit = readFitRecords(a, loaded, data);
+  data.clear();
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
@@ -588,7 +581,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.plot.empty()) plotChainFit(a, loaded, est, validation.first ? *validation.first : fit.records.front());
 
   std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = readChainTruth(a.truth, base);
+  if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
   const ChainVerdict verdict = verdictOf(a, base, est, others);
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";

@@ -59,17 +59,20 @@ struct StageRecords {
   nlohmann::json json = nlohmann::json::array();
 };
 
-StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log) {
+StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<StageInput>& inputs,
+                        const std::vector<std::vector<ident::Dataset>>& data) {
   const ident::ChainModel& model = loaded.model;
   StageRecords out;
-  for (const StageInput& in : stageInputs(a, model)) {
+  for (std::size_t s = 0; s < inputs.size(); ++s) {
+    const StageInput& in = inputs[s];
     ident::BandRule rule;
     rule.first_moving_joint = in.first_joint;
     std::vector<ident::RecordRows> records;
     nlohmann::json files = nlohmann::json::array();
-    for (const std::string& file : in.files) {
+    for (std::size_t r = 0; r < in.files.size(); ++r) {
+      const std::string& file = in.files[r];
       std::optional<ident::BandChoice> band;
-      records.push_back(ident::processRecord(readLog(file, log), loaded.robot, a.signals, rule, &band));
+      records.push_back(ident::processRecord(data[s][r], loaded.robot, a.signals, rule, &band));
       if (band) std::cout << file << ": " << band->describe() << "\n";
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
     }
@@ -201,19 +204,29 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
   }
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
-  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const LoadedChain still = loadChain(a.model, a.armature);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
+  const std::vector<StageInput> inputs = stageInputs(a, still.model);
+  std::vector<std::vector<ident::Dataset>> data;
+  std::vector<ident::Dataset> all;
+  for (const StageInput& in : inputs) {
+    data.emplace_back();
+    for (const std::string& file : in.files) data.back().push_back(readLog(file, log));
+    all.insert(all.end(), data.back().begin(), data.back().end());
+  }
+  const LoadedChain loaded = a.moving_base_parameters ? movingBase(still, all, a.signals) : still;
+  all.clear();
   const ident::ChainModel& model = loaded.model;
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, model.jointNames());
   std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << loaded.base.rank
             << " base parameters; segmental strategy, distal joints first\n";
-  StageRecords records = readStages(a, loaded, log);
+  StageRecords records = readStages(a, loaded, inputs, data);
   const std::vector<ident::Method> methods = stageMethods(a);
   const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods);
   std::vector<std::string> problems;
   for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, model, methods, results, records.json[s], problems);
 
   std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = readChainTruth(a.truth, loaded.base);
+  if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth);
   if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, problems));
   throwIfUnusable(problems);  // exit 3, naming why

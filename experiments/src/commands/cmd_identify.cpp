@@ -51,6 +51,7 @@ struct IdentifyArgs {
   std::string model;  ///< --model: a robot other than the APAL leg goes to the chain path
   std::string plot;   ///< --plot (chain models): measured against predicted torques
   std::vector<std::string> armature;  ///< --armature (chain models)
+  bool moving_base_parameters = false;  ///< --moving-base-parameters (chain models)
   std::vector<std::string> stages;    ///< --stage JOINT=FILE (chain models' segmental strategy)
   CLI::App* cmd = nullptr;
 };
@@ -559,6 +560,7 @@ bool runChainModel(const IdentifyArgs& a) {
   c.validate = a.validate;
   c.plot = a.plot;
   c.armature = a.armature;
+  c.moving_base_parameters = a.moving_base_parameters;
   c.truth = a.truth;
   c.json_out = a.json_out;
   c.log = a.log;
@@ -584,6 +586,7 @@ bool runChainModel(const IdentifyArgs& a) {
 void checkLegArguments(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (!a.armature.empty()) throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
+  if (a.moving_base_parameters) throw CLI::ValidationError("--moving-base-parameters", "is for a chain model (--model leg3|FILE); the APAL leg's X is the paper's");
   if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
 #endif
   if (!a.stages.empty()) {
@@ -799,6 +802,12 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
                  "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
                  "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
       ->delimiter(',')->group("Identification");
+  cmd.add_flag("--moving-base-parameters", args.moving_base_parameters,
+               "Chain models, records on a moving base (IMU columns): fit the base parameters of a moving base, where a\n"
+               "joint's rotor inertia separates from its link's through the base's pitch acceleration. Exact with an exact\n"
+               "pitch acceleration; an IMU's noise biases the split (docs/findings.md), hence off by default: the still\n"
+               "base's parameters, with the base-motion terms in every column")
+      ->group("Identification");
   cmd.add_option("--stage", args.stages,
                  "Chain models: the segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints\n"
                  "above JOINT are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations\n"

@@ -45,17 +45,23 @@ void runChain(const Args& a) {
     const bool chain_ok = name == "--model" || name == "--out" || name == "--no-plots" || name == "--plots" || name == "--seed" || name == "--keep-edits" ||
                           name == "--methods" || name == "--duration" || name == "--dt" || name == "--noise-q-deg" ||
                           name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video" ||
-                          name == "--design-restarts";
+                          name == "--design-restarts" || name == "--vibration" || name == "--encoder-backlash-deg" ||
+                          name == "--torque-sensor-bandwidth" || name == "--imu-acc-noise" || name == "--imu-gyro-noise";
     if (o->count() > 0 && !chain_ok) {
       throw CLI::ValidationError(name, "is not an option of the chain protocol (reproduce --model " + a.config.sim.model_path +
                                            "): it takes --out, --no-plots, --seed, --methods, --duration, --dt, --noise-q-deg, "
-                                           "--quantisation-deg, --noise-tau, --design-restarts");
+                                           "--quantisation-deg, --noise-tau, --encoder-backlash-deg, --vibration (a model with a "
+                                           "mount), --torque-sensor-bandwidth, --imu-acc-noise, --imu-gyro-noise, --design-restarts");
     }
   }
   ChainReproduceArgs c;
   c.out = a.out.dir;
   c.plots = a.out.plots;
   c.sim = chainSimConfig(a.config.sim);
+  // The chain's rig stands still and senses torque ideally unless asked (the APAL leg's reproduce
+  // defaults are its pedestal's nominal vibration and its torque sensor's 200 Hz).
+  if (a.cmd->count("--vibration") == 0) c.sim.vibration_level = 0.0;
+  if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sim.sensors.tau_bandwidth_Hz = a.config.sim.sensors.tau_bandwidth_Hz;
   c.seed = a.config.seed;
   c.design_restarts = a.design_restarts;
   c.keep_edits = a.keep_edits;

@@ -39,17 +39,17 @@ struct SimulateArgs {
 // pedestal, four-bar, actuators, paper trajectories) do not apply and are refused by name.
 void runChainSimulate(const SimulateArgs& a) {
   for (const char* apal_only :
-       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--ramp", "--encoder-backlash-deg",
-        "--tau-bias-hip", "--tau-bias-knee", "--vibration", "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random",
-        "--cylinder-mass-scale", "--fc-hip", "--fv-hip", "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward",
-        "--no-feedforward", "--hip-actuator-bandwidth", "--knee-actuator-bandwidth", "--torque-sensor-bandwidth", "--imu-acc-noise",
-        "--imu-gyro-noise", "--no-exact"}) {
+       {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--ramp", "--tau-bias-hip", "--tau-bias-knee",
+        "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random", "--cylinder-mass-scale", "--fc-hip", "--fv-hip",
+        "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward", "--no-feedforward", "--hip-actuator-bandwidth",
+        "--knee-actuator-bandwidth", "--no-exact"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, std::string("is an option of the APAL leg's rig; '") + a.config.model_path +
                                                 "' runs on the serial-chain simulator (see exoid simulate --help, group 'Chain models')");
     }
   }
   sim::ChainSimConfig c = chainSimConfig(a.config);
+  if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sensors.tau_bandwidth_Hz = a.config.sensors.tau_bandwidth_Hz;
   c.coulomb_v0_radps = a.coulomb_v0_radps;
   c.bandwidth_hz = a.bandwidth_hz;
   c.record_derivatives = a.record_derivatives;

@@ -2,6 +2,9 @@
 
 #include "exoid/sim/model.hpp"
 
+#include <nlohmann/json.hpp>
+
+#include <fstream>
 #include <stdexcept>
 
 namespace exoid::experiments {
@@ -67,6 +70,43 @@ LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::st
   c.robot = ident::chainRobot(c.model);
   c.base = c.robot.basis;
   return c;
+}
+
+bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals) {
+  return signals.processing == ident::Processing::kParallel &&
+         (signals.base_terms == ident::BaseTerms::kOn || (signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(d)));
+}
+
+LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& records, const ident::SignalOptions& signals) {
+  bool moving = false;
+  for (const ident::Dataset& d : records) moving = moving || usesBaseMotion(d, signals);
+  if (!moving) throw std::invalid_argument("--moving-base-parameters: no record carries base-motion terms (the IMU columns base_acc_x, "
+                                           "base_acc_z, base_gyro_y, with --base-terms auto or on and the parallel processing)");
+  ident::BaseParameterOptions o;
+  o.planar_base_motion = true;
+  loaded.robot = ident::chainRobot(loaded.model, o);
+  loaded.base = loaded.robot.basis;
+  return loaded;
+}
+
+Eigen::VectorXd truthFromSidecar(const std::string& path, const LoadedChain& loaded) {
+  std::ifstream in(path);
+  const nlohmann::json t = nlohmann::json::parse(in, nullptr, false);
+  if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("standard_parameters") || !t["truth"]["standard_parameters"].is_object()) {
+    throw std::invalid_argument("--truth '" + path + "': expected a chain simulation's sidecar with truth.standard_parameters");
+  }
+  const nlohmann::json& given = t["truth"]["standard_parameters"];
+  const std::vector<std::string> names = loaded.model.standardParameterNames();
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(names.size()));
+  bool any = false;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!given.contains(names[i])) continue;
+    if (!given[names[i]].is_number()) throw std::invalid_argument("--truth '" + path + "': truth.standard_parameters." + names[i] + " is not a number");
+    phi[static_cast<Eigen::Index>(i)] = given[names[i]].get<double>();
+    any = true;
+  }
+  if (!any) throw std::invalid_argument("--truth '" + path + "': none of the model's standard parameters (a sidecar of another model?)");
+  return loaded.base.combination * phi;
 }
 
 }  // namespace exoid::experiments

@@ -180,8 +180,8 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
      << "Model `" << std::filesystem::path(a.sim.model_path).filename().string() << "` (" << records.joints.size() << " joints, " << names.size()
      << " base parameters), seed " << a.seed << ", " << toolJson().dump() << ".\n\n"
      << "Records (" << fmt(a.sim.duration_s, 4) << " s at " << fmt(1.0 / a.sim.dt_s, 4) << " Hz; encoder noise "
-     << fmt(a.sim.encoder_noise_rad, 3) << " rad, resolution " << fmt(a.sim.encoder_resolution_rad, 3) << " rad, torque noise "
-     << fmt(a.sim.torque_noise_Nm, 3) << " N m): `fit.csv` the design `design.json` (condition number "
+     << fmt(a.sim.sensors.noise_q_deg, 3) << " deg, resolution " << fmt(a.sim.sensors.quantisation_deg, 3) << " deg, torque noise "
+     << fmt(a.sim.sensors.noise_tau_Nm, 3) << " N m): `fit.csv` the design `design.json` (condition number "
      << fmt(readJsonFile(design)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
   for (const auto& [joint, file] : records.stages) md << "`stage_" << joint << ".csv` (joints above " << joint << " locked), ";
   md << "each with its sidecar (settings, seed, truth). The stage records follow the simulator's default motion of "

@@ -194,8 +194,7 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const Protoc
 
 }  // namespace
 
-Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
-                         const ident::SignalOptions& signals, double sigma_Nm) {
+Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::SignalOptions& signals, double sigma_Nm) {
   const bool exact = v == Variant::kLsExact;
   const bool base = v == Variant::kLsBase || v == Variant::kIdimIvBase;
   const bool byDefault = v == Variant::kDefault;
@@ -251,7 +250,7 @@ ProtocolResult runProtocol(const ProtocolConfig& c) {
     s.vs_best_fit = ident::paramError(s.outcome.x, res.truths.best_fit);
     s.torque_space_vs_rigid = ident::torqueSpaceError(s.outcome.x, res.truths.rigid, lc);
     s.torque_space_vs_best_fit = ident::torqueSpaceError(s.outcome.x, res.truths.best_fit, lc);
-    s.crb_std = noiseStd(v, res.records, lc, c.signals, c.sim.sensors.noise_tau_Nm);
+    s.crb_std = noiseStd(v, res.records, c.signals, c.sim.sensors.noise_tau_Nm);
     res.scores.push_back(std::move(s));
   }
   res.wall_time_s = clock.seconds();

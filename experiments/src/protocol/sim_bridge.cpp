@@ -194,6 +194,7 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
                  "the torque does not drive; the controller reads it too); 0 = none")
       ->check(CLI::Range(0.0, 89.999))->capture_default_str()->group(g);
   app.add_option("--noise-tau", c.sensors.noise_tau_Nm, "Torque sensor noise std, N m")->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
+  c.sensors.tau_bias_Nm.resize(2, 0.0);  // hip, knee: the options below write into them
   app.add_option("--tau-bias-hip", c.sensors.tau_bias_Nm[0], "Torque sensor bias, hip, N m")->capture_default_str()->group(g);
   app.add_option("--tau-bias-knee", c.sensors.tau_bias_Nm[1], "Torque sensor bias, knee, N m")->capture_default_str()->group(g);
   app.add_option("--vibration", c.variant.vibration_level, "Pedestal mount compliance level (0 = welded, 1 = nominal)")

@@ -28,9 +28,11 @@ sim::ChainSimConfig recordConfig(const SweepConfig& c, const SweepCondition& con
   s.model_path = c.chain_model_path;
   s.duration_s = c.base.sim.duration_s;
   s.dt_s = c.base.sim.dt_s;
-  s.encoder_noise_rad = cond.angle_noise_deg * M_PI / 180.0;
-  s.encoder_resolution_rad = cond.quantisation_deg * M_PI / 180.0;
-  s.torque_noise_Nm = cond.torque_noise_Nm;
+  s.sensors.noise_q_deg = cond.angle_noise_deg;
+  s.sensors.quantisation_deg = cond.quantisation_deg;
+  s.sensors.encoder_backlash_deg = cond.encoder_backlash_deg;
+  s.sensors.noise_tau_Nm = cond.torque_noise_Nm;
+  s.vibration_level = cond.vibration_level;
   s.seed = seed;
   return s;
 }
@@ -90,17 +92,17 @@ ident::Estimate otherEstimate(ident::Method m, const ident::Robot& robot,
 
 nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
   using namespace chain_sweep_run;  // this file's helpers (named, not anonymous, for the unity build)
-  const LoadedChain loaded = loadChain(c.chain_model_path);
-  const ident::ChainModel& model = loaded.model;
-  const ident::BaseParameters& base = loaded.base;
   sim::ChainSimConfig fit_config = recordConfig(c, cond, core::deriveSeed(seed, 1));
   if (cond.trajectories == "optimised") fit_config.trajectory = *c.chain_design;
   const sim::ChainSimResult fit = sim::simulateChain(fit_config);
   const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
-  const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
-
   const ident::Dataset d = chainDataset(fit);
   const ident::SignalOptions signals = defaultIdentifySignals();
+  const LoadedChain loaded = loadChain(c.chain_model_path);
+  const ident::ChainModel& model = loaded.model;
+  const ident::BaseParameters& base = loaded.base;
+  const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
+
   std::optional<ident::BandChoice> band;
   const ident::RecordRows rec = ident::processRecord(d, loaded.robot, signals, {}, &band);
   const ident::SignalOptions fit_signals = band ? ident::withBand(signals, *band) : signals;

@@ -54,7 +54,14 @@ const Metric kMetrics[] = {
     {"val_rms_mean_Nm", "mean over the joints of the validation record's RMS torque error (measured - predicted), N m", &Row::val_rms},
 };
 
-std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, std::vector<std::string>& names, std::vector<double>& truth) {
+// A cell's base parameters and their truth (a vibrating cell's include its base-motion ones).
+struct ParameterSet {
+  std::vector<std::string> names;
+  std::vector<double> truth;
+};
+using ParameterSets = std::map<int, ParameterSet>;  // by cell
+
+std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, ParameterSets& sets) {
   std::vector<Row> rows;
   for (const nlohmann::json& j : jobs) {
     Row base;
@@ -69,10 +76,7 @@ std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, std::vector<std
       continue;
     }
     const std::vector<double> t = j.at("truth").get<std::vector<double>>();
-    if (names.empty()) {
-      names = j.at("base_parameters").get<std::vector<std::string>>();
-      truth = t;
-    }
+    if (!sets.count(base.cell)) sets[base.cell] = {j.at("base_parameters").get<std::vector<std::string>>(), t};
     for (const nlohmann::json& m : j.at("methods")) {
       Row r = base;
       r.method = m.at("method").get<std::string>();
@@ -104,21 +108,37 @@ std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, std::vector<std
 
 std::string pct(double v, int digits = 3) { return std::isfinite(v) ? fmt(100.0 * v, digits) : "-"; }
 
-void writeRunsCsv(const SweepLayout& layout, const std::vector<Row>& rows, const std::vector<std::string>& names,
-                  const std::vector<nlohmann::json>& jobs, const std::string& path) {
+// Every cell's base parameters, in the order they first appear.
+std::vector<std::string> allNames(const ParameterSets& sets) {
+  std::vector<std::string> names;
+  for (const auto& [cell, set] : sets) {
+    for (const std::string& n : set.names) {
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    }
+  }
+  return names;
+}
+
+void writeRunsCsv(const SweepLayout& layout, const std::vector<Row>& rows, const ParameterSets& sets, const std::vector<nlohmann::json>& jobs,
+                  const std::string& path) {
   std::map<std::pair<int, int>, double> wall;
   for (const nlohmann::json& j : jobs) wall[{j.at("cell").get<int>(), j.at("replicate").get<int>()}] = j.at("wall_time_s").get<double>();
+  const std::vector<std::string> names = allNames(sets);
   core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell,replicate,seed,torque_noise_Nm,angle_noise_deg,quantisation_deg,trajectories,method,status";
+    out << "cell,replicate,seed," << kConditionCsvHeader << ",method,status";
     for (const Metric& m : kMetrics) out << "," << m.name;
     for (const std::string& n : names) out << "," << csvField("error " + n);
     out << ",message,wall_time_s\n";
     for (const Row& r : rows) {
-      const SweepCondition& c = layout.cells.at(static_cast<std::size_t>(r.cell));
-      out << r.cell << "," << r.replicate << "," << r.seed << "," << csvNumber(c.torque_noise_Nm) << "," << csvNumber(c.angle_noise_deg) << ","
-          << csvNumber(c.quantisation_deg) << "," << c.trajectories << "," << r.method << "," << r.status;
+      out << r.cell << "," << r.replicate << "," << r.seed << "," << conditionCsv(layout.cells.at(static_cast<std::size_t>(r.cell))) << ","
+          << r.method << "," << r.status;
       for (const Metric& m : kMetrics) out << "," << csvNumber(r.*m.value);
-      for (std::size_t i = 0; i < names.size(); ++i) out << "," << (i < r.error.size() ? csvNumber(r.error[i]) : std::string());
+      const auto set = sets.find(r.cell);
+      for (const std::string& n : names) {
+        std::size_t i = 0;
+        if (set != sets.end()) i = static_cast<std::size_t>(std::find(set->second.names.begin(), set->second.names.end(), n) - set->second.names.begin());
+        out << "," << (set != sets.end() && i < r.error.size() ? csvNumber(r.error[i]) : std::string());
+      }
       out << "," << csvField(r.message) << "," << csvNumber(wall[{r.cell, r.replicate}]) << "\n";
     }
   });
@@ -203,7 +223,7 @@ MethodCell summarizeMethod(const std::string& method, const Replicates& reps, in
   return m;
 }
 
-std::vector<CellTables> summarize(const SweepLayout& layout, const std::vector<Row>& rows, std::size_t n_params) {
+std::vector<CellTables> summarize(const SweepLayout& layout, const std::vector<Row>& rows, const ParameterSets& sets) {
   std::map<int, std::map<std::string, Replicates>> ok;
   std::map<int, std::map<std::string, int>> failed;
   std::map<int, bool> seen;
@@ -223,6 +243,8 @@ std::vector<CellTables> summarize(const SweepLayout& layout, const std::vector<R
     c.cell = cell;
     const auto ls_it = ok[cell].find("ls");
     const Replicates* ls = ls_it == ok[cell].end() ? nullptr : &ls_it->second;
+    const auto set = sets.find(cell);
+    const std::size_t n_params = set == sets.end() ? 0 : set->second.names.size();
     for (const std::string& m : layout.method_names) c.methods.push_back(summarizeMethod(m, ok[cell][m], failed[cell][m], ls, n_params));
     cells.push_back(std::move(c));
   }
@@ -255,12 +277,10 @@ nlohmann::json ciJson(const stats::ConfidenceInterval& c) {
   return {{"n", c.n}, {"mean", jsonNumber(c.n ? c.mean : kNaN)}, {"std", jsonNumber(c.std)}, {"ci95_low", jsonNumber(c.low)}, {"ci95_high", jsonNumber(c.high)}};
 }
 
-nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTables>& cells, const std::vector<std::string>& names,
-                           const std::vector<double>& truth) {
+nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTables>& cells, const ParameterSets& sets) {
   nlohmann::json j;
   j["tool"] = toolJson();
   j["config"] = layout.resolved;
-  j["base_parameters"] = {{"names", names}, {"truth", truth}};
   nlohmann::json meanings = nlohmann::json::object();
   for (const Metric& m : kMetrics) meanings[m.name] = m.meaning;
   j["statistics"] = {{"metrics", meanings},
@@ -272,7 +292,12 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
   // As the APAL sweep's summary.json: conditions, each with its methods and parameters by name.
   j["conditions"] = nlohmann::json::array();
   for (const CellTables& c : cells) {
-    nlohmann::json cj = {{"cell", c.cell}, {"condition", toJson(layout.cells.at(static_cast<std::size_t>(c.cell)))}, {"methods", nlohmann::json::object()}};
+    const ParameterSet set = sets.count(c.cell) ? sets.at(c.cell) : ParameterSet{};
+    const std::vector<std::string>& names = set.names;
+    nlohmann::json cj = {{"cell", c.cell},
+                         {"condition", toJson(layout.cells.at(static_cast<std::size_t>(c.cell)))},
+                         {"base_parameters", {{"names", names}, {"truth", set.truth}}},
+                         {"methods", nlohmann::json::object()}};
     for (const MethodCell& m : c.methods) {
       nlohmann::json mj = {{"n", m.n}, {"n_failed", m.n_failed}};
       for (std::size_t k = 0; k < std::size(kMetrics); ++k) mj["metrics"][kMetrics[k].name] = ciJson(m.metrics[k]);
@@ -295,14 +320,13 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
 
 void writeSummaryCsv(const SweepLayout& layout, const std::vector<CellTables>& cells, const std::string& path) {
   core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell,torque_noise_Nm,angle_noise_deg,quantisation_deg,trajectories,method,n,n_failed";
+    out << "cell," << kConditionCsvHeader << ",method,n,n_failed";
     for (const Metric& m : kMetrics) out << "," << m.name << "_mean," << m.name << "_low," << m.name << "_high";
     out << ",vs_ls_median_abs_rel_err_win_rate,vs_ls_median_abs_rel_err_p_holm,vs_ls_torque_err_mean_win_rate,vs_ls_torque_err_mean_p_holm\n";
     for (const CellTables& c : cells) {
       const SweepCondition& k = layout.cells.at(static_cast<std::size_t>(c.cell));
       for (const MethodCell& m : c.methods) {
-        out << c.cell << "," << csvNumber(k.torque_noise_Nm) << "," << csvNumber(k.angle_noise_deg) << "," << csvNumber(k.quantisation_deg) << "," << k.trajectories
-            << "," << m.method << "," << m.n << "," << m.n_failed;
+        out << c.cell << "," << conditionCsv(k) << "," << m.method << "," << m.n << "," << m.n_failed;
         for (const stats::ConfidenceInterval& ci : m.metrics) out << "," << csvNumber(ci.n ? ci.mean : kNaN) << "," << csvNumber(ci.low) << "," << csvNumber(ci.high);
         out << "," << csvNumber(m.win_rate_rel) << "," << csvNumber(m.p_rel_holm) << "," << csvNumber(m.win_rate_torque) << "," << csvNumber(m.p_torque_holm) << "\n";
       }
@@ -317,8 +341,7 @@ std::string meanAndCi(const stats::ConfidenceInterval& c, double scale, int digi
   return s;
 }
 
-void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& cells, const std::vector<std::string>& names,
-                    const std::vector<double>& truth, const std::string& path) {
+void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& cells, const ParameterSets& sets, const std::string& path) {
   std::ostringstream md;
   const nlohmann::json& sw = layout.resolved.at("sweep");
   md << "# exoid sweep --model " << sw.at("model").get<std::string>() << "\n\n"
@@ -330,8 +353,12 @@ void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& ce
      << "[95 % Student-t interval]; vs LS: win rate over the paired seeds (lower is a win) and Holm-adjusted Wilcoxon p.\n\n";
   for (const CellTables& c : cells) {
     const SweepCondition& k = layout.cells.at(static_cast<std::size_t>(c.cell));
+    const ParameterSet set = sets.count(c.cell) ? sets.at(c.cell) : ParameterSet{};
+    const std::vector<std::string>& names = set.names;
+    const std::vector<double>& truth = set.truth;
     md << "## Cell " << c.cell << ": torque noise " << fmt(k.torque_noise_Nm, 4) << " N m, angle noise " << fmt(k.angle_noise_deg, 4)
-       << " deg, quantisation " << fmt(k.quantisation_deg, 4) << " deg, " << k.trajectories << " records\n\n"
+       << " deg, quantisation " << fmt(k.quantisation_deg, 4) << " deg, vibration level " << fmt(k.vibration_level, 4) << ", encoder backlash "
+       << fmt(k.encoder_backlash_deg, 4) << " deg, " << k.trajectories << " records\n\n"
        << "| method | runs (failed) | median abs error (%) | max abs error (%) | torque error vs truth (%) | validation RMS (N m) | "
           "vs LS: median error win rate, p Holm | vs LS: torque error win rate, p Holm |\n|---|---|---|---|---|---|---|---|\n";
     for (const MethodCell& m : c.methods) {
@@ -373,14 +400,13 @@ void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& ce
 }  // namespace chain_sweep_tables
 
 void writeChainSweepTables(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const std::string& dir) {
-  std::vector<std::string> names;
-  std::vector<double> truth;
-  const std::vector<chain_sweep_tables::Row> rows = chain_sweep_tables::rowsOf(jobs, names, truth);
-  chain_sweep_tables::writeRunsCsv(layout, rows, names, jobs, dir + "/runs.csv");
-  const std::vector<chain_sweep_tables::CellTables> cells = chain_sweep_tables::summarize(layout, rows, names.size());
-  writeJsonFile(dir + "/summary.json", chain_sweep_tables::summaryJson(layout, cells, names, truth));
+  chain_sweep_tables::ParameterSets sets;
+  const std::vector<chain_sweep_tables::Row> rows = chain_sweep_tables::rowsOf(jobs, sets);
+  chain_sweep_tables::writeRunsCsv(layout, rows, sets, jobs, dir + "/runs.csv");
+  const std::vector<chain_sweep_tables::CellTables> cells = chain_sweep_tables::summarize(layout, rows, sets);
+  writeJsonFile(dir + "/summary.json", chain_sweep_tables::summaryJson(layout, cells, sets));
   chain_sweep_tables::writeSummaryCsv(layout, cells, dir + "/summary.csv");
-  chain_sweep_tables::writeSummaryMd(layout, cells, names, truth, dir + "/summary.md");
+  chain_sweep_tables::writeSummaryMd(layout, cells, sets, dir + "/summary.md");
 }
 
 }  // namespace exoid::experiments

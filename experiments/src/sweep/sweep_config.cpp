@@ -6,9 +6,11 @@
 
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
+#include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/core/sha256.hpp"
+#include "exoid/sim/chain_simulate.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/sidecar.hpp"
@@ -170,17 +172,13 @@ namespace {
 // What a chain sweep cannot take: the APAL rig's factors, records and processing keys.
 void validateChain(const SweepConfig& c) {
   const std::string model = "a chain model's sweep (model " + c.model + ")";
-  for (const auto& [key, levels] : {std::pair<const char*, const std::vector<double>*>{"grid.vibration_level", &c.vibration_level},
-                                    {"grid.cylinder_mass_scale", &c.cylinder_mass_scale}}) {
-    if (*levels != std::vector<double>{0.0}) {
-      throw SweepConfigError(where(c, key) + ": " + model + " has no " +
-                             (std::string(key) == "grid.vibration_level" ? "compliant pedestal mount" : "hydraulic cylinder") +
-                             ": give [0] or leave the key out");
-    }
+  if (c.cylinder_mass_scale != std::vector<double>{0.0}) {
+    throw SweepConfigError(where(c, "grid.cylinder_mass_scale") + ": " + model + " has no hydraulic cylinder: give [0] or leave the key out");
   }
-  if (c.encoder_backlash_deg != std::vector<double>{0.0}) {
-    throw SweepConfigError(where(c, "grid.encoder_backlash_deg") + ": " + model +
-                           " has no encoder play (the chain simulator's encoders read the joints): give [0] or leave the key out");
+  if (c.vibration_level != std::vector<double>{0.0} && !sim::hasCompliantMount(c.chain_model_path)) {
+    throw SweepConfigError(where(c, "grid.vibration_level") + ": " + model + " stands on a rigid stand ('" + c.chain_model_path +
+                           "' has no joint of class \"mount\" between the world and the chain, as models/leg3.xml's): give [0] or "
+                           "leave the key out");
   }
   for (const char* key : {"simulation.ramp_s", "simulation.feedforward", "simulation.excitation_knee", "simulation.excitation_both",
                           "identification.cutoff_hz", "identification.filter"}) {
@@ -325,6 +323,11 @@ nlohmann::json toJson(const SweepCondition& c) {
           {"cylinder_mass_scale", c.cylinder_mass_scale},
           {"encoder_backlash_deg", c.encoder_backlash_deg},
           {"trajectories", c.trajectories}};
+}
+
+std::string conditionCsv(const SweepCondition& c) {
+  return csvNumber(c.torque_noise_Nm) + "," + csvNumber(c.angle_noise_deg) + "," + csvNumber(c.quantisation_deg) + "," +
+         csvNumber(c.vibration_level) + "," + csvNumber(c.cylinder_mass_scale) + "," + csvNumber(c.encoder_backlash_deg) + "," + c.trajectories;
 }
 
 namespace {

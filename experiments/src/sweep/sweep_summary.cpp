@@ -113,13 +113,6 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
 }
 
 
-
-std::string conditionCsv(const SweepCondition& c) {
-  return csvNumber(c.torque_noise_Nm) + "," + csvNumber(c.angle_noise_deg) + "," + csvNumber(c.quantisation_deg) + "," +
-         csvNumber(c.vibration_level) + "," + csvNumber(c.cylinder_mass_scale) + "," + csvNumber(c.encoder_backlash_deg) + "," + c.trajectories;
-}
-const char* kConditionHeader = "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,encoder_backlash_deg,trajectories";
-
 // The summary metrics, in SweepMetric order: how to read each from a row.
 struct Metric {
   SweepMetric id;
@@ -197,7 +190,7 @@ const Replicates& repsOf(const Cell& c, const std::string& method) {
 void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
   core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell,replicate," << kConditionHeader
+    out << "cell,replicate," << kConditionCsvHeader
         << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
            "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max,plausible";
     for (const char* prefix : {"rel_err_", "rel_err_rigid_", "err_over_crb_", "crb_std_"}) {
@@ -516,7 +509,7 @@ nlohmann::json summaryJson(const CellSummary& c) {
 
 void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
   core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "cell," << kConditionHeader << ",method,n,n_failed";
+    out << "cell," << kConditionCsvHeader << ",method,n,n_failed";
     for (const Metric& m : kMetrics) {
       for (const char* f : {"mean", "std", "ci95_low", "ci95_high"}) out << ',' << m.name << '_' << f;
     }

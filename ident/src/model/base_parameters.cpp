@@ -33,7 +33,13 @@ Eigen::MatrixXd randomStateRegressor(const ChainModel& model, const BaseParamete
       qd[i] = rng.uniform(-3.0, 3.0);
       qdd[i] = rng.uniform(-30.0, 30.0);
     }
-    chainRegressorInto(model, q, qd, qdd, ChainBaseMotion::still(model), work, W.middleRows(static_cast<Eigen::Index>(s) * n, n));
+    ChainBaseMotion base = ChainBaseMotion::still(model);
+    if (o.planar_base_motion) {
+      base.specific_force_mps2 = Eigen::Vector3d(rng.uniform(-20.0, 20.0), 0.0, rng.uniform(-20.0, 20.0));
+      base.omega_radps = Eigen::Vector3d(0.0, rng.uniform(-3.0, 3.0), 0.0);
+      base.alpha_radps2 = Eigen::Vector3d(0.0, rng.uniform(-30.0, 30.0), 0.0);
+    }
+    chainRegressorInto(model, q, qd, qdd, base, work, W.middleRows(static_cast<Eigen::Index>(s) * n, n));
   }
   return W;
 }

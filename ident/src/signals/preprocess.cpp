@@ -25,6 +25,7 @@ const char* toString(BaseTerms b) {
 
 namespace {
 const char* const kBaseColumns[3] = {"base_acc_x", "base_acc_z", "base_gyro_y"};
+const char* const kBaseAlphaColumn = "base_alpha_y";  // optional: the pitch acceleration, recorded
 }
 
 bool hasBaseColumns(const Dataset& d) {
@@ -178,10 +179,15 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs,
     }
     s.base.resize(len, 4);
     for (int k = 0; k < 3; ++k) s.base.col(k) = d.extraColumn(kBaseColumns[k]).segment(from, len);
-    // Pitch acceleration: the gyro differentiated like the angles' first derivative.
-    Eigen::MatrixXd w = s.base.col(2);
-    if (prefilter) w = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), w);
-    s.base.col(3) = differentiate(w, dt, Differentiation::kCentral4);
+    const bool recorded_alpha = o.use_recorded_derivatives &&
+                                std::find(d.extra_names.begin(), d.extra_names.end(), kBaseAlphaColumn) != d.extra_names.end();
+    if (recorded_alpha) {  // recorded, as the joints' accelerations may be
+      s.base.col(3) = d.extraColumn(kBaseAlphaColumn).segment(from, len);
+    } else {  // the gyro differentiated like the angles' first derivative
+      Eigen::MatrixXd w = s.base.col(2);
+      if (prefilter) w = filtfilt(butterworthLowpass(4, o.derivative_cutoff_hz, fs), w);
+      s.base.col(3) = differentiate(w, dt, Differentiation::kCentral4);
+    }
   }
   if (o.use_recorded_derivatives && d.qd_radps && d.qdd_radps2) {
     s.qd_radps = d.qd_radps->middleRows(from, len);

@@ -1,8 +1,12 @@
 #pragma once
 // Any serial chain's rig: an MJCF whose motors drive hinge joints (models/leg3.xml, or a user's
-// model), run along a Fourier reference per joint. Per sample k (t = k dt):
-//   1. the sensors read the exact state: angles with white noise and quantisation; velocities
-//      exact (a tachometer: the controller's, not the log's);
+// model), run along a Fourier reference per joint, on a rigid stand or on a compliant mount (the
+// MJCF's joints of class "mount" between the world and the chain, as the APAL leg's pedestal;
+// vibration_level scales them). Per sample k (t = k dt):
+//   1. the sensors read the exact state: angles through play, white noise and quantisation
+//      (sensors.hpp, the APAL rig's); velocities exact (a tachometer: the controller's, not the
+//      log's); on a mount, the base IMU (specific force x, z and pitch rate of the frame the chain
+//      is mounted in);
 //   2. the controller: MuJoCo's own inverse dynamics at the reference (mj_inverse) plus the
 //      model's Coulomb term, and PD feedback on the readings, tuned per joint to bandwidth_hz
 //      from the joint-space inertia at the start; the motor follows the command through a
@@ -12,6 +16,7 @@
 //      its noise; the model's integrator advances the state, in substeps where the smoothed
 //      Coulomb term is stiff (ChainSimResult::substeps), the friction following the velocity.
 // Row k satisfies the dynamics exactly: tau_true(k) produced qdd_true(k) at (q_true(k), qd_true(k)).
+#include "exoid/sim/sensors.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/table.hpp"
 
@@ -39,6 +44,13 @@ struct ChainFourier {
 /// designs better ones.)
 ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed = 1);
 
+/// SensorOptions with an ideal torque sensor (no anti-aliasing filter): the chain rig's default.
+SensorOptions idealTorqueSensing();
+
+/// True when the model at `model_path` stands on a compliant mount (joints between the world and
+/// the chain: what vibration_level > 0 needs). Throws std::invalid_argument as simulateChain does.
+bool hasCompliantMount(const std::string& model_path);
+
 /// A locked joint's added rotor inertia: 1e9 kg m^2 against a leg's ~1 kg m^2, so the reaction of
 /// the links below accelerates it by ~1e-9 of their own and the coupling it feeds back is ~1e-9 N m.
 inline constexpr double kLockInertia_kgm2 = 1e9;
@@ -48,9 +60,13 @@ struct ChainSimConfig {
   ChainFourier trajectory;       ///< empty (no joints) = defaultChainTrajectory(dof, seed)
   double duration_s = 30.0;      ///< > 0
   double dt_s = 1e-3;            ///< (0, 0.01]; the model's timestep is set to it
-  double encoder_noise_rad = 0.0;       ///< std of the angle readings' white noise, >= 0
-  double encoder_resolution_rad = 0.0;  ///< quantisation step of the readings, >= 0 (0 = none)
-  double torque_noise_Nm = 0.0;         ///< std of the torque sensor's white noise, >= 0
+  /// Encoders (noise, quantisation, play), torque sensors (noise, bias, bandwidth) and the base
+  /// IMU, as the APAL rig's; the chain rig's torque sensor is ideal (tau_bandwidth_Hz 0) unless set.
+  SensorOptions sensors = idealTorqueSensing();
+  /// The mount's compliance: 0 = a rigid stand (the MJCF's "mount" joints removed, the base exactly
+  /// still); L > 0 scales the MJCF's mount stiffness by 1/L^2 and damping by 1/L (natural
+  /// frequencies / L), as the APAL leg's vibration_level. Needs mount joints when > 0. [0, 20].
+  double vibration_level = 0.0;
   /// Coulomb smoothing: < 0 = the model's exoid_coulomb_v0 (2 mrad/s if absent), 0 = sgn(qd)
   /// exactly (the regressor's own shape: exact data are then exact).
   double coulomb_v0_radps = -1.0;
@@ -75,7 +91,10 @@ struct ChainSimResult {
   ChainSimConfig config;         ///< as run (trajectory filled in)
   SerialChain chain;             ///< the model's chain and true bodies (Coulomb as run)
   /// t, q_<j>, tau_<j> (measured) [, qd_<j>, qdd_<j>], q_<j>_true, qd_<j>_true, qdd_<j>_true,
-  /// tau_<j>_true, q_<j>_ref, per joint in the chain's order.
+  /// tau_<j>_true, q_<j>_ref, per joint in the chain's order; on a mount, the base IMU's
+  /// base_acc_x, base_acc_z, base_gyro_y (as measured; with record_derivatives also the exact pitch
+  /// acceleration base_alpha_y) and the base frame's exact displacement base_x, base_z (m) and
+  /// pitch base_pitch (rad) from rest.
   Table table;
   double tracking_rms_rad = 0.0;  ///< of q_true - q_ref, all joints
   int substeps = 1;  ///< integration substeps per sample (stiff smoothed Coulomb terms need them)

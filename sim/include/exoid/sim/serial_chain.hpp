@@ -34,11 +34,16 @@ struct ChainLinkBody {
 struct SerialChain {
   std::string name, source;
   std::vector<ChainLinkBody> links;  ///< base to tip
-  Eigen::Vector3d gravity_mps2{0.0, 0.0, -9.81};  ///< in the base (world) frame
+  Eigen::Vector3d gravity_mps2{0.0, 0.0, -9.81};  ///< in the base frame (chainBaseBody's at qpos0)
   /// Bodies with their own degrees of freedom hanging off the chain (e.g. the four-bar's
   /// cylinder and rod): left out of every link, named here so that nothing is dropped silently.
   std::vector<std::string> left_out;
 };
+
+/// The body whose frame a chain starting at `first_body` is expressed in: the nearest ancestor
+/// with a joint of its own (a stand's mount), else the world: the bodies welded in between (a
+/// trunk on its stand) ride with it. A chain's base motion is that body's; its IMU reads it.
+int chainBaseBody(const mjModel* m, int first_body);
 
 /// The chain of `joints` (hinge joint ids, base to tip) of a compiled model at qpos0, each link the
 /// joint's body and every body welded below it. `coulomb_Nm` per joint (MuJoCo's frictionloss is a

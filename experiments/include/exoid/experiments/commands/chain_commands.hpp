@@ -83,10 +83,12 @@ struct ChainIdentifyArgs {
   std::vector<std::pair<std::string, std::string>> stages;
   std::vector<std::string> validate;  ///< records the estimate predicts (torque error per joint)
   std::string plot;                  ///< PNG: measured and predicted torques of the first validation record (else the first fit record)
-  std::string truth;                 ///< a chain simulation's sidecar: errors against its base parameters
+  std::string truth;                 ///< a chain simulation's sidecar: errors against its standard parameters' combinations
   /// Joints that get an armature (rotor inertia) parameter although the file gives none (a URDF
   /// never does), or {"all"}.
   std::vector<std::string> armature;
+  /// Fit in the base parameters of a moving base (movingBase): records with base-motion terms.
+  bool moving_base_parameters = false;
   std::string json_out;
   LogInputFlags log;
   ident::SignalOptions signals;
@@ -110,8 +112,5 @@ int identifyChain(const ChainIdentifyArgs& args);
 int identifyChainStages(const ChainIdentifyArgs& args);
 /// Throws UnusableResult (exit 3) naming every problem ("; "-separated) when there are any.
 void throwIfUnusable(const std::vector<std::string>& problems);
-/// A chain simulation's sidecar's base parameters, in base's order. Throws std::invalid_argument
-/// naming the file and what is missing.
-Eigen::VectorXd readChainTruth(const std::string& path, const ident::BaseParameters& base);
 
 }  // namespace exoid::experiments

@@ -3,7 +3,9 @@
 // ChainModel and its standard parameter vector: the one place the two meet.
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
+#include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/robot.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
 #include <Eigen/Core>
@@ -36,5 +38,19 @@ struct LoadedChain {
   ident::Robot robot;  ///< model in its base parameters
 };
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {});
+
+/// True when a record processed with `signals` carries base-motion terms (its IMU columns, and
+/// base_terms on, or auto).
+bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals);
+/// The chain in the base parameters of a moving base (a planar base: a link's inertia and its
+/// joint's armature, which a still base regroups, separate), for records with base-motion terms.
+/// They separate only through the base's pitch acceleration: an IMU's noise there biases the split
+/// (docs/findings.md), so this is a choice (identify --moving-base-parameters), not the default.
+/// Throws std::invalid_argument when none of `records` carries base-motion terms.
+LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& records, const ident::SignalOptions& signals);
+/// The true base parameters of `loaded` from a chain simulation's sidecar: its standard
+/// parameters, by name, through loaded's combination (a parameter the file lacks, an armature added
+/// by --armature, is 0). Throws std::invalid_argument naming the file and what is missing.
+Eigen::VectorXd truthFromSidecar(const std::string& path, const LoadedChain& loaded);
 
 }  // namespace exoid::experiments

@@ -120,8 +120,7 @@ std::uint64_t psoSeed(std::uint64_t seed);
 /// Eq. 9, or stacked), at sigma_Nm per joint (ident::segmentalNoiseCovariance,
 /// ident::lsNoiseCovariance). For LS on raw torque this is the Cramer-Rao bound; every method
 /// fitting the same regressor (RLS, PSO, RLS-PSO, LAD) is scored against the same bound.
-Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::LegConstants& lc,
-                         const ident::SignalOptions& signals, double sigma_Nm);
+Eigen::VectorXd noiseStd(Variant v, const std::array<Record, 4>& r, const ident::SignalOptions& signals, double sigma_Nm);
 
 /// Simulates and processes the four records.
 std::array<Record, 4> simulateRecords(const ProtocolConfig& c);

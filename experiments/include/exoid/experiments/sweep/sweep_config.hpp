@@ -112,5 +112,10 @@ struct SweepConfig {
 SweepConfig loadSweepConfig(const std::string& path, const std::string& model_override = "");
 
 nlohmann::json toJson(const SweepCondition& c);
+/// A condition's CSV columns (every grid factor, as conditionCsvHeader names them), for every
+/// sweep's runs.csv and summary.csv.
+std::string conditionCsv(const SweepCondition& c);
+inline constexpr const char* kConditionCsvHeader =
+    "torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,encoder_backlash_deg,trajectories";
 
 }  // namespace exoid::experiments

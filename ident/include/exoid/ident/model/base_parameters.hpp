@@ -26,6 +26,11 @@ struct BaseParameterOptions {
   double tolerance = 1e-9;
   /// Coefficients of K below this magnitude are written as zero. Default 1e-10.
   double coefficient_tolerance = 1e-10;
+  /// The states' base moves in its x-z plane and turns about its y axis (what a planar IMU's
+  /// columns describe, and what the regressor then sees): a link's inertia and its joint's
+  /// armature, which a still base regroups (the link turns with its joint alone), separate (the
+  /// link turns with the base too). For records with base-motion terms. Default false.
+  bool planar_base_motion = false;
   void validate() const;  ///< throws std::invalid_argument naming the field
 };
 

@@ -24,10 +24,12 @@ enum class Processing {
 };
 const char* toString(Processing p);  ///< "paper", "parallel"
 
-/// Whether the regressor includes the pedestal's motion (BaseMotion) from the dataset's IMU
-/// columns base_acc_x, base_acc_z (specific force at the hip axis in the pedestal frame, m/s^2)
-/// and base_gyro_y (pitch rate, rad/s); the pitch acceleration is differentiated from the gyro like
-/// the angles. Parallel processing only.
+/// Whether the regressor includes the base's motion (the APAL leg's pedestal, a chain's mount) from
+/// the dataset's IMU columns base_acc_x, base_acc_z (specific force at the base frame's origin, in
+/// that frame: the APAL leg's hip axis, a chain's first joint's parent body; m/s^2) and
+/// base_gyro_y (pitch rate, rad/s); the pitch acceleration is a recorded base_alpha_y (rad/s^2)
+/// when the recorded derivatives are used, else differentiated from the gyro like the angles.
+/// Parallel processing only.
 enum class BaseTerms {
   kOff,   ///< a still base under gravity (the paper's model)
   kAuto,  ///< when the dataset has the three columns
