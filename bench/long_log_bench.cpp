@@ -25,7 +25,7 @@
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/core/heap.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/ident/model/robot.hpp"
 
 #include <benchmark/benchmark.h>

@@ -2,7 +2,7 @@
 #include "bindings.hpp"
 
 #include "exoid/ident/model/base_parameters.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 #include "convert.hpp"

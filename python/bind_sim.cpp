@@ -2,8 +2,8 @@
 #include "bindings.hpp"
 #include "convert.hpp"
 
-#include "exoid/experiments/protocol/chain_bridge.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/protocol/sim_bridge.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/sim/model.hpp"

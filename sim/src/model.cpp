@@ -78,6 +78,14 @@ DataPtr makeData(const mjModel* m) {
   return DataPtr(d);
 }
 
+void integrateStep(const mjModel* m, mjData* d) {
+  if (m->opt.integrator == mjINT_RK4) {
+    mj_RungeKutta(m, d, 4);
+  } else {
+    mj_Euler(m, d);
+  }
+}
+
 std::string stripMountJoints(const std::string& xml, const std::string& source) {
   std::string out;
   out.reserve(xml.size());

@@ -15,17 +15,6 @@
 namespace exoid::sim {
 namespace {
 
-// Advances one step after mj_forward with the model's integrator (what mj_step does after its
-// own mj_forward). RK4 is the model's choice: with Euler, position differences of the recorded
-// states lag the recorded velocity by dt qacc / 2 (a simulator artifact, not physics); RK4's
-// trajectory is the continuous one to O(dt^4), like a real rig's.
-void integrate(const mjModel* m, mjData* d) {
-  switch (m->opt.integrator) {
-    case mjINT_RK4: mj_RungeKutta(m, d, 4); break;
-    default: mj_Euler(m, d); break;
-  }
-}
-
 // Internal record columns (all of them; the table selects).
 enum Col : int {
   kT = 0, kQHip, kQKnee, kTauHip, kTauKnee,
@@ -253,7 +242,7 @@ struct Simulator::Impl {
     row[kLoopError] = le;
     if (step == 0) first_loop_error_m = le;
     checkLoopClosed(le, t);
-    integrate(m, d);
+    integrateStep(m, d);
     checkStepHealth(m, d, t, "integration");
     row[kTauHipTrue] = tau[0];
     row[kTauKneeTrue] = tau[1];

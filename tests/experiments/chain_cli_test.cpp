@@ -3,7 +3,7 @@
 // record (every method, IDIM-IV with the controller the record carries); what the chain path does
 // not take is refused by name.
 #include "cli_test_support.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -2,9 +2,9 @@
 // lacks, naming the key; its runs are scored against the model's truth and summarised with
 // statistics a test recomputes from the run records; threads, shards + merge and resume give the
 // same bytes.
-#include "exoid/experiments/commands/chain_commands.hpp"
-#include "exoid/experiments/protocol/chain_bridge.hpp"
-#include "exoid/experiments/sweep/chain_sweep.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
+#include "exoid/experiments/sweep/robot_sweep.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
 #include "sweep_test_support.hpp"
 
@@ -50,7 +50,7 @@ TEST(ChainSweepConfig, AModelGivesTheChainsGridAndMethods) {
   EXPECT_EQ(c.methodNames(), (std::vector<std::string>{"ls", "rls", "pso", "rls-pso", "lad", "iv-band", "idim-iv"}));
   EXPECT_EQ(c.numCells(), static_cast<int>(c.torque_noise_Nm.size()));
   // The shipped chain grid, and --model on it.
-  const SweepConfig shipped = loadSweepConfig(std::string(EXOID_SOURCE_DIR) + "/experiments/configs/chain_sweep.toml");
+  const SweepConfig shipped = loadSweepConfig(std::string(EXOID_SOURCE_DIR) + "/experiments/configs/robot_sweep.toml");
   EXPECT_TRUE(shipped.isChain());
   EXPECT_EQ(shipped.trajectories, (std::vector<std::string>{"optimised", "default"}));
   // The APAL leg's sweep is as before: no model in its resolved configuration (old folders resume).

@@ -1,6 +1,6 @@
 #include "exoid/ident/model/base_parameters.hpp"
 
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "random_chain.hpp"
 
 #include <Eigen/QR>

@@ -1,4 +1,4 @@
-#include "exoid/ident/model/chain_excitation.hpp"
+#include "exoid/ident/design/robot_excitation.hpp"
 
 #include "random_chain.hpp"
 

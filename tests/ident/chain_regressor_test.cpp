@@ -1,4 +1,4 @@
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 
 #include "exoid/ident/leg/regressor.hpp"
 #include "random_chain.hpp"

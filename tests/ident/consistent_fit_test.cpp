@@ -1,7 +1,7 @@
 #include "exoid/ident/model/consistent_fit.hpp"
 
 #include "exoid/ident/leg/consistency.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/ident/model/log_cholesky.hpp"
 
 #include "exoid/ident/leg/params.hpp"

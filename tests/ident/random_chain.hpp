@@ -3,7 +3,7 @@
 // physically valid parameters for them, and a 3-joint leg under a chain rig's controller.
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/chain.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/ident/model/closed_loop.hpp"
 #include "exoid/ident/model/robot.hpp"
 

@@ -3,11 +3,11 @@
 // parameters, against the truth read from the model (experiments' bridge). Two yardsticks: exact
 // data give the truth exactly; torque-sensor noise alone gives errors distributed as the
 // Cramer-Rao bound says (least squares is then the efficient, unbiased estimator).
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
-#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/signals/processing.hpp"
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 

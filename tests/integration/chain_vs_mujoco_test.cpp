@@ -1,8 +1,8 @@
 // The generic chain regressor (ident/model) on the APAL leg read from its MJCF (sim's serial
 // chain, experiments' bridge) times the true standard parameters equals MuJoCo's inverse dynamics
 // at random states, friction and armature included: two independent computations of the rig.
-#include "exoid/experiments/protocol/chain_bridge.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/sim/data_dir.hpp"
 #include "exoid/sim/inverse_dynamics.hpp"
 #include "exoid/sim/serial_chain.hpp"

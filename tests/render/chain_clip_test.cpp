@@ -1,7 +1,7 @@
 // A chain other than the APAL leg drawn offscreen (leg3): a still per pose, different poses
 // different images, the same pose the same bytes; errors name what is wrong. Its overlay: a text
 // line and a torque panel per joint, the APAL leg's overlay being the two-joint case.
-#include "exoid/render/chain_clip.hpp"
+#include "exoid/render/robot_clip.hpp"
 #include "exoid/sim/model.hpp"
 
 #include <gtest/gtest.h>

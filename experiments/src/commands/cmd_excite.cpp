@@ -2,7 +2,7 @@
 // rig's limits, write it as JSON for `exoid simulate --excitation`, and compare it with the
 // paper's trajectory on the same footing (condition number, Cramer-Rao bound per parameter).
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/identification.hpp"

@@ -2,7 +2,7 @@
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #ifdef EXOID_WITH_MUJOCO
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/sim/model.hpp"
 #endif
 #include "exoid/experiments/protocol/controller_io.hpp"

@@ -1,8 +1,8 @@
 // `exoid reproduce`: the README's main job.
 #include "exoid/core/atomic_file.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
-#include "exoid/experiments/protocol/chain_reproduce.hpp"
+#include "exoid/experiments/protocol/robot_reproduce.hpp"
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -37,7 +37,7 @@ struct Args {
   CLI::App* cmd = nullptr;
 };
 
-// --model naming a robot other than the APAL leg: the chain protocol (chain_reproduce.hpp). The
+// --model naming a robot other than the APAL leg: the chain protocol (robot_reproduce.hpp). The
 // APAL rig's own options are refused by name, never ignored.
 void runChain(const Args& a) {
   for (const CLI::Option* o : a.cmd->get_options()) {

@@ -1,6 +1,6 @@
 // `exoid simulate` and `exoid truth`.
 #include "exoid/core/atomic_file.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"

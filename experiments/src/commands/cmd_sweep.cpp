@@ -1,5 +1,5 @@
 // `exoid sweep` and `exoid merge`: the grid of conditions x seeds x methods, and its shards.
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
@@ -34,7 +34,7 @@ void runSweepCommand(const SweepArgs& a) {
   std::string file = a.config;
   // --model naming a chain without --config: the chain's default grid.
   if (!a.model.empty() && a.config_option->count() == 0 && a.model != "apal" && !isApalLegModel(sim::modelPathFor(a.model))) {
-    file = sim::dataPath("configs/chain_sweep.toml");
+    file = sim::dataPath("configs/robot_sweep.toml");
   }
   SweepConfig c = loadSweepConfig(file, a.model);
   auto list = [&c](const std::vector<double>& v, std::vector<double>& target, const char* key, const char* flag) {
@@ -90,7 +90,7 @@ void addSweepCommand(CLI::App& app) {
       "quantisation, vibration, cylinder mass) x seeds x methods, and summarise with 95 % CIs, paired\n"
       "Wilcoxon tests against LS and the Cramer-Rao bound. Resumable (same command again), shardable\n"
       "(--shard K/N or a Slurm array), deterministic for any thread count. See experiments/SWEEP.md.");
-  a->config_option = cmd->add_option("--config", a->config, "Sweep TOML (with --model naming a chain: configs/chain_sweep.toml)")->capture_default_str();
+  a->config_option = cmd->add_option("--config", a->config, "Sweep TOML (with --model naming a chain: configs/robot_sweep.toml)")->capture_default_str();
   cmd->add_option("--model", a->model,
                   "[sweep] model: apal (the paper's protocol), leg3 or an MJCF file (any serial chain: its base parameters, "
                   "one fit per run; experiments/SWEEP.md)");

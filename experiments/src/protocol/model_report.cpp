@@ -1,7 +1,7 @@
 #include "exoid/experiments/protocol/model_report.hpp"
 
 #include "exoid/core/atomic_file.hpp"
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"

@@ -1,5 +1,5 @@
 #include "exoid/experiments/protocol/sim_bridge.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"

@@ -1,7 +1,7 @@
 #include "exoid/experiments/sweep/sweep_config.hpp"
 
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 
 #include "exoid/experiments/protocol/options.hpp"
@@ -10,7 +10,7 @@
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/core/sha256.hpp"
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/sidecar.hpp"

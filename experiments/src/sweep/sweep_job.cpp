@@ -1,6 +1,6 @@
 #include "exoid/experiments/sweep/sweep_job.hpp"
 
-#include "exoid/experiments/sweep/chain_sweep.hpp"
+#include "exoid/experiments/sweep/robot_sweep.hpp"
 
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/estimators/segmental.hpp"

@@ -9,7 +9,7 @@
 #include "exoid/experiments/sweep/progress.hpp"
 #include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/sweep/sweep_summary.hpp"
-#include "exoid/experiments/sweep/chain_sweep.hpp"
+#include "exoid/experiments/sweep/robot_sweep.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
 

@@ -2,7 +2,7 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 
 #include <Eigen/QR>
 

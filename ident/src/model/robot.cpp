@@ -61,7 +61,7 @@ std::vector<std::vector<int>> nonzeroColumns(int dof, int parameters, std::uint6
   return out;
 }
 
-void requireSize(const char* what, Eigen::Index got, int dof) {
+void requireRobotSize(const char* what, Eigen::Index got, int dof) {
   if (got != dof) {
     throw std::invalid_argument(std::string("robot regressor: expected ") + core::toText(dof) + " entries in " + what +
                                 " (one per joint), got " + core::toText(static_cast<long long>(got)));
@@ -160,9 +160,9 @@ void robotRowsInto(const Robot& robot, const Eigen::Ref<const Eigen::VectorXd>& 
                    const Eigen::Ref<const Eigen::VectorXd>& qdd, const ChainBaseMotion& base, RobotWorkspace& work,
                    Eigen::Ref<Eigen::MatrixXd> out) {
   const int dof = robot.dof();
-  requireSize("q", q.size(), dof);
-  requireSize("qd", qd.size(), dof);
-  requireSize("qdd", qdd.size(), dof);
+  requireRobotSize("q", q.size(), dof);
+  requireRobotSize("qd", qd.size(), dof);
+  requireRobotSize("qdd", qdd.size(), dof);
   if (robot.two_link) {
     RegressorRow hip, knee;
     regressorRows(*robot.two_link, q, qd, qdd, planar(base), hip, knee);

@@ -39,6 +39,10 @@ ModelPtr compileMjcf(const std::string& xml, const std::string& source);
 ModelPtr loadMjcfFile(const std::string& path);
 /// mj_makeData; throws MujocoError on failure.
 DataPtr makeData(const mjModel* m);
+/// One step of the model's integrator from the state mj_forward has evaluated (what mj_step does
+/// after its own mj_forward). RK4 is the models' choice: with Euler, position differences of the
+/// recorded states lag the recorded velocity by dt qacc / 2 (a simulator artifact, not physics).
+void integrateStep(const mjModel* m, mjData* d);
 
 /// Removes every self-closing <joint .../> element with class="mount" from MJCF text (the
 /// pedestal's compliant mount), which welds the pedestal to the world exactly: no dofs left.

@@ -6,7 +6,7 @@
 // cell and its optimised twin share their seeds (common random numbers), so they pair.
 #include "exoid/experiments/protocol/protocol.hpp"
 #include "exoid/ident/estimators/methods.hpp"
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -64,7 +64,7 @@ struct SweepConfig {
   /// excitation_both: `exoid excite` files).
   std::optional<sim::FourierSpec> optimised_knee, optimised_both;
   /// [sweep] model: empty or "apal" = the APAL leg (the paper's protocol); "leg3" or an MJCF or
-  /// URDF file = any serial chain (a chain sweep: chain_sweep.hpp).
+  /// URDF file = any serial chain (a chain sweep: robot_sweep.hpp).
   std::string model;
   /// The chain's file (sim::modelPathFor(model)); empty for the APAL leg.
   std::string chain_model_path;

@@ -25,7 +25,7 @@ struct SweepLayout {
   std::vector<Variant> methods;
   int seeds = 0;
   nlohmann::json resolved;  ///< SweepConfig::toJson()
-  /// A chain model's sweep (chain_sweep.hpp): method_names are ident::Method names, methods empty.
+  /// A chain model's sweep (robot_sweep.hpp): method_names are ident::Method names, methods empty.
   bool chain = false;
   std::vector<std::string> method_names;
   const std::vector<SweepCondition>& conditions() const { return cells; }

@@ -117,7 +117,7 @@ struct ExcitationDesign {
   double wall_time_s = 0.0;
 };
 
-/// The search both excitation designs run (this leg's and any chain's, model/chain_excitation.hpp):
+/// The search both excitation designs run (this leg's and any chain's, design/robot_excitation.hpp):
 /// Nelder-Mead on `objective` from options.restarts starts drawn by `start` from one generator
 /// seeded with options.seed; the best end point `feasible` accepts, else the best of all.
 struct RestartSearch {

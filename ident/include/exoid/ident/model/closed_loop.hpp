@@ -3,7 +3,7 @@
 // Vandanjon, Gautier) needs to build instruments that share the motion of a record but not its
 // measurement noise. Pure Eigen: the controller is whatever the user describes, so it serves real
 // logs as well as exoid's simulators (whose controllers it mirrors: sim/controller.hpp for the
-// APAL leg's rig, sim/chain_simulate.hpp for a chain's).
+// APAL leg's rig, sim/motor_rig.hpp for a chain's).
 #include "exoid/ident/model/robot.hpp"
 #include "exoid/ident/signals/sampled_reference.hpp"
 

@@ -11,7 +11,7 @@
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 
 #include <Eigen/Core>
 

@@ -1,9 +1,9 @@
-#include "exoid/ident/model/chain_excitation.hpp"
+#include "exoid/ident/design/robot_excitation.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 
 #include <Eigen/Cholesky>
 

@@ -1,4 +1,4 @@
-#include "exoid/render/chain_clip.hpp"
+#include "exoid/render/robot_clip.hpp"
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"

@@ -1,4 +1,4 @@
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
@@ -25,14 +25,6 @@ std::string jointName(const mjModel* m, int j) {
 double numericOr(const mjModel* m, const std::string& name, double fallback) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
   return id >= 0 && m->numeric_size[id] > 0 ? m->numeric_data[m->numeric_adr[id]] : fallback;
-}
-
-void integrate(const mjModel* m, mjData* d) {
-  if (m->opt.integrator == mjINT_RK4) {
-    mj_RungeKutta(m, d, 4);
-  } else {
-    mj_Euler(m, d);
-  }
 }
 
 }  // namespace
@@ -405,7 +397,7 @@ class ChainRig {
         applyTorque();
         mj_forward(m_, d_);
       }
-      integrate(m_, d_);
+      integrateStep(m_, d_);
       checkStepHealth(m_, d_, t, "integration");
       motor_ += lag_ * (command_ - motor_);
     }

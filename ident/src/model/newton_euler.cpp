@@ -1,4 +1,4 @@
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 
 #include "exoid/core/format.hpp"
 

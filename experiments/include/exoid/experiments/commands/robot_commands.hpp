@@ -8,7 +8,7 @@
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 #include "exoid/sim/simulate.hpp"
 
 #include <nlohmann/json.hpp>

@@ -3,9 +3,9 @@
 // generic one on a 3-DOF and a 6-DOF chain. The bar: generic >= 1/3 of the hand-written
 // rate on the same leg (the ratio is printed by the HandWritten/Generic pair in one run).
 //
-//   build/bench/chain_regressor_bench --benchmark_counters_tabular=true
+//   build/bench/regressor_bench --benchmark_counters_tabular=true
 #include "exoid/core/random.hpp"
-#include "exoid/ident/model/chain_regressor.hpp"
+#include "exoid/ident/model/newton_euler.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 
 #include <benchmark/benchmark.h>

@@ -1,15 +1,15 @@
 // One run of a chain sweep: two simulated records, every method's fit, its scores against truth.
-#include "exoid/experiments/sweep/chain_sweep.hpp"
+#include "exoid/experiments/sweep/robot_sweep.hpp"
 
 #include "exoid/core/random.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
-#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/ident/signals/band.hpp"
 

@@ -5,7 +5,7 @@
 // segmental stage with the joints above locked; every method on the one fit and stage by stage;
 // report.md with every base parameter's error against the simulation's truth.
 #include "exoid/ident/estimators/methods.hpp"
-#include "exoid/sim/chain_simulate.hpp"
+#include "exoid/sim/motor_rig.hpp"
 
 #include <cstdint>
 #include <string>

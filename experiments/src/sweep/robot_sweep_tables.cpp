@@ -1,7 +1,7 @@
 // A chain sweep's tables: runs.csv (a row per run and method), and per cell and method over the
 // seeds: each score's mean and 95 % CI, a paired Wilcoxon test against LS (Holm over the cells),
 // each base parameter's error, and how LS's standard errors compare with its actual errors.
-#include "exoid/experiments/sweep/chain_sweep.hpp"
+#include "exoid/experiments/sweep/robot_sweep.hpp"
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/protocol/identification.hpp"

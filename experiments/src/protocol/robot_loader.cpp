@@ -1,4 +1,4 @@
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 
 #include "exoid/sim/model.hpp"
 

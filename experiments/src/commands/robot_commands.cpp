@@ -1,17 +1,17 @@
 // `exoid simulate` and `exoid identify` on a chain model (not the APAL leg).
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
-#include "exoid/ident/model/chain_estimate.hpp"
-#include "exoid/ident/model/chain_excitation.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
+#include "exoid/ident/design/robot_excitation.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/ident/signals/processing.hpp"
@@ -454,7 +454,7 @@ void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, 
 void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::RecordRows& shown) {
   const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
   writeTorqueSeries(series, loaded.model, shown, shown.W * est.beta);
-  runPlotScript("chain_validation_plot.py", {series, a.plot,
+  runPlotScript("torque_fit_plot.py", {series, a.plot,
                                              loaded.chain.name + ": " +
                                                  (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
   std::cout << "wrote " << a.plot << " and " << series << "\n";

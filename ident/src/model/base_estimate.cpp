@@ -1,4 +1,4 @@
-#include "exoid/ident/model/chain_estimate.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"

@@ -2,9 +2,9 @@
 // chain (ident/model/chain_segmental.hpp), every method stage by stage.
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
-#include "exoid/experiments/protocol/chain_bridge.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Figure of `exoid identify --model ... --plot`: each joint's measured torque (processed as the fit
 processed its records) and the torque the estimate predicts, with their difference.
-Usage: chain_validation_plot.py SERIES_CSV OUT_PNG TITLE"""
+Usage: torque_fit_plot.py SERIES_CSV OUT_PNG TITLE"""
 import csv
 import sys
 

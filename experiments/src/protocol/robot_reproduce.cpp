@@ -1,9 +1,9 @@
-#include "exoid/experiments/protocol/chain_reproduce.hpp"
+#include "exoid/experiments/protocol/robot_reproduce.hpp"
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
-#include "exoid/experiments/commands/chain_commands.hpp"
+#include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
