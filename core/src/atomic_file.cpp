@@ -122,4 +122,10 @@ void prepareOutputFolder(const std::string& dir) {
   checkOutputWritable((std::filesystem::path(dir) / ".exoid-write-probe").string());
 }
 
+void prepareOutputFile(const std::string& path) {
+  if (path.empty()) return;
+  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) prepareOutputFolder(parent.string());
+  checkOutputWritable(path);
+}
+
 }  // namespace exoid::core

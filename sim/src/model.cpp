@@ -78,6 +78,11 @@ DataPtr makeData(const mjModel* m) {
   return DataPtr(d);
 }
 
+double numericOr(const mjModel* m, const std::string& name, double fallback) {
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
+  return id >= 0 && m->numeric_size[id] > 0 ? m->numeric_data[m->numeric_adr[id]] : fallback;
+}
+
 void integrateStep(const mjModel* m, mjData* d) {
   if (m->opt.integrator == mjINT_RK4) {
     mj_RungeKutta(m, d, 4);
@@ -220,14 +225,6 @@ LegIndices findLegIndices(const mjModel* m, const std::string& source) {
   x.site_imu = need(m, mjOBJ_SITE, "imu", source, "site");
   return x;
 }
-
-namespace {
-double numericOr(const mjModel* m, const char* name, double fallback) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, name);
-  if (id < 0 || m->numeric_size[id] < 1) return fallback;
-  return m->numeric_data[m->numeric_adr[id]];
-}
-}  // namespace
 
 LegModel loadLeg(const std::string& path, const ModelVariant& variant, bool force_welded) {
   variant.validate();

@@ -22,10 +22,6 @@ std::string jointName(const mjModel* m, int j) {
   return n ? n : "joint" + std::to_string(j);
 }
 
-double numericOr(const mjModel* m, const std::string& name, double fallback) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
-  return id >= 0 && m->numeric_size[id] > 0 ? m->numeric_data[m->numeric_adr[id]] : fallback;
-}
 
 }  // namespace
 

@@ -138,4 +138,10 @@ nlohmann::json sidecar(const SimResult& r, const std::string& exoid_version) {
 
 void writeJson(const nlohmann::json& j, const std::string& path) { core::writeFileAtomically(path, j.dump(2) + "\n"); }
 
+std::string sidecarPathOf(const std::string& csv) {
+  const auto dot = csv.rfind('.'), slash = csv.rfind('/');
+  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
+  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
+}
+
 }  // namespace exoid::sim

@@ -222,8 +222,7 @@ void runExcite(const ExciteArgs& args) {
   a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
   a.options.validate();
   // The output checked before the design's seconds of work: its folder made, a file writable in it.
-  if (const auto parent = std::filesystem::path(a.out).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
-  core::checkOutputWritable(a.out);
+  core::prepareOutputFile(a.out);
   const sim::Truth truth = sim::truthFromModel(a.model);
   const ident::ParamVector nominal = toParamVector(truth.x);
   const ident::LegConstants c = constantsOf(truth);

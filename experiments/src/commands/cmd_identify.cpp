@@ -411,16 +411,6 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
   }
 }
 
-// Every "wall_time_s" in j, at any depth: the one entry that differs between identical runs.
-void eraseWallTimes(nlohmann::json& j) {
-  if (j.is_object()) {
-    j.erase("wall_time_s");
-    for (auto& [key, value] : j.items()) eraseWallTimes(value);
-  } else if (j.is_array()) {
-    for (auto& value : j) eraseWallTimes(value);
-  }
-}
-
 // Each record's sampling as read and used, by file.
 nlohmann::json samplingJson(const Role& primary, const Role& knee) {
   nlohmann::json sampling = nlohmann::json::object();
@@ -518,7 +508,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["parameters"] = paramsJson(outcomes.front().x);
   j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = sensitivityJson(*sensitivity);
-  if (!a.timing) eraseWallTimes(j);  // same input, same bytes
+  if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
     for (const auto& [name, x] : truths) j["truth"][name] = paramsJson(x);

@@ -18,13 +18,6 @@ namespace exoid::experiments {
 
 namespace {
 
-std::string sidecarPath(const std::string& csv) {
-  const auto dot = csv.rfind('.');
-  const auto slash = csv.rfind('/');
-  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
-}
-
 struct SimulateArgs {
   sim::SimConfig config;
   std::string out;
@@ -65,12 +58,12 @@ void runSimulate(const SimulateArgs& a) {
     throw CLI::ValidationError("--excitation", "is a chain model's design (exoid excite --model ...): run it with that --model");
   }
   core::checkOutputWritable(a.out);  // before the simulation, not after it
-  core::checkOutputWritable(sidecarPath(a.out));
+  core::checkOutputWritable(sim::sidecarPathOf(a.out));
   const sim::SimResult r = sim::simulate(a.config);
   const ident::Dataset d = toDataset(r);
   const nlohmann::json side = simulationSidecar(r, d);
   sim::writeCsv(r, a.out);
-  const std::string json_path = sidecarPath(a.out);
+  const std::string json_path = sim::sidecarPathOf(a.out);
   writeJsonFile(json_path, side);
   const auto& s = r.stats;
   std::cout << "wrote " << a.out << " (" << r.table.rows() << " samples) and " << json_path << "\n"

@@ -33,25 +33,12 @@ namespace exoid::experiments {
 
 namespace {
 
-std::string sidecarOf(const std::string& csv) {
-  const auto dot = csv.rfind('.'), slash = csv.rfind('/');
-  const bool has_ext = dot != std::string::npos && (slash == std::string::npos || dot > slash);
-  return (has_ext ? csv.substr(0, dot) : csv) + ".json";
-}
-
 nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::VectorXd& v) {
   nlohmann::json j = nlohmann::json::object();
   for (std::size_t i = 0; i < names.size(); ++i) j[names[i]] = v[static_cast<Eigen::Index>(i)];
   return j;
 }
 
-
-// An output file's folder made (as the other commands do), and the file checked writable in it.
-void prepareOutput(const std::string& path) {
-  if (path.empty()) return;
-  if (const auto parent = std::filesystem::path(path).parent_path(); !parent.empty()) core::prepareOutputFolder(parent.string());
-  core::checkOutputWritable(path);
-}
 
 }  // namespace
 
@@ -125,7 +112,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
 }
 
 void truthOfChain(const std::string& model_path, const std::string& json_out) {
-  prepareOutput(json_out);
+  core::prepareOutputFile(json_out);
   const LoadedChain loaded = loadChain(model_path);
   const auto& [path, chain, model, phi, base, robot] = loaded;
   std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
@@ -146,9 +133,9 @@ void truthOfChain(const std::string& model_path, const std::string& json_out) {
 }
 
 void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& csv_path) {
-  const std::string json_path = sidecarOf(csv_path);
-  prepareOutput(csv_path);
-  prepareOutput(json_path);
+  const std::string json_path = sim::sidecarPathOf(csv_path);
+  core::prepareOutputFile(csv_path);
+  core::prepareOutputFile(json_path);
   const sim::ChainSimResult r = sim::simulateChain(config);
   const nlohmann::json side = chainSimulationSidecar(r);
   sim::writeTableCsv(r.table, csv_path);
@@ -173,7 +160,7 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
 }  // namespace
 
 void exciteChain(const ChainExciteArgs& a) {
-  prepareOutput(a.out);
+  core::prepareOutputFile(a.out);
   const LoadedChain loaded = loadChain(a.model, a.armature);
   const auto& [path, chain, model, nominal, base, robot] = loaded;
   const int dof = model.dof();
@@ -558,7 +545,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
 int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.stages.empty()) return identifyChainStages(a);
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
-  prepareOutput(a.json_out);
+  core::prepareOutputFile(a.json_out);
   const LoadedChain still = loadChain(a.model, a.armature);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
   std::vector<ident::Dataset> data;
@@ -567,7 +554,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;
   std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
-  prepareOutput(a.plot);
+  core::prepareOutputFile(a.plot);
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
   data.clear();
   ident::ChainEstimateOptions eo;

@@ -330,6 +330,16 @@ void writeJsonFile(const std::string& path, const nlohmann::json& j) {
   core::writeFileAtomically(path, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
+nlohmann::json withoutWallTimes(nlohmann::json j) {
+  if (j.is_object()) {
+    j.erase("wall_time_s");
+    for (auto& [k, v] : j.items()) v = withoutWallTimes(v);
+  } else if (j.is_array()) {
+    for (auto& v : j) v = withoutWallTimes(v);
+  }
+  return j;
+}
+
 nlohmann::json readUserJsonFile(const std::string& path, const std::string& what) {
   std::ifstream in(path);
   if (!in) throw std::invalid_argument(path + ": cannot open the " + what);

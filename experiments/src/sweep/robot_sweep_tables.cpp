@@ -152,8 +152,7 @@ struct MethodCell {
   int n = 0, n_failed = 0;
   std::vector<stats::ConfidenceInterval> metrics;  // kMetrics' order
   // Against LS on the seeds both have: median |rel err| and torque error.
-  int paired = 0;
-  double win_rate_rel = kNaN, p_rel = kNaN, p_rel_holm = kNaN, win_rate_torque = kNaN, p_torque = kNaN, p_torque_holm = kNaN;
+  PairedComparison rel, torque;
   std::vector<stats::ConfidenceInterval> rel_error;  // per base parameter (NaN-free values only)
   std::vector<double> abs_rel_median, abs_error_rms, z_rms;
 };
@@ -162,13 +161,6 @@ struct CellTables {
   int cell = 0;
   std::vector<MethodCell> methods;
 };
-
-double winRate(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.empty()) return kNaN;
-  double wins = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) wins += a[i] < b[i] ? 1.0 : (a[i] == b[i] ? 0.5 : 0.0);
-  return wins / static_cast<double>(a.size());
-}
 
 MethodCell summarizeMethod(const std::string& method, const Replicates& reps, int failed, const Replicates* ls, std::size_t n_params) {
   MethodCell m;
@@ -212,13 +204,8 @@ MethodCell summarizeMethod(const std::string& method, const Replicates& reps, in
       a_t.push_back(row->torque_err);
       b_t.push_back(it->second->torque_err);
     }
-    m.paired = static_cast<int>(a_rel.size());
-    if (m.paired > 0) {
-      m.win_rate_rel = winRate(a_rel, b_rel);
-      m.p_rel = stats::wilcoxonSignedRank(a_rel, b_rel).p_value;
-      m.win_rate_torque = winRate(a_t, b_t);
-      m.p_torque = stats::wilcoxonSignedRank(a_t, b_t).p_value;
-    }
+    m.rel = pairedValues(a_rel, b_rel);
+    m.torque = pairedValues(a_t, b_t);
   }
   return m;
 }
@@ -250,25 +237,16 @@ std::vector<CellTables> summarize(const SweepLayout& layout, const std::vector<R
   }
   // Holm over the cells, per method and score.
   for (const std::string& method : layout.method_names) {
-    std::vector<double> p_rel, p_t;
-    for (const CellTables& c : cells) {
-      for (const MethodCell& m : c.methods) {
-        if (m.method == method) {
-          p_rel.push_back(m.p_rel);
-          p_t.push_back(m.p_torque);
-        }
-      }
-    }
-    const std::vector<double> h_rel = stats::holmAdjust(p_rel), h_t = stats::holmAdjust(p_t);
-    std::size_t k = 0;
+    std::vector<PairedComparison*> rel, torque;
     for (CellTables& c : cells) {
       for (MethodCell& m : c.methods) {
         if (m.method != method) continue;
-        m.p_rel_holm = h_rel[k];
-        m.p_torque_holm = h_t[k];
-        ++k;
+        rel.push_back(&m.rel);
+        torque.push_back(&m.torque);
       }
     }
+    holmAdjustFamily(rel);
+    holmAdjustFamily(torque);
   }
   return cells;
 }
@@ -302,9 +280,10 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
       nlohmann::json mj = {{"n", m.n}, {"n_failed", m.n_failed}};
       for (std::size_t k = 0; k < std::size(kMetrics); ++k) mj["metrics"][kMetrics[k].name] = ciJson(m.metrics[k]);
       if (m.method != "ls") {
-        mj["vs_ls"] = {{"n", m.paired},
-                       {"median_abs_rel_err", {{"win_rate", jsonNumber(m.win_rate_rel)}, {"p_value", jsonNumber(m.p_rel)}, {"p_holm", jsonNumber(m.p_rel_holm)}}},
-                       {"torque_err_mean", {{"win_rate", jsonNumber(m.win_rate_torque)}, {"p_value", jsonNumber(m.p_torque)}, {"p_holm", jsonNumber(m.p_torque_holm)}}}};
+        const auto paired = [](const PairedComparison& p) {
+          return nlohmann::json{{"win_rate", jsonNumber(p.win_rate)}, {"p_value", jsonNumber(p.p_value)}, {"p_holm", jsonNumber(p.p_holm)}};
+        };
+        mj["vs_ls"] = {{"n", m.rel.n}, {"median_abs_rel_err", paired(m.rel)}, {"torque_err_mean", paired(m.torque)}};
       }
       mj["parameters"] = nlohmann::json::object();
       for (std::size_t i = 0; i < names.size(); ++i) {
@@ -328,7 +307,7 @@ void writeSummaryCsv(const SweepLayout& layout, const std::vector<CellTables>& c
       for (const MethodCell& m : c.methods) {
         out << c.cell << "," << conditionCsv(k) << "," << m.method << "," << m.n << "," << m.n_failed;
         for (const stats::ConfidenceInterval& ci : m.metrics) out << "," << csvNumber(ci.n ? ci.mean : kNaN) << "," << csvNumber(ci.low) << "," << csvNumber(ci.high);
-        out << "," << csvNumber(m.win_rate_rel) << "," << csvNumber(m.p_rel_holm) << "," << csvNumber(m.win_rate_torque) << "," << csvNumber(m.p_torque_holm) << "\n";
+        out << "," << csvNumber(m.rel.win_rate) << "," << csvNumber(m.rel.p_holm) << "," << csvNumber(m.torque.win_rate) << "," << csvNumber(m.torque.p_holm) << "\n";
       }
     }
   });
@@ -364,10 +343,10 @@ void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& ce
     for (const MethodCell& m : c.methods) {
       md << "| " << m.method << " | " << m.n << " (" << m.n_failed << ") | " << meanAndCi(m.metrics[0], 100.0, 3) << " | "
          << meanAndCi(m.metrics[1], 100.0, 3) << " | " << meanAndCi(m.metrics[2], 100.0, 3) << " | " << meanAndCi(m.metrics[3], 1.0, 4) << " | ";
-      if (m.method == "ls" || m.paired == 0) {
+      if (m.method == "ls" || m.rel.n == 0) {
         md << "- | - |\n";
       } else {
-        md << fmt(m.win_rate_rel, 3) << ", " << fmt(m.p_rel_holm, 3) << " | " << fmt(m.win_rate_torque, 3) << ", " << fmt(m.p_torque_holm, 3) << " |\n";
+        md << fmt(m.rel.win_rate, 3) << ", " << fmt(m.rel.p_holm, 3) << " | " << fmt(m.torque.win_rate, 3) << ", " << fmt(m.torque.p_holm, 3) << " |\n";
       }
     }
     md << "\nEach base parameter: median |error| (%) over the seeds (RMS of the absolute error where the truth is zero)";

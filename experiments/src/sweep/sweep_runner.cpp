@@ -71,17 +71,6 @@ std::map<std::pair<int, int>, fs::path> finishedJobs(const fs::path& dir, std::o
   return out;
 }
 
-// The run's JSON without its wall times (the one part two runs of one job need not share).
-nlohmann::json withoutWallTimes(nlohmann::json j) {
-  if (j.is_object()) {
-    j.erase("wall_time_s");
-    for (auto& [k, v] : j.items()) v = withoutWallTimes(v);
-  } else if (j.is_array()) {
-    for (auto& v : j) v = withoutWallTimes(v);
-  }
-  return j;
-}
-
 std::vector<nlohmann::json> readJobs(const std::map<std::pair<int, int>, fs::path>& files) {
   std::vector<nlohmann::json> jobs;
   for (const auto& [id, path] : files) jobs.push_back(readJson(path));
@@ -349,10 +338,7 @@ SweepRunReport runSweep(const SweepConfig& given, const SweepRunOptions& o, std:
   SweepRunReport rep;
   rep.jobs = static_cast<long>(jobs.size());
   rep.skipped = rep.jobs - static_cast<long>(pending.size());
-  if (finishedBefore(dir, o, rep, !pending.empty(), log)) {
-    rep.nothing_to_do = true;
-    return rep;
-  }
+  if (finishedBefore(dir, o, rep, !pending.empty(), log)) return rep;
   const int threads = std::max(1, o.threads > 0 ? o.threads : static_cast<int>(std::thread::hardware_concurrency()));
   announceSweep(config, o, rep, !pending.empty(), threads, dir, log);
   Progress progress(rep.jobs, rep.skipped, "runs", stderr, o.progress_tty);

@@ -18,6 +18,31 @@
 
 namespace exoid::experiments {
 
+PairedComparison pairedValues(const std::vector<double>& a, const std::vector<double>& b) {
+  PairedComparison p;
+  p.n = static_cast<int>(a.size());
+  if (a.empty()) return p;
+  double wins = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) wins += a[i] < b[i] ? 1.0 : (a[i] == b[i] ? 0.5 : 0.0);
+  p.win_rate = wins / static_cast<double>(a.size());
+  std::vector<double> diff(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) diff[i] = a[i] - b[i];
+  p.mdd = stats::minimalDetectableDifference(stats::sampleStd(diff), p.n);
+  const stats::WilcoxonResult w = stats::wilcoxonSignedRank(a, b);
+  p.p_value = w.p_value;
+  p.exact = w.exact;
+  return p;
+}
+
+void holmAdjustFamily(const std::vector<PairedComparison*>& family) {
+  std::vector<double> ps;
+  for (const PairedComparison* t : family) ps.push_back(t != nullptr && std::isfinite(t->p_value) ? t->p_value : std::numeric_limits<double>::quiet_NaN());
+  const std::vector<double> adj = stats::holmAdjust(ps);
+  for (std::size_t k = 0; k < family.size(); ++k) {
+    if (family[k] != nullptr) family[k]->p_holm = adj[k];
+  }
+}
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -213,21 +238,6 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
 
 // ---- The summary's statistics ----
 
-PairedComparison pairedValues(const std::vector<double>& a, const std::vector<double>& b) {
-  PairedComparison p;
-  p.n = static_cast<int>(a.size());
-  if (a.empty()) return p;
-  double wins = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) wins += a[i] < b[i] ? 1.0 : (a[i] == b[i] ? 0.5 : 0.0);
-  p.win_rate = wins / static_cast<double>(a.size());
-  std::vector<double> diff(a.size());
-  for (std::size_t i = 0; i < a.size(); ++i) diff[i] = a[i] - b[i];
-  p.mdd = stats::minimalDetectableDifference(stats::sampleStd(diff), p.n);
-  const stats::WilcoxonResult w = stats::wilcoxonSignedRank(a, b);
-  p.p_value = w.p_value;
-  p.exact = w.exact;
-  return p;
-}
 
 // `m` against `ref` over the replicates both have, on a value of a row.
 template <typename Get>
@@ -313,15 +323,6 @@ MethodSummary summarizeMethod(const Cell& c, Variant v, const Replicates& ls) {
   return m;
 }
 
-// Holm-adjusts a family of tests (a null member is a missing test: NaN in the family).
-void holmAdjustFamily(const std::vector<PairedComparison*>& family) {
-  std::vector<double> ps;
-  for (const PairedComparison* t : family) ps.push_back(t != nullptr && std::isfinite(t->p_value) ? t->p_value : kNaN);
-  const std::vector<double> adj = stats::holmAdjust(ps);
-  for (std::size_t k = 0; k < family.size(); ++k) {
-    if (family[k] != nullptr) family[k]->p_holm = adj[k];
-  }
-}
 
 // Holm over the cells, per method and metric compared with LS.
 void adjustVersusLs(std::vector<CellSummary>& cells, std::size_t num_methods) {

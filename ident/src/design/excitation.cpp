@@ -115,7 +115,6 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
   const Eigen::VectorXd sv = svd.singularValues();
   s.condition_number = sv[sv.size() - 1] > 0 ? sv[0] / sv[sv.size() - 1] : std::numeric_limits<double>::infinity();
   // (H^T H)^{-1} = S V diag(1 / sv^2) V^T S for H S = U diag(sv) V^T.
-  const int first = traj.hip_locked ? kShankFirst : 0;
   for (Eigen::Index i = 0; i < H.cols(); ++i) {
     double var = 0.0;
     for (Eigen::Index k = 0; k < sv.size(); ++k) {
@@ -123,11 +122,6 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
     }
     const double std_i = scale[i] * std::sqrt(var);
     s.sum_log_std += std::log(std_i);
-    const double rel = std_i / std::max(std::abs(x_nominal[first + i]), 1e-12);
-    if (!(rel <= s.worst_relative_std)) {
-      s.worst_relative_std = rel;
-      s.worst_relative_std_name = std::string(paramName(static_cast<int>(first + i)));
-    }
   }
 
   const auto check = [&](double excess, const std::string& name) {

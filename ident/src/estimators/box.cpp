@@ -26,10 +26,6 @@ void Box::validate() const {
   }
 }
 
-Box Box::around(const Eigen::Ref<const Eigen::VectorXd>& centre, double half_width) {
-  return Box{centre.array() - half_width, centre.array() + half_width};
-}
-
 Box Box::uniform(Eigen::Index dim, double lo, double hi) {
   return Box{Eigen::VectorXd::Constant(dim, lo), Eigen::VectorXd::Constant(dim, hi)};
 }

@@ -55,7 +55,6 @@ class LineSplitter {
   template <typename Read, typename Visit>
   void run(Read&& read, Visit&& visit, bool split_cells = true, const Start& start = {});
   /// During a run: split the lines after this one into cells or not (e.g. the header only).
-  void setCellSplitting(bool split) { split_cells_ = split; }
   /// The line end of the text run last ('\n' for LF and CRLF, '\r' for CR alone; 0: none seen).
   char eol() const { return eol_; }
   /// During a run: no line after this one is visited (the run returns).

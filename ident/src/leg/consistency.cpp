@@ -203,7 +203,6 @@ ConsistentEstimate solveConsistentLeastSquares(const Eigen::MatrixXd& H, const E
       while (alpha > 1e-16 && !(b.value(z + alpha * dz, t) <= phi - 0.25 * alpha * decrement2)) alpha *= 0.5;
       if (alpha <= 1e-16) break;  // rounding floor of phi: centred as well as double allows
       z += alpha * dz;
-      ++out.newton_steps;
     }
     if (m / t < options.gap_tolerance) break;
   }

@@ -82,18 +82,6 @@ Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegCons
   return y;
 }
 
-void jointRegressors(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> hip_rows,
-                     Eigen::Ref<Eigen::MatrixXd> knee_rows) {
-  if (hip_rows.rows() != s.size() || knee_rows.rows() != s.size() || hip_rows.cols() != kNumParams ||
-      knee_rows.cols() != kNumParams) {
-    throw std::invalid_argument("jointRegressors: the outputs must be " + core::toText(s.size()) + " x 10");
-  }
-  forEachSample(s, c, [&](Eigen::Index i, const RegressorRow& hip, const RegressorRow& knee) {
-    hip_rows.row(i) = hip;
-    knee_rows.row(i) = knee;
-  });
-}
-
 void nonzeroRegressorColumns(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> out) {
   constexpr int kKneeColumns = kNumParams - kKneeFirstColumn;
   if (out.rows() != s.size() || out.cols() != kHipColumns + kKneeColumns) {

@@ -11,16 +11,10 @@
 
 namespace exoid::ident {
 
-const char* toString(Feedforward f) { return f == Feedforward::kModel ? "model" : "none"; }
-
 Feedforward parseFeedforward(const std::string& name) {
   if (name == "model") return Feedforward::kModel;
   if (name == "none") return Feedforward::kNone;
   throw std::invalid_argument("unknown feedforward '" + name + "' (expected none or model)");
-}
-
-const char* toString(DerivativeSource d) {
-  return d == DerivativeSource::kMeasuredVelocity ? "measured_velocity" : "error_difference";
 }
 
 namespace {

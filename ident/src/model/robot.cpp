@@ -179,14 +179,6 @@ void robotRowsInto(const Robot& robot, const Eigen::Ref<const Eigen::VectorXd>& 
   for (int i = 0; i < robot.basis.rank; ++i) out.col(i) = work.Y.col(robot.basis.independent[static_cast<std::size_t>(i)]);
 }
 
-Eigen::MatrixXd robotRows(const Robot& robot, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                          const std::optional<ChainBaseMotion>& base) {
-  RobotWorkspace work;
-  Eigen::MatrixXd out(robot.dof(), robot.parameters());
-  robotRowsInto(robot, q, qd, qdd, base ? *base : ChainBaseMotion::still(robot.chain), work, out);
-  return out;
-}
-
 Eigen::VectorXd robotTorque(const Robot& robot, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                             const Eigen::VectorXd& theta, RobotWorkspace& work) {
   if (robot.two_link) {
@@ -287,14 +279,6 @@ Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const 
     }
   });
   return tau;
-}
-
-Eigen::VectorXd fromStandard(const Robot& robot, const Eigen::VectorXd& phi) {
-  if (phi.size() != robot.basis.combination.cols()) {
-    throw std::invalid_argument("robot '" + robot.chain.name + "': expected " + core::toText(robot.basis.combination.cols()) +
-                                " standard parameters, got " + core::toText(phi.size()));
-  }
-  return robot.basis.combination * phi;
 }
 
 }  // namespace exoid::ident

@@ -89,19 +89,6 @@ long SignalOptions::edgeTrimSamples(double sample_rate_hz) const {
   return filter ? std::lround(3.0 / cutoff_hz * sample_rate_hz) : 2;
 }
 
-JointSignals recordedSignals(const Dataset& d) {
-  if (!d.qd_radps || !d.qdd_radps2) {
-    throw std::invalid_argument("dataset has no qd_hip/qd_knee/qdd_hip/qdd_knee columns");
-  }
-  JointSignals s;
-  s.t_s = d.t_s;
-  s.q_rad = d.q_rad;
-  s.qd_radps = *d.qd_radps;
-  s.qdd_radps2 = *d.qdd_radps2;
-  s.tau_Nm = d.tau_Nm;
-  return s;
-}
-
 // Enough rows left once the filter's edges are trimmed and the rows decimated (a clear message, not
 // a least-squares size error later).
 void checkRecordLength(Eigen::Index n, Eigen::Index trim, int r) {

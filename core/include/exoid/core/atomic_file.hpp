@@ -34,5 +34,8 @@ void checkOutputWritable(const std::string& path);
 /// written in it, before any work: throws std::runtime_error "cannot use 'dir' as the output
 /// folder: <the system's reason>" naming the part of the path that failed.
 void prepareOutputFolder(const std::string& dir);
+/// An output file's folder made (prepareOutputFolder) and the file checked writable in it; an
+/// empty path is no output and passes.
+void prepareOutputFile(const std::string& path);
 
 }  // namespace exoid::core

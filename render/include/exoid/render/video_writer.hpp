@@ -41,8 +41,6 @@ class VideoWriter {
   /// Throws std::runtime_error with ffmpeg's messages on failure (the temporary file is removed).
   void finish();
 
-  int framesWritten() const { return frames_; }
-  const std::string& ffmpegPath() const { return ffmpeg_; }
 
  private:
   void abort() noexcept;

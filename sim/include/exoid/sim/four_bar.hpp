@@ -29,7 +29,6 @@ class FourBar {
   /// qpos = 0 (|r(0) - p| > 1e-9 m).
   FourBar(const mjModel* m, const LegIndices& idx);
   FourBarState closure(double q2) const;
-  double restLength_m() const { return p_len_; }
 
  private:
   double cx_, cz_, kx_, kz_, dx_, dz_;  // C, K (thigh frame), D (shank frame)

@@ -24,7 +24,6 @@ class IdealInverseDynamics {
   Eigen::Vector2d torque(const Eigen::Vector2d& q, const Eigen::Vector2d& qd,
                          const Eigen::Vector2d& qdd);
   const LegModel& leg() const { return leg_; }
-  const FourBar& fourBar() const { return fb_; }
 
  private:
   LegModel leg_;

@@ -16,7 +16,6 @@ class SecondOrderLowpass {
   void reset(double value);
   /// One sample: returns the output at this sample. Allocation-free.
   double step(double in);
-  bool passThrough() const { return pass_; }
 
  private:
   bool pass_ = true;

@@ -43,6 +43,8 @@ DataPtr makeData(const mjModel* m);
 /// after its own mj_forward). RK4 is the models' choice: with Euler, position differences of the
 /// recorded states lag the recorded velocity by dt qacc / 2 (a simulator artifact, not physics).
 void integrateStep(const mjModel* m, mjData* d);
+/// The model's custom numeric `name` (its first value), or `fallback` when it has none.
+double numericOr(const mjModel* m, const std::string& name, double fallback);
 
 /// Removes every self-closing <joint .../> element with class="mount" from MJCF text (the
 /// pedestal's compliant mount), which welds the pedestal to the world exactly: no dofs left.

@@ -18,5 +18,7 @@ nlohmann::json paramsJson(const ParamArray& x);
 nlohmann::json sidecar(const SimResult& result, const std::string& exoid_version);
 /// Writes JSON (2-space indent) atomically.
 void writeJson(const nlohmann::json& j, const std::string& path);
+/// A record's sidecar beside it: the same name with .json for its extension.
+std::string sidecarPathOf(const std::string& csv_path);
 
 }  // namespace exoid::sim

@@ -121,6 +121,8 @@ std::map<std::string, ident::ParamVector> readTruthFile(const std::string& path)
 nlohmann::json toolJson();
 /// Writes pretty JSON atomically.
 void writeJsonFile(const std::string& path, const nlohmann::json& j);
+/// j without its "wall_time_s" entries, at any depth: the one part two runs of one job need not share.
+nlohmann::json withoutWallTimes(nlohmann::json j);
 /// The JSON file at path; std::runtime_error naming it when it cannot be read or parsed.
 nlohmann::json readJsonFile(const std::string& path);
 /// A JSON file the user gave (a controller, a design, a truth, an identification), `what` naming

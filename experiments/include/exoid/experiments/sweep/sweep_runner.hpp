@@ -42,7 +42,6 @@ struct SweepRunOptions {
 
 struct SweepRunReport {
   long jobs = 0, skipped = 0, ran = 0;
-  bool nothing_to_do = false;
   double wall_time_s = 0.0;
 };
 

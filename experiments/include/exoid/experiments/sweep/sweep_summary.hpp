@@ -67,6 +67,12 @@ struct PairedComparison {
   bool exact = false;  ///< exact null distribution, else the normal approximation
 };
 
+/// a against b, seed by seed (a[i] and b[i] of the same seed): win rate, Wilcoxon signed-rank p
+/// and the minimal detectable difference (p_holm left for holmAdjustFamily).
+PairedComparison pairedValues(const std::vector<double>& a, const std::vector<double>& b);
+/// Holm-adjusts a family of tests (a null member is a missing test: NaN in the family).
+void holmAdjustFamily(const std::vector<PairedComparison*>& family);
+
 /// A method against LS in the same cell; Holm's family: the sweep's cells, per method and metric.
 struct VersusLs {
   PairedComparison torque_err_mean, val_rms;

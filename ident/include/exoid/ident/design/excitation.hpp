@@ -64,11 +64,6 @@ struct ExcitationScore {
   /// Condition number of the column-scaled regressor the design is for (both equations, all 10
   /// columns; knee-only designs: the knee equation's 5 shank columns).
   double condition_number = 0.0;
-  /// Largest relative noise-limited std over the design's parameters, std_i / |x_nominal_i|, for
-  /// LS on one period of `samples` rows with unit white noise per row: how poorly the worst
-  /// parameter is determined (the absolute counterpart the scale-free condition number misses).
-  double worst_relative_std = 0.0;
-  std::string worst_relative_std_name;
   /// sum_i log std_i of the design's parameters (the kCrb criterion; same footing).
   double sum_log_std = 0.0;
   /// Largest excess over the limits, relative to each limit (0 = feasible).

@@ -47,7 +47,6 @@ struct ConsistentEstimate {
   Eigen::VectorXd x;  ///< the constrained estimate; the unconstrained one when that is consistent
   std::vector<ConsistencyCheck> checks;  ///< every condition, at the unconstrained estimate
   bool constrained = false;  ///< x differs from the unconstrained estimate
-  int newton_steps = 0;
   /// The conditions violated beyond options.significance_sigmas, each as
   /// "fv1 >= 0 violated by 3.1 standard errors (fv1 = -0.0032)".
   std::vector<std::string> significantViolations(double sigmas) const;

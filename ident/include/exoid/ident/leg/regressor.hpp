@@ -48,13 +48,9 @@ void regressorRows(const LegConstants& c, const Eigen::Vector2d& q, const Eigen:
 
 /// N x 10 regressor of one joint's equation over a record.
 Eigen::MatrixXd jointRegressor(const JointSignals& s, Joint joint, const LegConstants& c);
-/// Both joints' N x 10 regressors in one pass over the record (each sample's sines once), written
-/// into hip and knee (N x 10 each, e.g. blocks of a wider matrix).
-void jointRegressors(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> hip,
-                     Eigen::Ref<Eigen::MatrixXd> knee);
 /// The regressor columns that are not zero by construction, N x 13: the hip's first 8 (Mxt .. Js;
 /// its equation has no knee friction) then the knee's last 5 (Mxs .. fv2; no thigh parameter). The
-/// same values as jointRegressors' in those columns, in 13/20 of the memory.
+/// same values as jointRegressor's in those columns, in 13/20 of the memory.
 constexpr int kHipColumns = 8, kKneeFirstColumn = 5;
 void nonzeroRegressorColumns(const JointSignals& s, const LegConstants& c, Eigen::Ref<Eigen::MatrixXd> out);
 /// 2N x 10, both equations in time order: row 2i is sample i's hip row, 2i+1 its knee row

@@ -20,7 +20,6 @@ enum class Feedforward {
   /// The model's own inverse dynamics on the reference, Y(q_ref, qd_ref, qdd_ref) theta (computed torque).
   kModel,
 };
-const char* toString(Feedforward f);  ///< "none", "model"
 /// Parses "none" | "model"; throws std::invalid_argument naming the valid values.
 Feedforward parseFeedforward(const std::string& name);
 
@@ -33,7 +32,6 @@ enum class DerivativeSource {
   /// qd_ref - qd with the measured velocity (a tachometer: a chain rig's PD).
   kMeasuredVelocity,
 };
-const char* toString(DerivativeSource d);  ///< "error_difference", "measured_velocity"
 
 /// The tracking law, per joint j: u_j = ff_j + kp_j e_j + ki_j int(e_j) + kd_j de_j, updated once
 /// per sample and held; |ki int(e)| <= integral_limit_Nm. The motor torque follows u through a

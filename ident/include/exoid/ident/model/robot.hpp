@@ -67,9 +67,6 @@ struct RobotWorkspace {
 void robotRowsInto(const Robot& robot, const Eigen::Ref<const Eigen::VectorXd>& q, const Eigen::Ref<const Eigen::VectorXd>& qd,
                    const Eigen::Ref<const Eigen::VectorXd>& qdd, const ChainBaseMotion& base, RobotWorkspace& work,
                    Eigen::Ref<Eigen::MatrixXd> out);
-/// The same, allocated; on a still base under the chain's gravity when `base` is not given.
-Eigen::MatrixXd robotRows(const Robot& robot, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
-                          const std::optional<ChainBaseMotion>& base = std::nullopt);
 
 /// tau = Y(q, qd, qdd) theta at one state on a still base under the chain's gravity (a model's
 /// inverse dynamics: its closed loop, its feedforward). The 2-link leg's from its hand-written rows.
@@ -88,8 +85,5 @@ void structuralColumns(const Robot& robot, const JointSignals& s, Eigen::Ref<Eig
 /// s.size() x dof: the torques theta predicts along the signals (a chain's by Newton-Euler, in
 /// chunks on `threads`, 0 = the machine's cores: the same bytes whatever the number).
 Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const Eigen::VectorXd& theta, int threads = 1);
-
-/// theta of standard parameters phi (combination * phi). Throws on a size mismatch.
-Eigen::VectorXd fromStandard(const Robot& robot, const Eigen::VectorXd& phi);
 
 }  // namespace exoid::ident

@@ -106,9 +106,6 @@ JointSignals prepareSignals(const Dataset& d, const SignalOptions& options);
 /// Rows [trim, size - trim) of every signal. Throws std::invalid_argument if fewer than 20 remain.
 JointSignals trimEdges(const JointSignals& s, Eigen::Index trim);
 
-/// The signals exactly as recorded, using the dataset's qd/qdd columns (throws if absent).
-JointSignals recordedSignals(const Dataset& d);
-
 /// The parallel processing's full-rate states of record d: recorded derivatives, else five-point
 /// differences of the angles after the derivative pre-filter (unfiltered angles and torques), and
 /// the base motion from the IMU columns when o.base_terms asks for it.
