@@ -25,38 +25,12 @@ std::string jointName(const mjModel* m, int j) {
 
 }  // namespace
 
-void ChainFourier::reference(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
-  q = offset_rad;
-  qd.setZero(dof());
-  qdd.setZero(dof());
-  for (Eigen::Index k = 0; k < sin_rad.cols(); ++k) {
-    const double w = kTwoPi * base_frequency_hz * static_cast<double>(k + 1);
-    const double s = std::sin(w * t_s), c = std::cos(w * t_s);
-    q += sin_rad.col(k) * s + cos_rad.col(k) * c;
-    qd += w * (sin_rad.col(k) * c - cos_rad.col(k) * s);
-    qdd -= w * w * (sin_rad.col(k) * s + cos_rad.col(k) * c);
-  }
-}
-
-void ChainFourier::validate() const {
-  if (!(base_frequency_hz > 0.0 && std::isfinite(base_frequency_hz))) throw std::invalid_argument("trajectory: 'base_frequency_hz' must be > 0");
-  if (dof() < 1) throw std::invalid_argument("trajectory: no joints");
-  if (sin_rad.rows() != dof() || cos_rad.rows() != dof() || sin_rad.cols() != cos_rad.cols()) {
-    throw std::invalid_argument("trajectory: 'sin_rad' and 'cos_rad' must be joints x harmonics, one row per offset");
-  }
-  if (!offset_rad.allFinite() || !sin_rad.allFinite() || !cos_rad.allFinite()) throw std::invalid_argument("trajectory: a NaN or Inf coefficient");
-}
-
-ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed) {
+core::FourierSeries defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed) {
   const int dof = static_cast<int>(chain.links.size());
   if (dof < 1) throw std::invalid_argument("default trajectory: the chain has no joints");
   constexpr int kHarmonics = 5;
   Rng rng(core::deriveSeed(seed, 101));
-  ChainFourier f;
-  f.base_frequency_hz = 0.1;
-  f.offset_rad = Eigen::VectorXd::Zero(dof);
-  f.sin_rad.resize(dof, kHarmonics);
-  f.cos_rad.resize(dof, kHarmonics);
+  core::FourierSeries f = core::FourierSeries::still(dof, kHarmonics, 0.1);
   for (int j = 0; j < dof; ++j) {
     const ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
     double amplitude = 0.6;
@@ -65,13 +39,15 @@ ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed
       amplitude = std::min(amplitude, 0.35 * (l.q_max_rad - l.q_min_rad));
     }
     for (int k = 0; k < kHarmonics; ++k) {
-      f.sin_rad(j, k) = rng.uniform(-1.0, 1.0);
-      f.cos_rad(j, k) = rng.uniform(-1.0, 1.0);
+      f.b_rad(k, j) = rng.uniform(-1.0, 1.0);
+      f.a_rad(k, j) = rng.uniform(-1.0, 1.0);
     }
     // |q - offset| <= the sum of |coefficients| = amplitude.
-    const double total = f.sin_rad.row(j).cwiseAbs().sum() + f.cos_rad.row(j).cwiseAbs().sum();
-    f.sin_rad.row(j) *= amplitude / total;
-    f.cos_rad.row(j) *= amplitude / total;
+    double sum_b = 0.0, sum_a = 0.0;
+    for (int k = 0; k < kHarmonics; ++k) sum_b += std::abs(f.b_rad(k, j));
+    for (int k = 0; k < kHarmonics; ++k) sum_a += std::abs(f.a_rad(k, j));
+    f.b_rad.col(j) *= amplitude / (sum_b + sum_a);
+    f.a_rad.col(j) *= amplitude / (sum_b + sum_a);
   }
   return f;
 }
@@ -169,8 +145,8 @@ void lockJoints(ChainSimConfig& config, const DrivenJoints& joints, mjModel* m) 
       throw std::invalid_argument("chain simulation: cannot lock joint '" + name + "': '" + config.model_path + "' drives " + all);
     }
     const auto i = static_cast<Eigen::Index>(it - joints.names.begin());
-    config.trajectory.sin_rad.row(i).setZero();
-    config.trajectory.cos_rad.row(i).setZero();
+    config.trajectory.b_rad.col(i).setZero();
+    config.trajectory.a_rad.col(i).setZero();
     m->dof_armature[joints.dofAdr(static_cast<int>(i))] += kLockInertia_kgm2;
   }
 }
@@ -180,7 +156,7 @@ void checkReferenceInRange(const ChainSimConfig& config, const SerialChain& chai
   Eigen::VectorXd q, qd, qdd;
   const auto n = static_cast<Eigen::Index>(std::llround(config.duration_s / config.dt_s));
   for (Eigen::Index k = 0; k < n; ++k) {
-    config.trajectory.reference(static_cast<double>(k) * config.dt_s, q, qd, qdd);
+    config.trajectory.at(static_cast<double>(k) * config.dt_s, q, qd, qdd);
     for (int i = 0; i < config.trajectory.dof(); ++i) {
       const ChainLinkBody& l = chain.links[static_cast<std::size_t>(i)];
       if (q[i] < l.q_min_rad || q[i] > l.q_max_rad) {
@@ -246,7 +222,7 @@ class ChainRig {
   // At rest on the reference at t = 0; PD gains from the joint-space inertia there, each joint a
   // second-order loop at bandwidth_hz, damping ratio 0.7; the substeps per sample. Returns them.
   int start() {
-    config_.trajectory.reference(0.0, q_ref_, qd_ref_, qdd_ref_);
+    config_.trajectory.at(0.0, q_ref_, qd_ref_, qdd_ref_);
     for (int i = 0; i < dof_; ++i) {
       d_->qpos[joints_.qposAdr(i)] = q_ref_[i];
       d_->qvel[joints_.dofAdr(i)] = qd_ref_[i];
@@ -287,7 +263,7 @@ class ChainRig {
   // Row k of the table: readings, command, the state and torque at t_k; then the plant advanced to t_k+1.
   void sample(Eigen::Index k, Table& table) {
     const double t = static_cast<double>(k) * config_.dt_s;
-    config_.trajectory.reference(t, q_ref_, qd_ref_, qdd_ref_);
+    config_.trajectory.at(t, q_ref_, qd_ref_, qdd_ref_);
     read();
     control();
     if (k == 0 || config_.actuator_bandwidth_hz <= 0.0) motor_ = command_;  // at rest on the reference at t = 0: no start transient

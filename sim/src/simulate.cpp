@@ -66,7 +66,7 @@ void SimConfig::validate() const {
   if (!std::isfinite(max_loop_error_m) || max_loop_error_m <= 0) badField("max_loop_error_m", max_loop_error_m, "> 0");
 }
 
-FourierSpec SimConfig::trajectorySpec() const { return trajectory == 0 ? fourier : paperTrajectory(trajectory); }
+core::FourierSeries SimConfig::trajectorySpec() const { return trajectory == 0 ? fourier : paperTrajectory(trajectory); }
 
 std::vector<std::string> datasetColumns(bool exact_columns) {
   std::vector<std::string> out;

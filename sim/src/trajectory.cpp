@@ -10,21 +10,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-void checkJoint(const FourierJoint& j, const char* name) {
-  auto bad = [&](const std::string& what) {
-    throw std::invalid_argument(std::string("'fourier.") + name + "': " + what);
-  };
-  if (!std::isfinite(j.offset_rad)) bad("offset_rad must be finite");
-  if (j.a_rad.size() != j.b_rad.size()) {
-    std::ostringstream ss;
-    ss << "a_rad and b_rad must have the same number of harmonics, got " << j.a_rad.size()
-       << " and " << j.b_rad.size();
-    bad(ss.str());
-  }
-  for (double v : j.a_rad) if (!std::isfinite(v)) bad("a_rad must be finite");
-  for (double v : j.b_rad) if (!std::isfinite(v)) bad("b_rad must be finite");
-}
-
 double smoothstep(double x, double& d1, double& d2) {
   if (x >= 1) {
     d1 = d2 = 0;
@@ -38,45 +23,27 @@ double smoothstep(double x, double& d1, double& d2) {
 
 }  // namespace
 
-void FourierSpec::validate() const {
-  if (!std::isfinite(base_frequency_Hz) || base_frequency_Hz <= 0) {
-    std::ostringstream ss;
-    ss << "'fourier.base_frequency_Hz' must be > 0, got " << base_frequency_Hz;
-    throw std::invalid_argument(ss.str());
-  }
-  checkJoint(hip, "hip");
-  checkJoint(knee, "knee");
-  if (lock_hip) {
-    for (std::size_t k = 0; k < hip.a_rad.size(); ++k) {
-      if (hip.a_rad[k] != 0 || hip.b_rad[k] != 0) {
-        throw std::invalid_argument("'fourier.lock_hip': a locked hip must have zero harmonics");
-      }
-    }
-  }
-}
-
-FourierSpec paperTrajectory(int id) {
-  FourierSpec s;
-  s.base_frequency_Hz = 1.0;
+core::FourierSeries paperTrajectory(int id) {
+  core::FourierSeries s = core::FourierSeries::still(2, 1, 1.0);
   const double A = 30 * kDeg;
   switch (id) {
     case 1:
-      s.hip = {-10 * kDeg, {}, {}};
-      s.knee = {45 * kDeg, {0.0}, {-A}};
-      s.lock_hip = true;
+      s.offset_rad << -10 * kDeg, 45 * kDeg;
+      s.b_rad << 0.0, -A;
+      s.locked_joints = 1;
       break;
     case 2:
-      s.hip = {-10 * kDeg, {}, {}};
-      s.knee = {60 * kDeg, {0.0}, {-A}};
-      s.lock_hip = true;
+      s.offset_rad << -10 * kDeg, 60 * kDeg;
+      s.b_rad << 0.0, -A;
+      s.locked_joints = 1;
       break;
     case 3:
-      s.hip = {-30 * kDeg, {0.0}, {-A}};
-      s.knee = {75 * kDeg, {0.0}, {-A}};
+      s.offset_rad << -30 * kDeg, 75 * kDeg;
+      s.b_rad << -A, -A;
       break;
     case 4:
-      s.hip = {-45 * kDeg, {0.0}, {-A}};
-      s.knee = {60 * kDeg, {0.0}, {A}};
+      s.offset_rad << -45 * kDeg, 60 * kDeg;
+      s.b_rad << -A, A;
       break;
     default: {
       std::ostringstream ss;
@@ -87,8 +54,11 @@ FourierSpec paperTrajectory(int id) {
   return s;
 }
 
-Trajectory::Trajectory(FourierSpec spec, double ramp_s) : spec_(std::move(spec)), ramp_s_(ramp_s) {
+Trajectory::Trajectory(core::FourierSeries spec, double ramp_s) : spec_(std::move(spec)), ramp_s_(ramp_s) {
   spec_.validate();
+  if (spec_.dof() != 2 || spec_.locked_joints > 1) {
+    throw std::invalid_argument("'fourier': the APAL leg's trajectory moves two joints, hip and knee (the hip locked or not)");
+  }
   if (!std::isfinite(ramp_s) || ramp_s < 0) {
     std::ostringstream ss;
     ss << "'ramp_s' must be >= 0, got " << ramp_s;
@@ -97,28 +67,6 @@ Trajectory::Trajectory(FourierSpec spec, double ramp_s) : spec_(std::move(spec))
   JointReference r;
   raw(0.0, r);
   q0_ = r.q;
-}
-
-void Trajectory::raw(double t, JointReference& out) const {
-  const double w = 2 * M_PI * spec_.base_frequency_Hz;
-  out.q = {spec_.hip.offset_rad, spec_.knee.offset_rad};
-  out.qd.setZero();
-  out.qdd.setZero();
-  const std::size_t nh = std::max(spec_.hip.a_rad.size(), spec_.knee.a_rad.size());
-  for (std::size_t k = 0; k < nh; ++k) {
-    // One sin/cos per harmonic, shared by both joints.
-    const double wk = w * static_cast<double>(k + 1);
-    const double c = std::cos(wk * t), s = std::sin(wk * t);
-    const FourierJoint* joints[2] = {&spec_.hip, &spec_.knee};
-    for (int j = 0; j < 2; ++j) {
-      const FourierJoint& J = *joints[j];
-      if (k >= J.a_rad.size()) continue;
-      const double a = J.a_rad[k], b = J.b_rad[k];
-      out.q[j] += a * c + b * s;
-      out.qd[j] += wk * (-a * s + b * c);
-      out.qdd[j] += -wk * wk * (a * c + b * s);
-    }
-  }
 }
 
 JointReference Trajectory::at(double t_s) const {

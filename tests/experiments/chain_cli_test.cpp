@@ -89,16 +89,15 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
 // The sidecar's and a sweep's config.json's form of a chain's motion reads back to the same
 // coefficients, bit for bit (JSON numbers keep 17 digits), and a missing key is named.
 TEST(ChainCli, ChainFourierJsonReadsBackWhatItWrote) {
-  sim::ChainFourier f;
-  f.base_frequency_hz = 0.1;
+  core::FourierSeries f = core::FourierSeries::still(3, 4, 0.1);
   f.offset_rad = Eigen::Vector3d(0.1, -0.2, 1.0 / 3.0);
-  f.sin_rad = Eigen::MatrixXd::Random(3, 4) * 0.1;
-  f.cos_rad = Eigen::MatrixXd::Random(3, 4) * 0.1;
-  const sim::ChainFourier g = chainFourierFromJson(nlohmann::json::parse(chainFourierJson(f).dump()));
-  EXPECT_EQ(g.base_frequency_hz, f.base_frequency_hz);
+  f.b_rad = Eigen::MatrixXd::Random(4, 3) * 0.1;
+  f.a_rad = Eigen::MatrixXd::Random(4, 3) * 0.1;
+  const core::FourierSeries g = chainFourierFromJson(nlohmann::json::parse(chainFourierJson(f).dump()));
+  EXPECT_EQ(g.f0_hz, f.f0_hz);
   EXPECT_EQ(g.offset_rad, f.offset_rad);
-  EXPECT_EQ(g.sin_rad, f.sin_rad);
-  EXPECT_EQ(g.cos_rad, f.cos_rad);
+  EXPECT_EQ(g.b_rad, f.b_rad);
+  EXPECT_EQ(g.a_rad, f.a_rad);
   nlohmann::json j = chainFourierJson(f);
   j.erase("cos_rad");
   try {

@@ -61,7 +61,7 @@ TEST(ExciteCli, DesignFileSimulatesInsideItsLimits) {
                 0.01 * lim["tau_max_Nm"][k].get<double>()) << tau_cols[k];
   }
   // The design round-trips through the file.
-  const ident::FourierTrajectory t = readExcitationFile(design);
+  const core::FourierSeries t = readExcitationFile(design);
   EXPECT_EQ(t.a_rad(0, 0), j["trajectory"]["a_rad"]["hip"][0].get<double>());
 }
 

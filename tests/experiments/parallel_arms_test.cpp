@@ -205,9 +205,9 @@ TEST(DesignedExcitation, ReplacesTheIdentificationRecordsOnly) {
   const ident::ParamVector nominal = ident::toParamVector(ident::defaultLeg());
   ProtocolConfig c = rigidLeg(3.0);
   c.variants = {Variant::kLs};
-  c.both_excitation = toFourierSpec(ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
+  c.both_excitation = (ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
   o.hip_locked = true;
-  c.knee_excitation = toFourierSpec(ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
+  c.knee_excitation = (ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
   const ProtocolResult r = runProtocol(c);
   EXPECT_EQ(r.records[0].data.metadata("trajectory").value_or(""), "fourier");
   EXPECT_EQ(r.records[0].data.metadata("hip_locked").value_or(""), "true");

@@ -53,7 +53,7 @@ TEST(ChainExcitation, FeasibleAtRestAtTheEndsAndDeterministic) {
   EXPECT_EQ(s.condition_number, a.score.condition_number);
   EXPECT_TRUE(std::isfinite(s.condition_number));
   // A motion that leaves the knee's range is scored as a violation naming it.
-  ChainTrajectory wide = a.trajectory;
+  core::FourierSeries wide = a.trajectory;
   wide.offset_rad[1] = 2.5;
   EXPECT_EQ(scoreChainExcitation(model, base, wide, nominal(), limits(), 200).worst_violation_name.rfind("q_max[knee]", 0), 0u);
   o.hip_locked = true;

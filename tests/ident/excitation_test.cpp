@@ -1,4 +1,4 @@
-// Excitation design: the Fourier trajectory's derivatives and rest-at-the-ends rule, the limits'
+// Excitation design: the Fourier trajectory's rest-at-the-ends rule, the limits'
 // bookkeeping, the Cramer-Rao floor no trajectory can beat, and designs that beat the paper's
 // trajectories on the criterion they optimise.
 #include "exoid/ident/design/excitation.hpp"
@@ -16,35 +16,12 @@ namespace {
 
 
 // The paper's trajectory 3 (hip -30 - 30 sin, knee 75 - 30 sin, 1 Hz) as a Fourier trajectory.
-FourierTrajectory paperTrajectory3() {
+core::FourierSeries paperTrajectory3() {
   const double d = M_PI / 180.0;
-  FourierTrajectory t;
-  t.f0_hz = 1.0;
+  core::FourierSeries t = core::FourierSeries::still(2, 1, 1.0);
   t.offset_rad << -30 * d, 75 * d;
-  t.a_rad = Eigen::MatrixX2d::Zero(1, 2);
-  t.b_rad = Eigen::MatrixX2d::Zero(1, 2);
   t.b_rad << -30 * d, -30 * d;
   return t;
-}
-
-TEST(Excitation, DerivativesMatchDifferencesOfTheAngles) {
-  FourierTrajectory t;
-  t.f0_hz = 0.2;
-  t.offset_rad << -0.4, 0.9;
-  t.a_rad.resize(3, 2);
-  t.b_rad.resize(3, 2);
-  t.a_rad << 0.1, -0.2, 0.05, 0.03, -0.02, 0.01;
-  t.b_rad << 0.2, 0.1, -0.04, 0.06, 0.01, -0.02;
-  const double h = 1e-4;
-  for (double time : {0.0, 0.77, 3.1}) {
-    Eigen::Vector2d q0, q1, q2, qd, qdd, dummy;
-    t.at(time - h, q0, dummy, dummy);
-    t.at(time, q1, qd, qdd);
-    t.at(time + h, q2, dummy, dummy);
-    // Central differences: error h^2 q''' / 6 ~ 1e-9 here.
-    EXPECT_LT(((q2 - q0) / (2 * h) - qd).cwiseAbs().maxCoeff(), 1e-7);
-    EXPECT_LT(((q2 - 2 * q1 + q0) / (h * h) - qdd).cwiseAbs().maxCoeff(), 1e-5);
-  }
 }
 
 TEST(Excitation, LimitsAreReportedByNameAndSize) {

@@ -160,9 +160,10 @@ TEST_F(SimulateTest, ColumnsAndOptionalExactColumns) {
 
 TEST_F(SimulateTest, FourierTrajectory) {
   SimConfig c = shortRun(0, 2.0);
-  c.fourier.base_frequency_Hz = 0.5;
-  c.fourier.hip = {-0.4, {0.0, 0.05}, {0.2, 0.0}};
-  c.fourier.knee = {1.0, {0.1}, {-0.3}};
+  c.fourier = core::FourierSeries::still(2, 2, 0.5);
+  c.fourier.offset_rad << -0.4, 1.0;
+  c.fourier.a_rad << 0.0, 0.1, 0.05, 0.0;
+  c.fourier.b_rad << 0.2, -0.3, 0.0, 0.0;
   const SimResult r = simulate(c);
   EXPECT_LT(r.stats.tracking_knee.rms_deg, 0.1);
   EXPECT_LT(r.stats.loop_error_max_m, test::kLoopMotionTol_m);

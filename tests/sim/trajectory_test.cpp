@@ -27,18 +27,18 @@ TEST(TrajectoryTest, PaperTable1InRadians) {
       EXPECT_NEAR(r.q[1], knee * kDeg, 1e-14) << id;
     }
   }
-  EXPECT_TRUE(paperTrajectory(1).lock_hip);
-  EXPECT_TRUE(paperTrajectory(2).lock_hip);
-  EXPECT_FALSE(paperTrajectory(3).lock_hip);
+  EXPECT_EQ(paperTrajectory(1).locked_joints, 1);
+  EXPECT_EQ(paperTrajectory(2).locked_joints, 1);
+  EXPECT_EQ(paperTrajectory(3).locked_joints, 0);
   EXPECT_THROW(paperTrajectory(5), std::invalid_argument);
   EXPECT_THROW(paperTrajectory(0), std::invalid_argument);
 }
 
 TEST(TrajectoryTest, AnalyticDerivativesMatchFiniteDifferences) {
-  FourierSpec s;
-  s.base_frequency_Hz = 0.7;
-  s.hip = {-0.4, {0.1, -0.05, 0.02}, {0.2, 0.03, 0.0}};
-  s.knee = {0.9, {0.0, 0.1}, {-0.3, 0.05}};
+  core::FourierSeries s = core::FourierSeries::still(2, 3, 0.7);
+  s.offset_rad << -0.4, 0.9;
+  s.a_rad << 0.1, 0.0, -0.05, 0.1, 0.02, 0.0;
+  s.b_rad << 0.2, -0.3, 0.03, 0.05, 0.0, 0.0;
   const Trajectory tr(s, 1.0);
   // Central differences, h = 1e-5 s: error ~ h^2 q''' ~ 1e-10 * (2 pi 2.1)^3 * 0.3 ~ 1e-7.
   const double h = 1e-5, tol = 1e-6;
@@ -66,22 +66,13 @@ TEST(TrajectoryTest, RampStartsAtRestAndJoinsTheSeries) {
   EXPECT_NEAR((ramped.at(T - 1e-9).qdd - plain.at(T).qdd).norm(), 0.0, 1e-6);
 }
 
-TEST(TrajectoryTest, ValidationNamesTheField) {
-  FourierSpec s;
-  s.knee = {0.0, {0.1}, {}};
-  try {
-    s.validate();
-    FAIL();
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("fourier.knee"), std::string::npos) << e.what();
-  }
-  s = {};
-  s.base_frequency_Hz = 0;
-  EXPECT_THROW(s.validate(), std::invalid_argument);
-  s = {};
-  s.lock_hip = true;
-  s.hip = {0.1, {0.2}, {0.0}};
-  EXPECT_THROW(s.validate(), std::invalid_argument);
+// The series' own checks are core's (FourierSeries.ValidationNamesTheField); the APAL rig's:
+// two joints, only the hip locked, a ramp >= 0.
+TEST(TrajectoryTest, TheRigTakesHipAndKneeAndAPositiveRamp) {
+  EXPECT_THROW(Trajectory(core::FourierSeries::still(3, 1, 1.0), 0.0), std::invalid_argument);
+  core::FourierSeries both_locked = core::FourierSeries::still(2, 1, 1.0);
+  both_locked.locked_joints = 2;
+  EXPECT_THROW(Trajectory(both_locked, 0.0), std::invalid_argument);
   EXPECT_THROW(Trajectory(paperTrajectory(1), -1.0), std::invalid_argument);
 }
 

@@ -39,7 +39,7 @@ struct ExciteArgs {
 
 // The design and the paper's trajectory sampled over one period of the design: angle, speed,
 // acceleration and nominal torque per joint (what the figure plots).
-void writeSeriesCsv(const std::string& path, const ident::FourierTrajectory& design, const ident::FourierTrajectory& paper,
+void writeSeriesCsv(const std::string& path, const core::FourierSeries& design, const core::FourierSeries& paper,
                     const ident::LegConstants& c, const ident::ParamVector& nominal) {
   core::writeFileAtomically(path, [&](std::ostream& o) {
     o << "t_s";
@@ -51,7 +51,7 @@ void writeSeriesCsv(const std::string& path, const ident::FourierTrajectory& des
     for (int i = 0; i <= n; ++i) {
       const double t = design.period_s() * i / n;
       o << fmt(t, 8);
-      for (const ident::FourierTrajectory* tr : {&design, &paper}) {
+      for (const core::FourierSeries* tr : {&design, &paper}) {
         Eigen::Vector2d q, qd, qdd;
         tr->at(t, q, qd, qdd);
         ident::RegressorRow hip, knee;
@@ -120,7 +120,7 @@ ident::ExcitationLimits designLimits(const ExciteArgs& a, const ident::LegConsta
 // the floor no trajectory inside the limits can beat, over the parameters the design identifies.
 struct ExciteComparison {
   int paper_id = 0;  ///< trajectory 1 for a knee-only design, 3 for both joints
-  ident::FourierTrajectory paper;
+  core::FourierSeries paper;
   ident::ExcitationScore paper_score;
   Eigen::VectorXd crb, crb_paper, floor;
   std::vector<int> indices;
@@ -130,7 +130,7 @@ ExciteComparison compareWithPaper(const ExciteArgs& a, const ident::ExcitationDe
                                   const ident::ParamVector& nominal, const ident::ExcitationLimits& limits) {
   ExciteComparison k;
   k.paper_id = a.options.hip_locked ? 1 : 3;
-  k.paper = toFourierTrajectory(sim::paperTrajectory(k.paper_id));
+  k.paper = sim::paperTrajectory(k.paper_id);
   k.paper_score = ident::scoreExcitation(k.paper, c, nominal, limits, 1000);
   k.crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
   k.crb_paper = excitationCrb(k.paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);

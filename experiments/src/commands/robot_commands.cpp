@@ -212,30 +212,31 @@ void exciteChain(const ChainExciteArgs& a) {
             << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
 }
 
-nlohmann::json chainFourierJson(const sim::ChainFourier& f) {
-  nlohmann::json j = {{"base_frequency_hz", f.base_frequency_hz}, {"offset_rad", toVector(f.offset_rad)},
+nlohmann::json chainFourierJson(const core::FourierSeries& f) {
+  nlohmann::json j = {{"base_frequency_hz", f.f0_hz}, {"offset_rad", toVector(f.offset_rad)},
                       {"sin_rad", nlohmann::json::array()}, {"cos_rad", nlohmann::json::array()}};
-  for (Eigen::Index i = 0; i < f.sin_rad.rows(); ++i) {
-    j["sin_rad"].push_back(toVector(f.sin_rad.row(i).transpose()));
-    j["cos_rad"].push_back(toVector(f.cos_rad.row(i).transpose()));
+  for (Eigen::Index i = 0; i < f.dof(); ++i) {
+    j["sin_rad"].push_back(toVector(f.b_rad.col(i)));
+    j["cos_rad"].push_back(toVector(f.a_rad.col(i)));
   }
   return j;
 }
 
-sim::ChainFourier chainFourierFromJson(const nlohmann::json& j) {
-  sim::ChainFourier f;
-  f.base_frequency_hz = j.at("base_frequency_hz").get<double>();
+namespace {
+// Joint k's harmonics from a JSON list of numbers.
+void readHarmonics(const nlohmann::json& list, Eigen::MatrixXd& m, Eigen::Index k) {
+  for (Eigen::Index h = 0; h < m.rows(); ++h) m(h, k) = list.at(static_cast<std::size_t>(h)).get<double>();
+}
+}  // namespace
+
+core::FourierSeries chainFourierFromJson(const nlohmann::json& j) {
   const std::vector<double> offset = j.at("offset_rad").get<std::vector<double>>();
-  const auto dof = static_cast<Eigen::Index>(offset.size());
-  f.offset_rad = Eigen::Map<const Eigen::VectorXd>(offset.data(), dof);
-  const auto harmonics = static_cast<Eigen::Index>(j.at("sin_rad").at(0).size());
-  f.sin_rad.resize(dof, harmonics);
-  f.cos_rad.resize(dof, harmonics);
+  const auto dof = static_cast<int>(offset.size());
+  core::FourierSeries f = core::FourierSeries::still(dof, static_cast<int>(j.at("sin_rad").at(0).size()), j.at("base_frequency_hz").get<double>());
   for (Eigen::Index k = 0; k < dof; ++k) {
-    for (Eigen::Index h = 0; h < harmonics; ++h) {
-      f.sin_rad(k, h) = j.at("sin_rad").at(static_cast<std::size_t>(k)).at(static_cast<std::size_t>(h)).get<double>();
-      f.cos_rad(k, h) = j.at("cos_rad").at(static_cast<std::size_t>(k)).at(static_cast<std::size_t>(h)).get<double>();
-    }
+    f.offset_rad[k] = offset[static_cast<std::size_t>(k)];
+    readHarmonics(j.at("sin_rad").at(static_cast<std::size_t>(k)), f.b_rad, k);
+    readHarmonics(j.at("cos_rad").at(static_cast<std::size_t>(k)), f.a_rad, k);
   }
   f.validate();
   return f;
@@ -247,28 +248,21 @@ bool isChainExcitationFile(const std::string& path) {
   return !j.is_discarded() && j.is_object() && j.contains("joints");
 }
 
-sim::ChainFourier readChainExcitation(const std::string& path) {
+core::FourierSeries readChainExcitation(const std::string& path) {
   std::ifstream in(path);
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   if (j.is_discarded() || !j.contains("joints") || !j.contains("f0_hz")) {
     throw std::invalid_argument("'" + path + "': expected a chain excitation design (exoid excite --model ...): f0_hz and joints");
   }
-  sim::ChainFourier f;
+  core::FourierSeries f;
   try {
-    f.base_frequency_hz = j.at("f0_hz").get<double>();
     const auto& joints = j.at("joints");
-    const auto dof = static_cast<Eigen::Index>(joints.size());
-    const auto n = static_cast<Eigen::Index>(joints.at(0).at("cos_rad").size());
-    f.offset_rad.resize(dof);
-    f.cos_rad.resize(dof, n);
-    f.sin_rad.resize(dof, n);
-    for (Eigen::Index k = 0; k < dof; ++k) {
+    f = core::FourierSeries::still(static_cast<int>(joints.size()), static_cast<int>(joints.at(0).at("cos_rad").size()), j.at("f0_hz").get<double>());
+    for (Eigen::Index k = 0; k < f.dof(); ++k) {
       const auto& jt = joints.at(static_cast<std::size_t>(k));
       f.offset_rad[k] = jt.at("offset_rad").get<double>();
-      for (Eigen::Index h = 0; h < n; ++h) {
-        f.cos_rad(k, h) = jt.at("cos_rad").at(static_cast<std::size_t>(h)).get<double>();
-        f.sin_rad(k, h) = jt.at("sin_rad").at(static_cast<std::size_t>(h)).get<double>();
-      }
+      readHarmonics(jt.at("cos_rad"), f.a_rad, k);
+      readHarmonics(jt.at("sin_rad"), f.b_rad, k);
     }
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("'" + path + "': " + e.what());

@@ -62,11 +62,11 @@ void ProtocolConfig::validate() const {
   iv.validate();
   if (knee_excitation) {
     knee_excitation->validate();
-    if (!knee_excitation->lock_hip) throw std::invalid_argument("the knee excitation must hold the hip (design it with exoid excite --knee-only)");
+    if (!knee_excitation->locked_joints) throw std::invalid_argument("the knee excitation must hold the hip (design it with exoid excite --knee-only)");
   }
   if (both_excitation) {
     both_excitation->validate();
-    if (both_excitation->lock_hip) throw std::invalid_argument("the both-joint excitation must move the hip (design it without --knee-only)");
+    if (both_excitation->locked_joints) throw std::invalid_argument("the both-joint excitation must move the hip (design it without --knee-only)");
   }
   if (variants.empty()) throw std::invalid_argument("'methods' must name at least one method");
 }
@@ -99,7 +99,7 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.trajectory = k + 1;
     sim::SimConfig sc = c.sim;
     sc.trajectory = k + 1;
-    const std::optional<sim::FourierSpec>& designed = k == 0 ? c.knee_excitation : k == 2 ? c.both_excitation : std::nullopt;
+    const std::optional<core::FourierSeries>& designed = k == 0 ? c.knee_excitation : k == 2 ? c.both_excitation : std::nullopt;
     if (designed) {
       sc.trajectory = 0;
       sc.fourier = *designed;

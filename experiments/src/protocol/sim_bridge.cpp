@@ -122,20 +122,26 @@ nlohmann::json simulationSidecar(const sim::SimResult& r, const ident::Dataset& 
 }
 
 namespace {
-// "offset,a1,b1,a2,b2,..." in degrees -> one joint of a Fourier series in radians.
-sim::FourierJoint fourierJoint(const std::vector<double>& deg, const char* flag) {
+// "offset,a1,b1,a2,b2,..." in degrees -> joint j of a Fourier series in radians (the other
+// joint's harmonics padded with zeros to the longer of the two).
+void setFourierJoint(core::FourierSeries& f, int j, const std::vector<double>& deg, const char* flag) {
   if (deg.empty() || deg.size() % 2 == 0) {
     throw CLI::ValidationError(flag, "expected offset,a1,b1[,a2,b2...] in degrees (an odd count), got " +
                                          core::toText(deg.size()) + " values");
   }
   const double rad = M_PI / 180.0;
-  sim::FourierJoint j;
-  j.offset_rad = deg[0] * rad;
-  for (std::size_t k = 1; k + 1 < deg.size(); k += 2) {
-    j.a_rad.push_back(deg[k] * rad);
-    j.b_rad.push_back(deg[k + 1] * rad);
+  const auto n = static_cast<Eigen::Index>(deg.size() / 2);
+  if (n > f.harmonics()) {
+    f.a_rad.conservativeResizeLike(Eigen::MatrixXd::Zero(n, 2));
+    f.b_rad.conservativeResizeLike(Eigen::MatrixXd::Zero(n, 2));
   }
-  return j;
+  f.a_rad.col(j).setZero();
+  f.b_rad.col(j).setZero();
+  f.offset_rad[j] = deg[0] * rad;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    f.a_rad(k, j) = deg[static_cast<std::size_t>(2 * k + 1)] * rad;
+    f.b_rad(k, j) = deg[static_cast<std::size_t>(2 * k + 2)] * rad;
+  }
 }
 void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
   const char* g = "Simulation";
@@ -143,20 +149,20 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
                           ->check(CLI::Range(1, 4))->capture_default_str()->group(g);
   // A general finite Fourier series instead: q(t) = offset + sum_k a_k cos(2 pi k f0 t) + b_k sin(...).
   CLI::Option* fh = app.add_option_function<std::vector<double>>(
-                           "--fourier-hip", [&c](const std::vector<double>& v) { c.fourier.hip = fourierJoint(v, "--fourier-hip"); c.trajectory = 0; },
+                           "--fourier-hip", [&c](const std::vector<double>& v) { setFourierJoint(c.fourier, 0, v, "--fourier-hip"); c.trajectory = 0; },
                            "Fourier trajectory, hip: offset,a1,b1,a2,b2,... in deg (replaces --trajectory)")
                        ->delimiter(',')->group(g);
   CLI::Option* fk = app.add_option_function<std::vector<double>>(
-                           "--fourier-knee", [&c](const std::vector<double>& v) { c.fourier.knee = fourierJoint(v, "--fourier-knee"); c.trajectory = 0; },
+                           "--fourier-knee", [&c](const std::vector<double>& v) { setFourierJoint(c.fourier, 1, v, "--fourier-knee"); c.trajectory = 0; },
                            "Fourier trajectory, knee: offset,a1,b1,a2,b2,... in deg (replaces --trajectory)")
                        ->delimiter(',')->group(g);
-  app.add_option("--fourier-f0", c.fourier.base_frequency_Hz, "Fourier base frequency, Hz")->check(positiveNumber())->capture_default_str()->group(g);
-  app.add_flag("--lock-hip", c.fourier.lock_hip, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
+  app.add_option("--fourier-f0", c.fourier.f0_hz, "Fourier base frequency, Hz")->check(positiveNumber())->capture_default_str()->group(g);
+  app.add_flag_callback("--lock-hip", [&c] { c.fourier.locked_joints = 1; }, "Fourier trajectory: hold the hip at its offset with the rig's lock")->group(g);
   CLI::Option* ex = app.add_option_function<std::string>(
                            "--excitation",
                            [&c](const std::string& path) {
                              if (isChainExcitationFile(path)) return;  // a chain model's design: the chain simulator reads it
-                             c.fourier = toFourierSpec(readExcitationFile(path));
+                             c.fourier = readExcitationFile(path);
                              c.trajectory = 0;
                            },
                            "Excitation design JSON from `exoid excite` (replaces --trajectory)")

@@ -384,8 +384,8 @@ nlohmann::json SweepConfig::toJson() const {
   for (const char* k : {"seed", "trajectory"}) simj.erase(k);  // set per job / per record
   // Designed identification records change every result: their coefficients are part of the config.
   const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
-  if (optimised && optimised_knee) simj["excitation_knee"] = experiments::toJson(toFourierTrajectory(*optimised_knee));
-  if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(toFourierTrajectory(*optimised_both));
+  if (optimised && optimised_knee) simj["excitation_knee"] = experiments::toJson(*optimised_knee);
+  if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(*optimised_both);
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
   j["method_options"] = experiments::toJson(base.methods);
@@ -445,13 +445,13 @@ void readGridKey(Reader& r, const std::string& full, const toml::node& v) {
 }
 
 // A design file of `exoid excite`, relative to the config file's folder unless absolute.
-sim::FourierSpec readExcitationKey(const Reader& r, const std::string& full, const toml::node& v) {
+core::FourierSeries readExcitationKey(const Reader& r, const std::string& full, const toml::node& v) {
   const std::optional<std::string> file = v.value<std::string>();
   if (!file) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a file name (string)");
   const std::filesystem::path fp(*file);
   const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(r.file).parent_path() / fp).string();
   try {
-    return toFourierSpec(readExcitationFile(resolved));
+    return readExcitationFile(resolved);
   } catch (const std::invalid_argument& e) {
     throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
   }

@@ -23,31 +23,6 @@ const char* jointName(int j) { return j == 0 ? "hip" : "knee"; }
 }
 }  // namespace
 
-void FourierTrajectory::validate() const {
-  if (!(f0_hz > 0 && std::isfinite(f0_hz))) bad("f0_hz", "> 0");
-  if (a_rad.rows() < 1 || b_rad.rows() != a_rad.rows()) bad("a_rad, b_rad", "N x 2 each, N >= 1, the same N");
-  if (!offset_rad.allFinite() || !a_rad.allFinite() || !b_rad.allFinite()) bad("coefficients", "finite");
-  if (hip_locked && (a_rad.col(0).cwiseAbs().maxCoeff() > 0 || b_rad.col(0).cwiseAbs().maxCoeff() > 0)) {
-    bad("hip harmonics", "0 when the hip is locked");
-  }
-}
-
-void FourierTrajectory::at(double t, Eigen::Vector2d& q, Eigen::Vector2d& qd, Eigen::Vector2d& qdd) const {
-  const double w = 2.0 * M_PI * f0_hz;
-  q = offset_rad;
-  qd.setZero();
-  qdd.setZero();
-  for (Eigen::Index k = 0; k < a_rad.rows(); ++k) {
-    const double kw = static_cast<double>(k + 1) * w, c = std::cos(kw * t), s = std::sin(kw * t);
-    for (int j = 0; j < 2; ++j) {
-      const double a = a_rad(k, j), b = b_rad(k, j);
-      q[j] += a * c + b * s;
-      qd[j] += kw * (-a * s + b * c);
-      qdd[j] -= kw * kw * (a * c + b * s);
-    }
-  }
-}
-
 void ExcitationLimits::validate() const {
   for (int j = 0; j < 2; ++j) {
     const std::string J = std::string("[") + jointName(j) + "]";
@@ -63,9 +38,9 @@ namespace {
 // design's regressor H (rows as excitationRegressor documents). One regressor evaluation per
 // sample serves both the criterion and the limits.
 template <typename Fn>
-Eigen::MatrixXd sampleRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples, Fn&& fn) {
+Eigen::MatrixXd sampleRegressor(const core::FourierSeries& traj, const LegConstants& c, int samples, Fn&& fn) {
   const double dt = traj.period_s() / samples;
-  const bool knee_only = traj.hip_locked;
+  const bool knee_only = traj.locked_joints > 0;
   Eigen::MatrixXd H(knee_only ? samples : 2 * samples, knee_only ? kGroupSize : kNumParams);
   RegressorRow hip, knee;
   Eigen::Vector2d q, qd, qdd;
@@ -84,13 +59,14 @@ Eigen::MatrixXd sampleRegressor(const FourierTrajectory& traj, const LegConstant
 }
 }  // namespace
 
-Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples) {
+Eigen::MatrixXd excitationRegressor(const core::FourierSeries& traj, const LegConstants& c, int samples) {
   return sampleRegressor(traj, c, samples, [](const auto&...) {});
 }
 
-ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstants& c, const ParamVector& x_nominal,
+ExcitationScore scoreExcitation(const core::FourierSeries& traj, const LegConstants& c, const ParamVector& x_nominal,
                                 const ExcitationLimits& limits, int samples) {
   traj.validate();
+  if (traj.dof() != 2 || traj.locked_joints > 1) throw std::invalid_argument("excitation: the 2-link leg's trajectory moves hip and knee (the hip locked or not)");
   limits.validate();
   if (samples < 20) throw std::invalid_argument("excitation: need >= 20 samples per period");
   ExcitationScore s;
@@ -135,7 +111,7 @@ ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstant
     const double range = limits.q_max_rad[j] - limits.q_min_rad[j];
     check((limits.q_min_rad[j] - s.q_min_rad[j]) / range, "q_min" + J);
     check((s.q_max_rad[j] - limits.q_max_rad[j]) / range, "q_max" + J);
-    if (j == 0 && traj.hip_locked) continue;  // the lock holds the hip: no motion, no motor torque
+    if (j == 0 && traj.locked_joints > 0) continue;  // the lock holds the hip: no motion, no motor torque
     check(s.qd_max_radps[j] / limits.qd_max_radps[j] - 1.0, "qd" + J);
     check(s.qdd_max_radps2[j] / limits.qdd_max_radps2[j] - 1.0, "qdd" + J);
     check(s.tau_max_Nm[j] / limits.tau_max_Nm[j] - 1.0, "tau" + J);
@@ -222,13 +198,10 @@ namespace {
 // follow from zero velocity and acceleration at t = 0.
 constexpr int kFreePerJoint(int n) { return 2 * n - 1; }
 
-FourierTrajectory fromFree(const ExcitationOptions& o, const Eigen::VectorXd& p) {
+core::FourierSeries fromFree(const ExcitationOptions& o, const Eigen::VectorXd& p) {
   const int n = o.harmonics;
-  FourierTrajectory t;
-  t.f0_hz = o.f0_hz;
-  t.hip_locked = o.hip_locked;
-  t.a_rad = Eigen::MatrixX2d::Zero(n, 2);
-  t.b_rad = Eigen::MatrixX2d::Zero(n, 2);
+  core::FourierSeries t = core::FourierSeries::still(2, n, o.f0_hz);
+  t.locked_joints = o.hip_locked ? 1 : 0;
   t.offset_rad << o.hip_locked_at_rad, 0.0;
   int at = 0;
   for (int j = o.hip_locked ? 1 : 0; j < 2; ++j) {
@@ -239,7 +212,7 @@ FourierTrajectory fromFree(const ExcitationOptions& o, const Eigen::VectorXd& p)
 }
 
 // The same trajectory with every harmonic scaled by s (offsets kept).
-FourierTrajectory shrunk(FourierTrajectory t, double s) {
+core::FourierSeries shrunk(core::FourierSeries t, double s) {
   t.a_rad *= s;
   t.b_rad *= s;
   return t;
@@ -320,7 +293,7 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const LegConstants
       [&](const Eigen::VectorXd& p) { return scoreExcitation(fromFree(o, p), c, x_nominal, limits, o.samples).worst_violation == 0.0; });
   d.evaluations = found.evaluations;
   d.feasible_restarts = found.feasible_restarts;
-  FourierTrajectory t = fromFree(o, found.x);
+  core::FourierSeries t = fromFree(o, found.x);
   // Limits are checked on 1000 samples at the end: peaks between the optimiser's samples, or no
   // feasible end point at all, are repaired by shrinking the harmonics (bisection on the scale).
   if (scoreExcitation(t, c, x_nominal, limits, 1000).worst_violation > 0.0) {

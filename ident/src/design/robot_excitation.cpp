@@ -17,41 +17,6 @@ namespace {
 constexpr double kTwoPi = 6.283185307179586;
 }
 
-namespace {
-// Harmonic k (1-based) at the phase whose cosine and sine are c, s: the one expression at() and the
-// design's sampled period share, so both give the same bits.
-// Scalar loops (the operations and their order of the row expressions they replaced, so the same
-// bits): the design calls this millions of times, and a row of a column-major matrix is strided.
-void addHarmonic(const ChainTrajectory& t, int k, double w, double c, double s, Eigen::VectorXd& q, Eigen::VectorXd& qd,
-                 Eigen::VectorXd& qdd) {
-  const double minus_w_squared = -w * w;
-  for (Eigen::Index j = 0; j < q.size(); ++j) {
-    const double a = t.a_rad(k - 1, j), b = t.b_rad(k - 1, j);
-    q[j] += a * c + b * s;
-    qd[j] += w * (-a * s + b * c);
-    qdd[j] += minus_w_squared * (a * c + b * s);
-  }
-}
-}  // namespace
-
-void ChainTrajectory::at(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
-  q = offset_rad;
-  qd.setZero(dof());
-  qdd.setZero(dof());
-  for (int k = 1; k <= harmonics(); ++k) {
-    const double w = kTwoPi * f0_hz * k;
-    addHarmonic(*this, k, w, std::cos(w * t_s), std::sin(w * t_s), q, qd, qdd);
-  }
-}
-
-void ChainTrajectory::validate() const {
-  if (!(f0_hz > 0.0 && std::isfinite(f0_hz))) throw std::invalid_argument("chain trajectory: 'f0_hz' must be > 0");
-  if (dof() < 1 || a_rad.cols() != dof() || b_rad.cols() != dof() || a_rad.rows() != b_rad.rows()) {
-    throw std::invalid_argument("chain trajectory: 'a_rad' and 'b_rad' must be harmonics x joints, one column per offset");
-  }
-  if (!offset_rad.allFinite() || !a_rad.allFinite() || !b_rad.allFinite()) throw std::invalid_argument("chain trajectory: a NaN or Inf coefficient");
-}
-
 void ChainExcitationLimits::validate(int dof) const {
   for (const Eigen::VectorXd* v : {&q_min_rad, &q_max_rad, &qd_max_radps, &qdd_max_radps2, &tau_max_Nm}) {
     if (v->size() != dof) throw std::invalid_argument("excitation limits: one entry per joint (" + core::toText(dof) + ") expected");
@@ -83,11 +48,11 @@ struct PeriodGrid {
     }
   }
   int samples() const { return static_cast<int>(c.rows()); }
-  void at(const ChainTrajectory& t, int i, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
+  void at(const core::FourierSeries& t, int i, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const {
     q = t.offset_rad;
     qd.setZero(t.dof());
     qdd.setZero(t.dof());
-    for (int k = 1; k <= t.harmonics(); ++k) addHarmonic(t, k, w[k - 1], c(i, k - 1), s(i, k - 1), q, qd, qdd);
+    for (int k = 1; k <= t.harmonics(); ++k) t.addHarmonic(k, w[k - 1], c(i, k - 1), s(i, k - 1), q, qd, qdd);
   }
 };
 
@@ -95,7 +60,7 @@ struct PeriodGrid {
 // (the condition number too: a QR and an SVD the CRB criterion does not use).
 enum class Rating { kLimits, kCrb, kFull };
 
-ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& base, const core::FourierSeries& t,
                                  const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, const PeriodGrid& grid,
                                  Rating rating) {
   const int dof = model.dof();
@@ -148,7 +113,7 @@ ChainExcitationScore scoreOnGrid(const ChainModel& model, const BaseParameters& 
 
 }  // namespace
 
-ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const core::FourierSeries& t,
                                           const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, int samples) {
   return scoreOnGrid(model, base, t, phi_nominal, limits, PeriodGrid(t.f0_hz, t.harmonics(), samples), Rating::kFull);
 }
@@ -156,13 +121,9 @@ ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BasePar
 namespace {
 
 // Free coefficients per joint: offset, a_2..a_N, b_2..b_N; a_1, b_1 put the joint at rest at t = 0.
-ChainTrajectory fromFree(const ExcitationOptions& o, int dof, const Eigen::VectorXd& p) {
+core::FourierSeries fromFree(const ExcitationOptions& o, int dof, const Eigen::VectorXd& p) {
   const int n = o.harmonics;
-  ChainTrajectory t;
-  t.f0_hz = o.f0_hz;
-  t.offset_rad.resize(dof);
-  t.a_rad = Eigen::MatrixXd::Zero(n, dof);
-  t.b_rad = Eigen::MatrixXd::Zero(n, dof);
+  core::FourierSeries t = core::FourierSeries::still(dof, n, o.f0_hz);
   int at = 0;
   for (int j = 0; j < dof; ++j) {
     t.offset_rad[j] = p[at++];
@@ -183,7 +144,7 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
   if (phi_nominal.size() != model.standardParameterCount()) throw std::invalid_argument("chain excitation: phi_nominal has the wrong size");
   const int per_joint = 2 * o.harmonics - 1, dim = dof * per_joint;
   const PeriodGrid coarse(o.f0_hz, o.harmonics, o.samples), fine(o.f0_hz, o.harmonics, 1000);
-  const auto score = [&](const ChainTrajectory& t, const PeriodGrid& grid, Rating rating) {
+  const auto score = [&](const core::FourierSeries& t, const PeriodGrid& grid, Rating rating) {
     return scoreOnGrid(model, base, t, phi_nominal, limits, grid, rating);
   };
   const Rating criterion = o.criterion == ExcitationCriterion::kCrb ? Rating::kCrb : Rating::kFull;
@@ -211,10 +172,10 @@ ChainExcitationDesign designChainExcitation(const ExcitationOptions& o, const Ch
       objective, [&](const Eigen::VectorXd& p) { return score(fromFree(o, dof, p), coarse, Rating::kLimits).worst_violation == 0.0; });
   d.evaluations = found.evaluations;
   d.feasible_restarts = found.feasible_restarts;
-  ChainTrajectory t = fromFree(o, dof, found.x);
+  core::FourierSeries t = fromFree(o, dof, found.x);
   // Peaks between the optimiser's samples, or no feasible end point: shrink the harmonics.
   const auto shrunk = [&t](double s) {
-    ChainTrajectory r = t;
+    core::FourierSeries r = t;
     r.a_rad *= s;
     r.b_rad *= s;
     return r;

@@ -16,6 +16,7 @@
 //      its noise; the model's integrator advances the state, in substeps where the smoothed
 //      Coulomb term is stiff (ChainSimResult::substeps), the friction following the velocity.
 // Row k satisfies the dynamics exactly: tau_true(k) produced qdd_true(k) at (q_true(k), qd_true(k)).
+#include "exoid/core/fourier_series.hpp"
 #include "exoid/sim/sensors.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/table.hpp"
@@ -28,21 +29,11 @@
 
 namespace exoid::sim {
 
-/// q_j(t) = offset_j + sum_k (sin_jk sin(2 pi k f t) + cos_jk cos(2 pi k f t)), k = 1..harmonics.
-struct ChainFourier {
-  double base_frequency_hz = 0.1;
-  Eigen::VectorXd offset_rad;  ///< one per joint
-  Eigen::MatrixXd sin_rad, cos_rad;  ///< joints x harmonics
-  int dof() const { return static_cast<int>(offset_rad.size()); }
-  void reference(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const;
-  void validate() const;  ///< throws std::invalid_argument naming the field
-};
-
 /// A default excitation for a chain: 5 harmonics of 0.1 Hz per joint, coefficients drawn from
 /// `seed`; each joint about the middle of its range, within 35 % of the range's width of it (at
 /// most 0.6 rad), or about 0 within 0.6 rad when the joint has no range. (`exoid excite --model`
 /// designs better ones.)
-ChainFourier defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed = 1);
+core::FourierSeries defaultChainTrajectory(const SerialChain& chain, std::uint64_t seed = 1);
 
 /// SensorOptions with an ideal torque sensor (no anti-aliasing filter): the chain rig's default.
 SensorOptions idealTorqueSensing();
@@ -57,7 +48,7 @@ inline constexpr double kLockInertia_kgm2 = 1e9;
 
 struct ChainSimConfig {
   std::string model_path;        ///< MJCF (motors on hinge joints)
-  ChainFourier trajectory;       ///< empty (no joints) = defaultChainTrajectory(dof, seed)
+  core::FourierSeries trajectory;  ///< empty (no joints) = defaultChainTrajectory(dof, seed)
   double duration_s = 30.0;      ///< > 0
   double dt_s = 1e-3;            ///< (0, 0.01]; the model's timestep is set to it
   /// Encoders (noise, quantisation, play), torque sensors (noise, bias, bandwidth) and the base

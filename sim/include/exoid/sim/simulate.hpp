@@ -34,7 +34,8 @@ struct SimConfig {
   std::string model_path = defaultModelPath();  ///< MJCF file
   /// Paper Table 1 trajectory 1..4, or 0 to use `fourier`.
   int trajectory = 3;
-  FourierSpec fourier;          ///< used when trajectory == 0
+  /// Used when trajectory == 0: hip and knee (the hip locked when locked_joints is 1).
+  core::FourierSeries fourier = core::FourierSeries::still(2, 0, 1.0);
   double ramp_s = 1.0;          ///< smooth start (Trajectory), >= 0
   double duration_s = 10.0;     ///< recorded time, > 0 (samples = round(duration / dt))
   /// Run the start ramp before recording: the log starts (t = 0) ramp_s after the motion
@@ -64,7 +65,7 @@ struct SimConfig {
   /// Throws std::invalid_argument naming the field and the value.
   void validate() const;
   /// The trajectory spec this configuration runs.
-  FourierSpec trajectorySpec() const;
+  core::FourierSeries trajectorySpec() const;
 };
 
 struct JointErrorStats {

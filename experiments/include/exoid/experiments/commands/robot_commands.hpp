@@ -56,9 +56,9 @@ struct LimitOverrides {
 /// sweep's config.json ("simulation.excitation") hold: base_frequency_hz, offset_rad, and sin_rad
 /// and cos_rad as joints x harmonics. (`exoid excite --model`'s design file lists it per joint
 /// instead, with each joint's limits: readChainExcitation.)
-nlohmann::json chainFourierJson(const sim::ChainFourier& f);
+nlohmann::json chainFourierJson(const core::FourierSeries& f);
 /// Reads that form back, validated; throws (nlohmann's or std::invalid_argument) naming the key.
-sim::ChainFourier chainFourierFromJson(const nlohmann::json& j);
+core::FourierSeries chainFourierFromJson(const nlohmann::json& j);
 
 struct ChainExciteArgs {
   std::string model, out;
@@ -71,7 +71,7 @@ struct ChainExciteArgs {
 /// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
 void exciteChain(const ChainExciteArgs& args);
 /// A chain design file as the simulator's trajectory; throws std::invalid_argument naming the file.
-sim::ChainFourier readChainExcitation(const std::string& path);
+core::FourierSeries readChainExcitation(const std::string& path);
 /// True when the JSON file at `path` is a chain design (it has "joints").
 bool isChainExcitationFile(const std::string& path);
 

@@ -50,7 +50,7 @@ struct ProtocolConfig {
   std::vector<Variant> variants = allVariants();
   /// Designed excitations (exoid excite) replacing the identification records: trajectory 1 (knee
   /// only, the hip locked) and trajectory 3 (both joints). Validation stays on the paper's 2 and 4.
-  std::optional<sim::FourierSpec> knee_excitation, both_excitation;
+  std::optional<core::FourierSeries> knee_excitation, both_excitation;
   void validate() const;
 };
 

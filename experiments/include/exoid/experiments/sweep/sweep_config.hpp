@@ -62,7 +62,7 @@ struct SweepConfig {
   ProtocolConfig base;
   /// The designed records of the "optimised" trajectories ([simulation] excitation_knee,
   /// excitation_both: `exoid excite` files).
-  std::optional<sim::FourierSpec> optimised_knee, optimised_both;
+  std::optional<core::FourierSeries> optimised_knee, optimised_both;
   /// [sweep] model: empty or "apal" = the APAL leg (the paper's protocol); "leg3" or an MJCF or
   /// URDF file = any serial chain (a chain sweep: robot_sweep.hpp).
   std::string model;
@@ -74,7 +74,7 @@ struct SweepConfig {
                                            ident::Method::kIdimIv};
   /// A chain sweep's "optimised" record ([simulation] excitation: an `exoid excite --model` file);
   /// when absent, runSweep designs one (exoid excite --model's defaults, seed from master_seed).
-  std::optional<sim::ChainFourier> chain_design;
+  std::optional<core::FourierSeries> chain_design;
   /// Where each key's value came from ("file:line:col" or "--flag"), for error messages.
   std::map<std::string, std::string> origin;
 

@@ -7,6 +7,7 @@
 // velocity and acceleration at t = 0 (and so at every period's end) are built in: the first
 // harmonic's coefficients follow from the others (b_1 = -sum_{k>=2} k b_k, a_1 = -sum_{k>=2} k^2 a_k),
 // so every trajectory the optimiser sees starts and ends at rest.
+#include "exoid/core/fourier_series.hpp"
 #include "exoid/core/random.hpp"
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/leg/regressor.hpp"
@@ -19,20 +20,6 @@
 #include <string>
 
 namespace exoid::ident {
-
-struct FourierTrajectory {
-  double f0_hz = 0.1;                  ///< base frequency; the period is 1 / f0
-  Eigen::Vector2d offset_rad = Eigen::Vector2d::Zero();  ///< hip, knee
-  Eigen::MatrixX2d a_rad;              ///< N x 2 cosine coefficients, harmonic k in row k - 1
-  Eigen::MatrixX2d b_rad;              ///< N x 2 sine coefficients
-  bool hip_locked = false;             ///< the hip held at its offset (its harmonics are 0)
-  int harmonics() const { return static_cast<int>(a_rad.rows()); }
-  double period_s() const { return 1.0 / f0_hz; }
-  /// q, qd, qdd at time t (rad, rad/s, rad/s^2).
-  void at(double t_s, Eigen::Vector2d& q, Eigen::Vector2d& qd, Eigen::Vector2d& qdd) const;
-  /// Throws std::invalid_argument naming the field (f0 <= 0, sizes, non-finite, a locked hip that moves).
-  void validate() const;
-};
 
 /// The rig's limits the design must respect (SI). Torques from the nominal model's inverse dynamics.
 struct ExcitationLimits {
@@ -73,12 +60,12 @@ struct ExcitationScore {
 };
 
 /// Scores a trajectory for the nominal parameters x_nominal (torques) and constants c.
-ExcitationScore scoreExcitation(const FourierTrajectory& traj, const LegConstants& c, const ParamVector& x_nominal,
+ExcitationScore scoreExcitation(const core::FourierSeries& traj, const LegConstants& c, const ParamVector& x_nominal,
                                 const ExcitationLimits& limits, int samples = 1000);
 
 /// The regressor the design is for, on `samples` points of one period (rows: both equations in
 /// time order, or the knee equation's shank columns for a locked hip).
-Eigen::MatrixXd excitationRegressor(const FourierTrajectory& traj, const LegConstants& c, int samples);
+Eigen::MatrixXd excitationRegressor(const core::FourierSeries& traj, const LegConstants& c, int samples);
 
 /// A floor no trajectory inside `limits` can beat: for each of the design's parameters, the
 /// std of its LS estimate from `rows` samples per equation with white noise sigma is at least
@@ -105,7 +92,7 @@ struct ExcitationOptions {
 };
 
 struct ExcitationDesign {
-  FourierTrajectory trajectory;
+  core::FourierSeries trajectory;
   ExcitationScore score;      ///< on 1000 samples
   long evaluations = 0;
   int feasible_restarts = 0;  ///< restarts that ended inside the limits

@@ -4,6 +4,7 @@
 // base regressor over one period, under the joints' limits (range, speed, acceleration, the
 // nominal model's torque). Same criteria, same optimiser (Nelder-Mead from seeded restarts,
 // a penalty on the limits, the harmonics shrunk until the end point is feasible).
+#include "exoid/core/fourier_series.hpp"
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
@@ -13,17 +14,6 @@
 #include <string>
 
 namespace exoid::ident {
-
-/// Per joint: q(t) = offset + sum_k a_k cos(k w t) + b_k sin(k w t), w = 2 pi f0.
-struct ChainTrajectory {
-  double f0_hz = 0.1;
-  Eigen::VectorXd offset_rad;  ///< one per joint
-  Eigen::MatrixXd a_rad, b_rad;  ///< harmonics x joints (harmonic k in row k - 1)
-  int dof() const { return static_cast<int>(offset_rad.size()); }
-  int harmonics() const { return static_cast<int>(a_rad.rows()); }
-  void at(double t_s, Eigen::VectorXd& q, Eigen::VectorXd& qd, Eigen::VectorXd& qdd) const;
-  void validate() const;  ///< throws std::invalid_argument naming the field
-};
 
 /// One entry per joint; +infinity (or -infinity for q_min) where the robot gives no limit.
 struct ChainExcitationLimits {
@@ -38,11 +28,11 @@ struct ChainExcitationScore {
   std::string worst_violation_name;  ///< e.g. "qd[knee]"
 };
 
-ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const ChainTrajectory& t,
+ChainExcitationScore scoreChainExcitation(const ChainModel& model, const BaseParameters& base, const core::FourierSeries& t,
                                           const Eigen::VectorXd& phi_nominal, const ChainExcitationLimits& limits, int samples = 1000);
 
 struct ChainExcitationDesign {
-  ChainTrajectory trajectory;
+  core::FourierSeries trajectory;
   ChainExcitationScore score;  ///< on 1000 samples
   long evaluations = 0;
   int feasible_restarts = 0;
