@@ -1,5 +1,6 @@
 #include "exoid/sim/motor_rig.hpp"
 
+#include "exoid/sim/controller.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
 #include "exoid/sim/random.hpp"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 namespace exoid::sim {
@@ -70,6 +72,8 @@ void ChainSimConfig::validate() const {
   need(vibration_level >= 0.0 && vibration_level <= 20.0, "vibration_level", "in [0, 20] (0 = a rigid stand)");
   need(std::isfinite(coulomb_v0_radps), "coulomb_v0_radps", "a number (< 0: the model's, 0: sgn)");
   need(bandwidth_hz > 0.0 && bandwidth_hz < 0.1 / dt_s, "bandwidth_hz", "in (0, 0.1 / dt_s)");
+  need(integral_hz >= 0.0 && integral_hz < bandwidth_hz, "integral_hz", "in [0, bandwidth_hz) (0 = PD)");
+  need(integral_limit_Nm > 0.0 && std::isfinite(integral_limit_Nm), "integral_limit_Nm", "> 0");
   need(actuator_bandwidth_hz >= 0.0 && std::isfinite(actuator_bandwidth_hz), "actuator_bandwidth_hz", ">= 0");
   if (trajectory.dof() > 0) trajectory.validate();
 }
@@ -243,15 +247,21 @@ class ChainRig {
     mj_fullM(m_, M.data(), d_->qM);
     substeps_ = integrationSubsteps(config_, joints_, M, m_->nv, v0_);
     m_->opt.timestep = config_.dt_s / substeps_;
-    kp_.resize(dof_);
-    kd_.resize(dof_);
+    PidGains& g = gains_;
+    g.kp_Nm_per_rad.resize(dof_);
+    g.kd_Nms_per_rad.resize(dof_);
+    g.derivative = DerivativeSource::kMeasuredVelocity;
+    g.derivative_cutoff_Hz = 0.0;
+    g.integral_limit_Nm = config_.integral_limit_Nm;
     const double wn = kTwoPi * config_.bandwidth_hz;
     for (int i = 0; i < dof_; ++i) {
       const int a = joints_.dofAdr(i);
       const double inertia = M[static_cast<std::size_t>(a * m_->nv + a)];
-      kp_[i] = inertia * wn * wn;
-      kd_[i] = 2.0 * 0.7 * wn * inertia;
+      g.kp_Nm_per_rad[i] = inertia * wn * wn;
+      g.kd_Nms_per_rad[i] = 2.0 * 0.7 * wn * inertia;
     }
+    g.ki_Nm_per_rad_s = g.kp_Nm_per_rad * (kTwoPi * config_.integral_hz);
+    pid_.emplace(g, config_.dt_s);
     // The motor torque: a first-order lag behind the command (actuator_bandwidth_hz; 0 = the
     // command at once, a staircase), so the torque is continuous in time like a real drive's and
     // row k's torque is the one acting at t_k.
@@ -277,8 +287,7 @@ class ChainRig {
     advance(t);
   }
 
-  const Eigen::VectorXd& kp() const { return kp_; }
-  const Eigen::VectorXd& kd() const { return kd_; }
+  const PidGains& gains() const { return gains_; }
   double trackingRms(Eigen::Index n) const { return std::sqrt(tracking_ss_ / static_cast<double>(std::max<Eigen::Index>(1, n * dof_))); }
 
  private:
@@ -308,9 +317,9 @@ class ChainRig {
     }
     mj_inverse(m_, dr_);
     for (int i = 0; i < dof_; ++i) {
-      command_[i] = dr_->qfrc_inverse[joints_.dofAdr(i)] + friction(i, qd_ref_[i]) + kp_[i] * (q_ref_[i] - q_read_[i]) +
-                    kd_[i] * (qd_ref_[i] - qd_[i]);
+      command_[i] = dr_->qfrc_inverse[joints_.dofAdr(i)] + friction(i, qd_ref_[i]);
     }
+    pid_->update(q_ref_, qd_ref_, q_read_, qd_, command_);
   }
 
   void applyTorque() {
@@ -388,7 +397,8 @@ class ChainRig {
   Eigen::Vector3d base_rest_p_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d base_rest_R_ = Eigen::Matrix3d::Identity();
   int substeps_ = 1;
-  Eigen::VectorXd kp_, kd_;
+  PidGains gains_;
+  std::optional<PidController> pid_;
   double lag_ = 1.0;
   Eigen::VectorXd motor_, command_, tau_read_;
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_, qd_, q_read_;
@@ -446,8 +456,9 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   r.table.values.resize(n, static_cast<Eigen::Index>(r.table.names.size()));
   for (Eigen::Index k = 0; k < n; ++k) rig.sample(k, r.table);
   r.tracking_rms_rad = rig.trackingRms(n);
-  r.kp_Nm_per_rad = rig.kp();
-  r.kd_Nms_per_rad = rig.kd();
+  r.kp_Nm_per_rad = rig.gains().kp_Nm_per_rad;
+  r.ki_Nm_per_rad_s = rig.gains().ki_Nm_per_rad_s;
+  r.kd_Nms_per_rad = rig.gains().kd_Nms_per_rad;
   // The controller as IDIM-IV reads it (a real rig's comes from a --controller file instead).
   const auto list = [](const Eigen::VectorXd& v) {
     std::string out;
@@ -467,10 +478,15 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
                       {"mujoco", r.mujoco_version},
                       {"controller_kp_Nm_per_rad", list(r.kp_Nm_per_rad)},
                       {"controller_kd_Nms_per_rad", list(r.kd_Nms_per_rad)},
-                      {"controller_law", "pd_measured_velocity"},
+                      {"controller_law", config.integral_hz > 0.0 ? "pid_measured_velocity" : "pd_measured_velocity"},
                       {"feedforward", "true"},
                       {"actuator_bandwidth_Hz", bw},
                       {"vibration_level", std::to_string(config.vibration_level)}};
+  if (config.integral_hz > 0.0) {
+    std::snprintf(bw, sizeof bw, "%.17g", config.integral_limit_Nm);
+    r.table.metadata.emplace_back("controller_ki_Nm_per_rad_s", list(r.ki_Nm_per_rad_s));
+    r.table.metadata.emplace_back("controller_integral_limit_Nm", bw);
+  }
   if (config.sensors.encoder_backlash_deg > 0.0) r.table.metadata.emplace_back("encoder_backlash_deg", std::to_string(config.sensors.encoder_backlash_deg));
   if (!config.locked.empty()) {
     std::string locked;

@@ -60,7 +60,7 @@ void SimConfig::validate() const {
   if (floor.active() && variant.vibration_level == 0) {
     throw std::invalid_argument("'floor' disturbance needs 'vibration_level' > 0 (a welded pedestal cannot move)");
   }
-  gains.validate();
+  gains.validate({"hip", "knee"});
   actuators.validate(dt_s);
   if (sensors.tau_bandwidth_Hz * dt_s >= 0.5) badField("sensors.tau_bandwidth_Hz", sensors.tau_bandwidth_Hz, "below the Nyquist frequency 1 / (2 dt)");
   if (!std::isfinite(max_loop_error_m) || max_loop_error_m <= 0) badField("max_loop_error_m", max_loop_error_m, "> 0");
@@ -183,7 +183,7 @@ struct Simulator::Impl {
     if (locked) hold[0] = 0.0;
     // With feedforward the integral holds what the controller's model misses of the pose.
     const Eigen::Vector2d integral0 = cfg.feedforward ? Eigen::Vector2d(hold - ff_cmd.row(0).transpose()) : hold;
-    pid->reset(r0.q, {!locked, true}, integral0);
+    pid->reset({!locked, true}, integral0);
     act->reset(hold);
     sensors->resetTorqueFilters(hold);
   }
@@ -273,7 +273,8 @@ struct Simulator::Impl {
   void drive(Eigen::Index step, double t, const JointReference& ref, const Eigen::Vector2d& qm, const Eigen::Vector2d& qd, double* row) {
     mjData* d = data.get();
     const LegIndices& x = leg.idx;
-    Eigen::Vector2d u = pid->update(ref, qm);
+    Eigen::Vector2d u = Eigen::Vector2d::Zero();
+    pid->update(ref.q, ref.qd, qm, qd, u);
     if (cfg.feedforward) u += ff_cmd.row(step).transpose();
     row[kTauHipCmd] = u[0];
     row[kTauKneeCmd] = u[1];

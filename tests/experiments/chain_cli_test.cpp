@@ -293,6 +293,31 @@ TEST(ChainCli, AVibratingStandIsFittedWithItsBaseMotion) {
             std::string::npos);
 }
 
+// The motor rig's feedback is the APAL rig's PID (sim/controller.hpp): with an integral, the
+// record carries ki and the PID law in its metadata, and IDIM-IV, whose instruments simulate that
+// loop, stays exact on exact data. The APAL rig refuses the motor rig's options by name.
+TEST(ChainCli, TheMotorRigTakesThePidsIntegral) {
+  const std::string dir = ::testing::TempDir();
+  const std::string csv = dir + "/leg3_pid.csv", side = dir + "/leg3_pid.json", out = dir + "/leg3_pid_fit.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "10", "--integral-hz", "0.5", "--coulomb-v0", "0", "--record-derivatives",
+                      "--out", csv}),
+            0);
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", csv, "--truth", side, "--method", "idim-iv", "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json c = readJson(side)["controller"];
+  ASSERT_EQ(c["ki"].size(), 3u);
+  for (std::size_t j = 0; j < 3; ++j) EXPECT_DOUBLE_EQ(c["ki"][j].get<double>(), c["kp"][j].get<double>() * 2.0 * M_PI * 0.5);
+  const nlohmann::json r = readJson(out);
+  const nlohmann::json& b = r["base_parameters"];
+  const nlohmann::json& x = r["methods"]["idim-iv"]["beta"];
+  for (std::size_t i = 0; i < b["names"].size(); ++i) {
+    const double truth = b["truth"][i].get<double>();
+    EXPECT_NEAR(x[i].get<double>(), truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
+  }
+  EXPECT_NE(stderrOf({"simulate", "--integral-hz", "1", "--out", dir + "/apal.csv"}, 105).find("--integral-hz"), std::string::npos);
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);

@@ -173,7 +173,7 @@ TEST(SimulateFailureTest, AbsurdGainsFailLoudly) {
   // Kp = 1e9 N m/rad at 1 kHz is far beyond the discrete stability limit (~J / dt^2 = 1e6):
   // the run must stop with an exception, never return NaN or silently reset.
   SimConfig c = shortRun(3, 1.0);
-  c.gains.kp_Nm_per_rad = {1e9, 1e9};
+  c.gains.kp_Nm_per_rad = Eigen::Vector2d(1e9, 1e9);
   try {
     simulate(c);
     FAIL() << "expected SimulationError";

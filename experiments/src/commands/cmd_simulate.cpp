@@ -25,6 +25,7 @@ struct SimulateArgs {
   double coulomb_v0_radps = -1.0;   ///< chain models: Coulomb smoothing (< 0: the model's)
   std::vector<std::string> lock;    ///< chain models: joints locked (segmental records)
   double bandwidth_hz = 4.0;        ///< chain models: PD bandwidth
+  double integral_hz = 0.0;         ///< chain models: the feedback's integral (0 = PD)
   CLI::App* cmd = nullptr;
 };
 
@@ -45,6 +46,7 @@ void runChainSimulate(const SimulateArgs& a) {
   if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sensors.tau_bandwidth_Hz = a.config.sensors.tau_bandwidth_Hz;
   c.coulomb_v0_radps = a.coulomb_v0_radps;
   c.bandwidth_hz = a.bandwidth_hz;
+  c.integral_hz = a.integral_hz;
   c.record_derivatives = a.record_derivatives;
   c.locked = a.lock;
   c.seed = a.config.seed;
@@ -54,6 +56,12 @@ void runChainSimulate(const SimulateArgs& a) {
 
 void runSimulate(const SimulateArgs& a) {
   if (!isApalLegModel(a.config.model_path)) return runChainSimulate(a);
+  for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--lock", "--bandwidth", "--integral-hz"}) {
+    if (a.cmd->count(chain_only) > 0) {
+      throw CLI::ValidationError(chain_only, "is an option of the motor rig (--model leg3|FILE); the APAL leg's rig takes --lock-hip, "
+                                             "--ramp and its gains from a sweep's [simulation]");
+    }
+  }
   if (a.cmd->count("--excitation") > 0 && isChainExcitationFile(a.cmd->get_option("--excitation")->as<std::string>())) {
     throw CLI::ValidationError("--excitation", "is a chain model's design (exoid excite --model ...): run it with that --model");
   }
@@ -153,6 +161,10 @@ void addSimulateCommand(CLI::App& app) {
       ->delimiter(',')->group("Chain models");
   cmd->add_option("--bandwidth", args->bandwidth_hz, "Chain models: PD tracking bandwidth per joint, Hz")
       ->check(positiveNumber())->capture_default_str()->group("Chain models");
+  cmd->add_option("--integral-hz", args->integral_hz,
+                  "Chain models: the feedback's integral, ki = kp 2 pi f per joint (the APAL rig's PID; 0 = PD); written to\n"
+                  "the record's controller metadata, which IDIM-IV reads")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Chain models");
   args->cmd = cmd;
   cmd->callback([args] { runSimulate(*args); });
 }

@@ -92,17 +92,22 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"vibration_level", c.vibration_level},
                  {"coulomb_v0_radps", c.coulomb_v0_radps},
                  {"bandwidth_hz", c.bandwidth_hz},
+                 {"integral_hz", c.integral_hz},
                  {"record_derivatives", c.record_derivatives},
                  {"locked", c.locked},
                  {"trajectory", chainFourierJson(c.trajectory)}};
   j["tracking_rms_rad"] = r.tracking_rms_rad;
   // The rig's controller in the form `identify --controller` reads (N m/rad, N m s/rad, Hz; also
-  // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) + kd (qd_ref - qd).
+  // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) [+ ki int(q_ref - q_read)] + kd (qd_ref - qd).
   j["controller"] = {{"kp", toVector(r.kp_Nm_per_rad)},
                      {"kd", toVector(r.kd_Nms_per_rad)},
                      {"derivative", "measured_velocity"},
                      {"feedforward", "model"},
                      {"actuator_bandwidth_hz", c.actuator_bandwidth_hz}};
+  if (c.integral_hz > 0.0) {
+    j["controller"]["ki"] = toVector(r.ki_Nm_per_rad_s);
+    j["controller"]["integral_limit_Nm"] = c.integral_limit_Nm;
+  }
   j["truth"] = {{"standard_parameters", namedValues(model.standardParameterNames(), phi)},
                 {"base_parameters", namedValues(base.names, base.combination * phi)},
                 {"coulomb", (c.coulomb_v0_radps > 0.0 ? "fc tanh(qd / v0)" : "fc sgn(qd)")},

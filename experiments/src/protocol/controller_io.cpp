@@ -113,7 +113,7 @@ ident::Controller controllerFromMetadata(const ident::Dataset& d, const std::str
   c.derivative_cutoff_hz = optional("controller_derivative_cutoff_Hz", 0.0);
   c.integral_limit_Nm = optional("controller_integral_limit_Nm", 1e300);
   c.actuator_bandwidth_hz = optional("actuator_bandwidth_Hz", 0.0);
-  if (const auto law = d.metadata("controller_law"); law && *law == "pd_measured_velocity") c.derivative = ident::DerivativeSource::kMeasuredVelocity;
+  if (const auto law = d.metadata("controller_law"); law && (*law == "pd_measured_velocity" || *law == "pid_measured_velocity")) c.derivative = ident::DerivativeSource::kMeasuredVelocity;
   c.feedforward = boolOf(key("feedforward"), where("feedforward")) ? ident::Feedforward::kModel : ident::Feedforward::kNone;
   std::vector<std::string> locked;
   if (const auto hip = d.metadata("hip_locked"); hip && boolOf(*hip, where("hip_locked"))) locked.push_back("hip");

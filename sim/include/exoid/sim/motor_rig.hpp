@@ -62,6 +62,10 @@ struct ChainSimConfig {
   /// exactly (the regressor's own shape: exact data are then exact).
   double coulomb_v0_radps = -1.0;
   double bandwidth_hz = 4.0;     ///< PD closed-loop natural frequency, > 0
+  /// The feedback's integral (the APAL rig's PID, sim/controller.hpp): ki = kp 2 pi integral_hz
+  /// per joint, 0 = PD; |integral term| <= integral_limit_Nm.
+  double integral_hz = 0.0;
+  double integral_limit_Nm = 500.0;
   /// The motor torque follows the command through a first-order lag of this bandwidth (Hz), so it
   /// is continuous in time as a real drive's; 0 = the command at once, a staircase held over each
   /// sample (then angle-differentiated accelerations lag the recorded torque by about half a
@@ -91,7 +95,7 @@ struct ChainSimResult {
   int substeps = 1;  ///< integration substeps per sample (stiff smoothed Coulomb terms need them)
   /// The controller's PD gains per joint (from the joint-space inertia at the start), also in the
   /// table's metadata (controller_kp_Nm_per_rad, ...) for IDIM-IV.
-  Eigen::VectorXd kp_Nm_per_rad, kd_Nms_per_rad;
+  Eigen::VectorXd kp_Nm_per_rad, ki_Nm_per_rad_s, kd_Nms_per_rad;
   std::string mujoco_version;
 };
 
