@@ -2,6 +2,7 @@
 // Command-line flags shared by the identification commands (identify, identifiability,
 // reproduce, sweep), and their JSON echo for outputs.
 #include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 
 #include <CLI/CLI.hpp>
