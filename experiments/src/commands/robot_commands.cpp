@@ -3,20 +3,21 @@
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
-#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/ident/model/base_parameters.hpp"
-#include "exoid/ident/estimators/band_iv.hpp"
-#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/design/robot_excitation.hpp"
+#include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
-#include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
+#include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
+#include "exoid/sim/sidecar.hpp"
 
 #include <Eigen/Cholesky>
 #include <mujoco/mujoco.h>
