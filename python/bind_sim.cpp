@@ -61,7 +61,7 @@ void bindSim(py::module_& m) {
             throw std::invalid_argument(std::string("simulate: ") + e.what() +
                                         " (keywords are `exoid simulate`'s options with '_' for '-')");
           }
-          if (!experiments::isApalLegModel(config.model_path)) {
+          if (!sim::isApalLegModel(config.model_path)) {
             // Another robot: the serial-chain simulator (as `exoid simulate --model` runs it).
             const sim::ChainSimResult r = sim::simulateChain(experiments::chainSimConfig(config));
             const nlohmann::json side = experiments::chainSimulationSidecar(r);

@@ -28,11 +28,11 @@ const ClipOptions& validated(const ClipOptions& o) {
 // poses the leg at many rows before the first frame).
 ClipOptions framed(const Track& track, const ClipOptions& o) {
   if (!o.auto_frame) return o;
-  LegScene scene(o.model_path, track.hasBase());
-  const SweptBox box = sweptBox(scene, track, o.base_motion_gain);
+  const std::unique_ptr<Scene> scene = openScene(o.model_path, track, o.base_motion_gain);
+  const SweptBox box = sweptBox(*scene, track);
   const bool plots = o.overlay_enabled && o.overlay.plot && track.hasTorque();
   ClipOptions out = o;
-  out.render.camera = frameBox(box, o.render.camera, scene.model()->vis.global.fovy,
+  out.render.camera = frameBox(box, o.render.camera, scene->model()->vis.global.fovy,
                                double(o.render.width) / double(o.render.height), plots ? 0.55 : 1.0);
   return out;
 }
@@ -54,9 +54,10 @@ TrackRenderer::TrackRenderer(const Track& track, const ClipOptions& options)
     : track_(validated(track)),
       options_(framed(track_, validated(options))),
       frames_(render::frameCount(track_, options_.fps)),
-      scene_(options_.model_path, track_.hasBase()),
-      renderer_(scene_.model(), options_.render),
-      overlay_(track_, options_.overlay) {}
+      scene_(openScene(options_.model_path, track_, options_.base_motion_gain)),
+      renderer_(scene_->model(), options_.render) {
+  if (options_.overlay_enabled) overlay_.emplace(track_, options_.overlay);
+}
 
 double TrackRenderer::frameTime_s(int k) const {
   if (k < 0 || k >= frames_) {
@@ -70,10 +71,10 @@ const Image& TrackRenderer::frame(int k) { return drawRow(track_.rowAt(frameTime
 const Image& TrackRenderer::at(double t_s) { return drawRow(track_.rowAt(t_s)); }
 
 const Image& TrackRenderer::drawRow(std::size_t row) {
-  scene_.setPose(poseAt(track_, row, options_.base_motion_gain));
-  if (!options_.overlay_enabled) return renderer_.render(scene_.model(), scene_.data(), nullptr);
-  const Overlay overlay = overlay_.at(row);
-  return renderer_.render(scene_.model(), scene_.data(), &overlay);
+  scene_->pose(track_, row);
+  if (!overlay_) return renderer_.render(scene_->model(), scene_->data(), nullptr);
+  const Overlay overlay = overlay_->at(row);
+  return renderer_.render(scene_->model(), scene_->data(), &overlay);
 }
 
 ClipSummary renderVideo(const Track& track, const ClipOptions& options, const std::string& out_path) {

@@ -28,17 +28,9 @@ std::array<double, 3> halfExtents(const mjModel* m, int g) {
   }
 }
 
-// True when `body` is `root` or hangs below it.
-bool below(const mjModel* m, int body, int root) {
-  for (int b = body; b > 0; b = m->body_parentid[b]) {
-    if (b == root) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
-SweptBox sweptBox(LegScene& scene, const Track& track, double base_motion_gain, int samples) {
+SweptBox sweptBox(Scene& scene, const Track& track, int samples) {
   track.validate();
   if (samples < 2) throw std::invalid_argument("swept box: need at least 2 samples, got " + core::toText(samples));
   const mjModel* m = scene.model();
@@ -48,10 +40,9 @@ SweptBox sweptBox(LegScene& scene, const Track& track, double base_motion_gain, 
   const std::size_t n = track.size();
   for (int k = 0; k < samples; ++k) {
     const auto row = static_cast<std::size_t>(std::llround(double(k) * double(n - 1) / double(samples - 1)));
-    scene.setPose(poseAt(track, row, base_motion_gain));
+    scene.pose(track, row);
     for (int g = 0; g < m->ngeom; ++g) {
-      // The trunk and all it carries; the pedestal's column and base may leave the frame.
-      if (!below(m, m->geom_bodyid[g], scene.indices().body_trunk)) continue;
+      if (!scene.framed(g)) continue;
       const std::array<double, 3> h = halfExtents(m, g);
       const mjtNum* R = d->geom_xmat + 9 * g;  // row-major: world = R * local
       // Extent of the rotated box along world x and z: sum of |R_ij| h_j.

@@ -1,6 +1,9 @@
 #include "exoid/render/leg_scene.hpp"
 
+#include "exoid/core/format.hpp"
+
 #include <cstring>
+#include <stdexcept>
 
 namespace exoid::render {
 
@@ -38,8 +41,8 @@ void applyColors(mjModel* m, const sim::LegIndices& x, const LegColors& c) {
 
 }  // namespace
 
-LegScene::LegScene(const std::string& model_path, bool with_mount, const LegColors& colors)
-    : leg_(sim::loadLeg(model_path, variantFor(with_mount))) {
+LegScene::LegScene(const std::string& model_path, bool with_mount, double base_motion_gain, const LegColors& colors)
+    : leg_(sim::loadLeg(model_path, variantFor(with_mount))), base_motion_gain_(base_motion_gain) {
   mjModel* m = leg_.model.get();
   data_ = sim::makeData(m);
   four_bar_.emplace(m, leg_.idx);
@@ -48,7 +51,8 @@ LegScene::LegScene(const std::string& model_path, bool with_mount, const LegColo
 }
 
 Pose poseAt(const Track& track, std::size_t row, double base_motion_gain) {
-  Pose pose{track.q_hip_rad[row], track.q_knee_rad[row]};
+  if (track.joints.size() != 2) throw std::invalid_argument("the APAL leg is posed by a track of 2 joints (hip, knee), got " + core::toText(track.joints.size()));
+  Pose pose{track.joints[0].q_rad[row], track.joints[1].q_rad[row]};
   if (track.hasBase()) {
     pose.base_x_m = base_motion_gain * track.base_x_m[row];
     pose.base_z_m = base_motion_gain * track.base_z_m[row];
@@ -69,6 +73,16 @@ void LegScene::setPose(const Pose& pose) {
     d->qpos[x.mount_qadr[2]] = pose.base_pitch_rad;
   }
   mj_forward(m, d);
+}
+
+void LegScene::pose(const Track& track, std::size_t row) { setPose(poseAt(track, row, base_motion_gain_)); }
+
+bool LegScene::framed(int g) const {
+  const mjModel* m = leg_.model.get();
+  for (int b = m->geom_bodyid[g]; b > 0; b = m->body_parentid[b]) {
+    if (b == leg_.idx.body_trunk) return true;
+  }
+  return false;
 }
 
 }  // namespace exoid::render

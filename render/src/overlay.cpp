@@ -48,43 +48,13 @@ void OverlayOptions::validate() const {
   }
 }
 
-void OverlayTrack::validate() const {
-  if (t_s.size() < 2) throw std::invalid_argument("overlay: expected at least 2 samples, got " + core::toText(t_s.size()));
-  const auto check = [&](const std::vector<double>& v, const std::string& what, bool may_be_empty) {
-    if (v.size() != t_s.size() && !(may_be_empty && v.empty())) {
-      throw std::invalid_argument("overlay: " + what + " has " + core::toText(v.size()) + " samples, the time axis " + core::toText(t_s.size()));
-    }
-  };
-  for (const OverlayJoint& j : joints) {
-    check(j.q_rad, j.name + " angle", false);
-    check(j.tau_Nm, j.name + " torque", !hasTorque());
-    check(j.tau_pred_Nm, j.name + " predicted torque", !hasPrediction());
-  }
-  check(base_x_m, "pedestal x", true);
-  check(base_z_m, "pedestal z", base_x_m.empty());
-}
-
-OverlayTrack overlayTrackOf(const Track& t) {
-  OverlayTrack o;
-  o.title = t.title;
-  o.t_s = t.t_s;
-  o.joints = {{"hip", t.q_hip_rad, t.tau_hip_Nm, t.tau_hip_pred_Nm}, {"knee", t.q_knee_rad, t.tau_knee_Nm, t.tau_knee_pred_Nm}};
-  o.base_x_m = t.base_x_m;
-  o.base_z_m = t.base_z_m;
-  o.torque_name = t.torque_name;
-  o.prediction_name = t.prediction_name;
-  return o;
-}
-
-OverlayBuilder::OverlayBuilder(const Track& track, const OverlayOptions& options) : OverlayBuilder(overlayTrackOf(track), options) {}
-
-OverlayBuilder::OverlayBuilder(OverlayTrack track, const OverlayOptions& options) : track_(std::move(track)), options_(options) {
+OverlayBuilder::OverlayBuilder(Track track, const OverlayOptions& options) : track_(std::move(track)), options_(options) {
   options_.validate();
   track_.validate();
   y_range_.assign(track_.joints.size(), {0.0, 0.0});
   if (!track_.hasTorque()) return;
   for (std::size_t j = 0; j < track_.joints.size(); ++j) {
-    const OverlayJoint& jt = track_.joints[j];
+    const TrackJoint& jt = track_.joints[j];
     if (track_.hasPrediction()) {
       std::vector<double> err;
       for (std::size_t i = 0; i < track_.t_s.size(); ++i) err.push_back(jt.tau_Nm[i] - jt.tau_pred_Nm[i]);
@@ -98,30 +68,30 @@ OverlayBuilder::OverlayBuilder(OverlayTrack track, const OverlayOptions& options
 namespace {
 
 // The text block's torque lines at `row`: measured, or measured / predicted / error.
-void addTorqueText(const OverlayTrack& tr, std::size_t row, std::string& l, std::string& r) {
+void addTorqueText(const Track& tr, std::size_t row, std::string& l, std::string& r) {
   if (tr.hasPrediction()) {
     const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
     const auto line = [](double meas, double p) {
       return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
                            : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
     };
-    for (const OverlayJoint& j : tr.joints) l += "\n" + j.name + " torque " + cols;
-    for (const OverlayJoint& j : tr.joints) r += "\n" + line(j.tau_Nm[row], j.tau_pred_Nm[row]);
+    for (const TrackJoint& j : tr.joints) l += "\n" + j.name + " torque " + cols;
+    for (const TrackJoint& j : tr.joints) r += "\n" + line(j.tau_Nm[row], j.tau_pred_Nm[row]);
   } else {
-    for (const OverlayJoint& j : tr.joints) l += "\n" + j.name + " torque (" + tr.torque_name + ")";
-    for (const OverlayJoint& j : tr.joints) r += "\n" + format("%+.2f N m", j.tau_Nm[row]);
+    for (const TrackJoint& j : tr.joints) l += "\n" + j.name + " torque (" + tr.torque_name + ")";
+    for (const TrackJoint& j : tr.joints) r += "\n" + format("%+.2f N m", j.tau_Nm[row]);
   }
 }
 
 // The text block at `row`: labels on the left, values on the right.
-void addText(const OverlayTrack& tr, const OverlayOptions& options, std::size_t row, Overlay& o) {
+void addText(const Track& tr, const OverlayOptions& options, std::size_t row, Overlay& o) {
   std::string& l = o.text_left;
   std::string& r = o.text_right;
   l = tr.title.empty() ? std::string(" ") : tr.title;
   r = " ";
   l += "\ntime";
   r += "\n" + format("%.3f s", tr.t_s[row]);
-  for (const OverlayJoint& j : tr.joints) {
+  for (const TrackJoint& j : tr.joints) {
     l += "\n" + j.name + " angle";
     r += "\n" + format("%+.1f deg", j.q_rad[row] * kRadToDeg);
   }
@@ -142,7 +112,7 @@ struct PlotWindow {
   std::vector<std::size_t> rows;
 };
 
-PlotWindow plotWindow(const OverlayTrack& tr, const OverlayOptions& options, std::size_t row) {
+PlotWindow plotWindow(const Track& tr, const OverlayOptions& options, std::size_t row) {
   const double dt = (tr.t_s.back() - tr.t_s.front()) / static_cast<double>(tr.t_s.size() - 1);  // as Track::sampleInterval_s
   const double t0 = tr.t_s.front();
   const double t = tr.t_s[row];
@@ -161,7 +131,7 @@ PlotWindow plotWindow(const OverlayTrack& tr, const OverlayOptions& options, std
 }
 
 // A joint's torque panel over the window: measured, and with a prediction, predicted and error.
-PlotPanel torquePanel(const OverlayTrack& tr, const OverlayJoint& joint, const PlotWindow& win, const std::array<double, 2>& y_range) {
+PlotPanel torquePanel(const Track& tr, const TrackJoint& joint, const PlotWindow& win, const std::array<double, 2>& y_range) {
   const std::vector<double>& meas = joint.tau_Nm;
   const std::vector<double>& prd = joint.tau_pred_Nm;
   const bool pred = tr.hasPrediction();
@@ -195,7 +165,7 @@ PlotPanel torquePanel(const OverlayTrack& tr, const OverlayJoint& joint, const P
 
 Overlay OverlayBuilder::at(std::size_t row) const {
   Overlay o;
-  const OverlayTrack& tr = track_;
+  const Track& tr = track_;
   if (row >= tr.t_s.size()) throw std::invalid_argument("overlay row " + core::toText(row) + " >= " + core::toText(tr.t_s.size()));
   if (options_.text) addText(tr, options_, row, o);
   if (options_.plot && tr.hasTorque()) {

@@ -11,16 +11,14 @@ namespace exoid::render {
 
 namespace {
 
-void checkColumn(const std::vector<double>& v, std::size_t n, const char* name, bool optional, bool nan_ok = false) {
+void checkColumn(const std::vector<double>& v, std::size_t n, const std::string& name, bool optional, bool nan_ok = false) {
   if (optional && v.empty()) return;
   if (v.size() != n) {
-    throw std::invalid_argument(std::string("track column '") + name + "': expected " + core::toText(n) +
-                                " values (as t_s), got " + core::toText(v.size()));
+    throw std::invalid_argument("track: " + name + " has " + core::toText(v.size()) + " samples, the time axis " + core::toText(n));
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(v[i]) && !(nan_ok && std::isnan(v[i]))) {
-      throw std::invalid_argument(std::string("track column '") + name + "': value " + core::toText(i) +
-                                  " is not finite");
+      throw std::invalid_argument("track: " + name + ": value " + core::toText(i) + " is not finite");
     }
   }
 }
@@ -35,22 +33,20 @@ std::vector<double> column(const sim::Table& t, const std::string& name) {
 void Track::validate() const {
   const std::size_t n = t_s.size();
   if (n < 2) throw std::invalid_argument("track: expected at least 2 samples, got " + core::toText(n));
-  checkColumn(t_s, n, "t_s", false);
-  checkColumn(q_hip_rad, n, "q_hip_rad", false);
-  checkColumn(q_knee_rad, n, "q_knee_rad", false);
-  checkColumn(base_x_m, n, "base_x_m", true);
-  checkColumn(base_z_m, n, "base_z_m", true);
-  checkColumn(base_pitch_rad, n, "base_pitch_rad", true);
-  if (base_x_m.empty() != base_z_m.empty() || base_x_m.empty() != base_pitch_rad.empty()) {
-    throw std::invalid_argument("track: base_x_m, base_z_m and base_pitch_rad must be all empty or all given");
+  if (joints.empty()) throw std::invalid_argument("track: no joints");
+  checkColumn(t_s, n, "time", false);
+  for (const TrackJoint& j : joints) {
+    checkColumn(j.q_rad, n, j.name + " angle", false);
+    checkColumn(j.tau_Nm, n, j.name + " torque", !hasTorque());
+    checkColumn(j.tau_pred_Nm, n, j.name + " predicted torque", !hasPrediction(), true);
   }
-  checkColumn(tau_hip_Nm, n, "tau_hip_Nm", true);
-  checkColumn(tau_knee_Nm, n, "tau_knee_Nm", true);
-  if (tau_hip_Nm.empty() != tau_knee_Nm.empty()) throw std::invalid_argument("track: give both measured torques or neither");
-  checkColumn(tau_hip_pred_Nm, n, "tau_hip_pred_Nm", true, true);
-  checkColumn(tau_knee_pred_Nm, n, "tau_knee_pred_Nm", true, true);
-  if (tau_hip_pred_Nm.empty() != tau_knee_pred_Nm.empty()) throw std::invalid_argument("track: give both predicted torques or neither");
   if (hasPrediction() && !hasTorque()) throw std::invalid_argument("track: predicted torques need the measured torques");
+  checkColumn(base_x_m, n, "pedestal x", true);
+  checkColumn(base_z_m, n, "pedestal z", true);
+  checkColumn(base_pitch_rad, n, "pedestal pitch", true);
+  if (base_x_m.empty() != base_z_m.empty() || base_x_m.empty() != base_pitch_rad.empty()) {
+    throw std::invalid_argument("track: the pedestal's x, z and pitch must be all empty or all given");
+  }
   const double dt = sampleInterval_s();
   if (!(dt > 0.0)) throw std::invalid_argument("track: time must increase (t_s.front() = " + core::toText(t_s.front()) +
                                                 ", t_s.back() = " + core::toText(t_s.back()) + ")");
@@ -62,6 +58,12 @@ void Track::validate() const {
                                   core::toText(dt) + " s");
     }
   }
+}
+
+std::vector<std::vector<double>*> Track::series() {
+  std::vector<std::vector<double>*> all = {&t_s, &base_x_m, &base_z_m, &base_pitch_rad};
+  for (TrackJoint& j : joints) all.insert(all.end(), {&j.q_rad, &j.tau_Nm, &j.tau_pred_Nm});
+  return all;
 }
 
 double Track::sampleInterval_s() const {
@@ -89,8 +91,9 @@ Track trackFromSimulation(const sim::SimResult& result, const std::string& title
   tr.title = title;
   tr.t_s = column(tab, "t");
   const bool exact = tab.has("q_hip_true");
-  tr.q_hip_rad = column(tab, exact ? "q_hip_true" : "q_hip");
-  tr.q_knee_rad = column(tab, exact ? "q_knee_true" : "q_knee");
+  for (const std::string joint : {"hip", "knee"}) {
+    tr.joints.push_back({joint, column(tab, exact ? "q_" + joint + "_true" : "q_" + joint), column(tab, "tau_" + joint), {}});
+  }
   if (tab.has("base_x")) {
     tr.base_x_m = column(tab, "base_x");
     tr.base_z_m = column(tab, "base_z");
@@ -104,8 +107,6 @@ Track trackFromSimulation(const sim::SimResult& result, const std::string& title
       tr.base_pitch_rad.clear();
     }
   }
-  tr.tau_hip_Nm = column(tab, "tau_hip");
-  tr.tau_knee_Nm = column(tab, "tau_knee");
   tr.validate();
   return tr;
 }

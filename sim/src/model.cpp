@@ -57,6 +57,12 @@ ModelPtr compileMjcf(const std::string& xml, const std::string& source) {
   return ModelPtr(m);
 }
 
+bool isApalLegModel(const std::string& path) {
+  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0) return false;
+  const ModelPtr m = loadMjcfFile(path);
+  return m->nnames > 0 && std::string(m->names) == "apal_leg";
+}
+
 ModelPtr loadMjcfFile(const std::string& path) {
   installMujocoHooks();
   {

@@ -134,8 +134,8 @@ TEST(Clip, FramesAreNotBlankAndChangeWhileTheLegMoves) {
     // from the black background) alone gives >= (1/6)(5/6) 100^2 ~ 1400: floor 500.
     EXPECT_GT(pixelVariance(im), 500.0) << "frame " << k;
     const std::size_t r0 = tr.rowAt(source.frameTime_s(k - 1)), r1 = tr.rowAt(source.frameTime_s(k));
-    const double dq_deg = kRadToDeg * std::max(std::abs(tr.q_hip_rad[r1] - tr.q_hip_rad[r0]),
-                                               std::abs(tr.q_knee_rad[r1] - tr.q_knee_rad[r0]));
+    const double dq_deg = kRadToDeg * std::max(std::abs(tr.joints[0].q_rad[r1] - tr.joints[0].q_rad[r0]),
+                                               std::abs(tr.joints[1].q_rad[r1] - tr.joints[1].q_rad[r0]));
     // 2 deg moves the foot ~3 cm = 2 pixels here (240 px for 1.57 m): many pixels must change.
     if (dq_deg > 2.0) {
       ++moving_pairs;

@@ -2,8 +2,7 @@
 // projection, and rendered frames of a leg swung far forward checked pixel by pixel.
 #include "exoid/render/clip.hpp"
 #include "exoid/render/framing.hpp"
-
-
+#include "exoid/render/leg_scene.hpp"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,11 +14,12 @@ namespace {
 // foot far anterior (hip flexion is negative).
 Track wideSwing(double hip_end_deg = -100.0, double knee_end_deg = 120.0) {
   Track t;
+  t.joints = {{"hip", {}, {}, {}}, {"knee", {}, {}, {}}};
   for (int i = 0; i < 2000; ++i) {
     const double s = i / 1999.0;
     t.t_s.push_back(1e-3 * i);
-    t.q_hip_rad.push_back(hip_end_deg * M_PI / 180.0 * s);
-    t.q_knee_rad.push_back(knee_end_deg * M_PI / 180.0 * s * s);
+    t.joints[0].q_rad.push_back(hip_end_deg * M_PI / 180.0 * s);
+    t.joints[1].q_rad.push_back(knee_end_deg * M_PI / 180.0 * s * s);
   }
   return t;
 }
@@ -48,8 +48,7 @@ TEST(Framing, TheFramedBoxFitsTheLeftPartOfAPinholeView) {
 TEST(Framing, TheSweptBoxGrowsWithTheMotionAndHoldsTheHangingLeg) {
   LegScene scene(sim::defaultModelPath(), false);
   Track still = wideSwing();
-  for (double& q : still.q_hip_rad) q = 0.0;
-  for (double& q : still.q_knee_rad) q = 0.0;
+  for (TrackJoint& j : still.joints) j.q_rad.assign(j.q_rad.size(), 0.0);
   const SweptBox hanging = sweptBox(scene, still);
   const SweptBox swing = sweptBox(scene, wideSwing());
   EXPECT_GT(swing.x_max, hanging.x_max + 0.3);  // the foot goes ~0.9 m forward
@@ -84,7 +83,7 @@ GreenPixels green(const Image& im, double right_fraction) {
 TEST(Framing, AWideSwingStaysInFrameAndLeftOfThePlots) {
   // Forward (foot far anterior) and backward (hip extended 90 deg: the foot ~0.9 m posterior).
   for (const Track& t : {wideSwing(), wideSwing(90.0, 0.0)}) {
-    const double end = t.q_hip_rad.back() * 180.0 / M_PI;
+    const double end = t.joints[0].q_rad.back() * 180.0 / M_PI;
     ClipOptions bare;
     bare.overlay_enabled = false;
     TrackRenderer framed(t, bare);
@@ -95,8 +94,7 @@ TEST(Framing, AWideSwingStaysInFrameAndLeftOfThePlots) {
     }
     // With the overlay's plots on the right, the leg keeps to the left 55 % (+ the 5 % margin).
     Track with_torque = t;
-    with_torque.tau_hip_Nm.assign(t.size(), 0.0);
-    with_torque.tau_knee_Nm.assign(t.size(), 0.0);
+    for (TrackJoint& j : with_torque.joints) j.tau_Nm.assign(t.size(), 0.0);
     ClipOptions plots;
     plots.overlay.text = false;
     TrackRenderer left(with_torque, plots);

@@ -12,14 +12,15 @@ namespace {
 
 Track uniformTrack(std::size_t n, double dt, bool torque = true) {
   Track t;
+  t.joints = {{"hip", {}, {}, {}}, {"knee", {}, {}, {}}};
   for (std::size_t i = 0; i < n; ++i) {
     const double ti = static_cast<double>(i) * dt;
     t.t_s.push_back(ti);
-    t.q_hip_rad.push_back(-0.5 - 0.5 * std::sin(2 * M_PI * ti));
-    t.q_knee_rad.push_back(1.3 - 0.5 * std::sin(2 * M_PI * ti));
+    t.joints[0].q_rad.push_back(-0.5 - 0.5 * std::sin(2 * M_PI * ti));
+    t.joints[1].q_rad.push_back(1.3 - 0.5 * std::sin(2 * M_PI * ti));
     if (torque) {
-      t.tau_hip_Nm.push_back(10 * std::sin(2 * M_PI * ti));
-      t.tau_knee_Nm.push_back(3 * std::cos(2 * M_PI * ti));
+      t.joints[0].tau_Nm.push_back(10 * std::sin(2 * M_PI * ti));
+      t.joints[1].tau_Nm.push_back(3 * std::cos(2 * M_PI * ti));
     }
   }
   return t;
@@ -47,12 +48,12 @@ TEST(Track, RowAtIsTheNearestSample) {
 
 TEST(Track, ValidateNamesTheProblem) {
   Track t = uniformTrack(100, 1e-3);
-  t.q_knee_rad.pop_back();
+  t.joints[1].q_rad.pop_back();
   try {
     t.validate();
     FAIL() << "expected invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("q_knee_rad"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("knee angle"), std::string::npos) << e.what();
   }
   t = uniformTrack(100, 1e-3);
   t.t_s[50] += 0.5e-3;
@@ -61,15 +62,16 @@ TEST(Track, ValidateNamesTheProblem) {
   t.base_x_m.assign(100, 0.0);  // base_z, base_pitch missing
   EXPECT_THROW(t.validate(), std::invalid_argument);
   t = uniformTrack(100, 1e-3, false);
-  t.tau_hip_pred_Nm.assign(100, 0.0);
-  t.tau_knee_pred_Nm.assign(100, 0.0);
+  for (TrackJoint& j : t.joints) j.tau_pred_Nm.assign(100, 0.0);
   EXPECT_THROW(t.validate(), std::invalid_argument);  // a prediction needs the measured torques
+  t = uniformTrack(100, 1e-3);
+  t.joints.clear();
+  EXPECT_THROW(t.validate(), std::invalid_argument);
 }
 
 TEST(Overlay, ScrollingWindowAndPointBudget) {
   Track t = uniformTrack(6000, 1e-3);
-  t.tau_hip_pred_Nm = t.tau_hip_Nm;
-  t.tau_knee_pred_Nm = t.tau_knee_Nm;
+  for (TrackJoint& j : t.joints) j.tau_pred_Nm = j.tau_Nm;
   OverlayOptions o;
   o.plot_window_s = 4.0;
   o.max_plot_points = 400;
@@ -104,9 +106,10 @@ namespace {
 
 TEST(Overlay, PredictionMissingAtTrimmedEdgesIsSkipped) {
   Track t = uniformTrack(3000, 1e-3);
-  t.tau_hip_pred_Nm.assign(3000, NAN);
-  t.tau_knee_pred_Nm.assign(3000, NAN);
-  for (std::size_t i = 500; i < 2500; ++i) t.tau_hip_pred_Nm[i] = t.tau_knee_pred_Nm[i] = 0.0;
+  for (TrackJoint& j : t.joints) {
+    j.tau_pred_Nm.assign(3000, NAN);
+    for (std::size_t i = 500; i < 2500; ++i) j.tau_pred_Nm[i] = 0.0;
+  }
   EXPECT_NO_THROW(t.validate());  // NaN only allowed in the prediction columns
   const OverlayBuilder b(t, OverlayOptions{});
   const Overlay o = b.at(2999);
@@ -117,7 +120,7 @@ TEST(Overlay, PredictionMissingAtTrimmedEdgesIsSkipped) {
     }
   }
   EXPECT_NE(o.text_right.find("n/a"), std::string::npos);
-  t.tau_hip_Nm[3] = NAN;
+  t.joints[0].tau_Nm[3] = NAN;
   EXPECT_THROW(t.validate(), std::invalid_argument);
 }
 

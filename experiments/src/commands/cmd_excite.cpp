@@ -217,7 +217,7 @@ void printDesign(const ExciteArgs& a, const ident::ExcitationDesign& d, const id
 }
 
 void runExcite(const ExciteArgs& args) {
-  if (!isApalLegModel(args.model)) return exciteChainModel(args);
+  if (!sim::isApalLegModel(args.model)) return exciteChainModel(args);
   ExciteArgs a = args;
   a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
   a.options.validate();

@@ -520,7 +520,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 // --model naming a robot other than the APAL leg: its base parameters by least squares (and the
 // consistent estimate). What that path does not do yet is refused by name, never ignored.
 bool runChainModel(const IdentifyArgs& a) {
-  if (a.model.empty() || isApalLegModel(sim::modelPathFor(a.model))) return false;
+  if (a.model.empty() || sim::isApalLegModel(sim::modelPathFor(a.model))) return false;
   for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");

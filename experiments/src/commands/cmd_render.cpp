@@ -15,7 +15,6 @@
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/ident/signals/processing.hpp"
-#include "exoid/render/robot_clip.hpp"
 #include "exoid/render/clip.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/core/atomic_file.hpp"
@@ -62,9 +61,25 @@ std::string baseName(const std::string& path) {
   return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
-/// The identified model's predicted torques on `d` (signals prepared as identification does).
-void addPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals,
-                   render::Track& track) {
+// A model's predicted torques (rows of the prepared signals `s` x joints) placed by time on the
+// record `d`'s rows, NaN where the processing trimmed the edges.
+void placePrediction(const ident::Dataset& d, const ident::JointSignals& s, const Eigen::MatrixXd& tau, const std::string& name,
+                     render::Track& track) {
+  const std::size_t n = static_cast<std::size_t>(d.size());
+  for (render::TrackJoint& j : track.joints) j.tau_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
+  if (s.size() > 0) {
+    const long offset = std::lround((s.t_s[0] - d.t_s[0]) / d.sampleInterval_s());
+    for (Eigen::Index i = 0; i < s.size(); ++i) {
+      const long row = offset + static_cast<long>(i);
+      if (row < 0 || row >= static_cast<long>(n)) continue;
+      for (Eigen::Index k = 0; k < tau.cols(); ++k) track.joints[static_cast<std::size_t>(k)].tau_pred_Nm[static_cast<std::size_t>(row)] = tau(i, k);
+    }
+  }
+  track.prediction_name = name;
+}
+
+// The APAL leg's identify JSON (`exoid identify --json`): the paper's X and the leg's constants.
+void addLegPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals, render::Track& track) {
   const nlohmann::json j = readUserJsonFile(json_path, "identification JSON");
   if (!j.is_object() || !j.contains("parameters")) {
     throw std::runtime_error("'" + json_path + "': expected an object with \"parameters\" (as written by `exoid identify --json`)");
@@ -78,61 +93,9 @@ void addPrediction(const std::string& json_path, const ident::Dataset& d, const 
   }
   c.validate();
   const ident::JointSignals s = ident::prepareSignals(d, signals);
-  const Eigen::MatrixX2d tau = ident::predictTorque(s, x, c);
-  // Preprocessing may trim the record's edges: place the prediction by time, NaN elsewhere.
-  const std::size_t n = static_cast<std::size_t>(d.size());
-  track.tau_hip_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
-  track.tau_knee_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
-  if (s.size() > 0) {
-    const double dt = d.sampleInterval_s();
-    const long offset = std::lround((s.t_s[0] - d.t_s[0]) / dt);
-    for (Eigen::Index i = 0; i < s.size(); ++i) {
-      const long row = offset + static_cast<long>(i);
-      if (row < 0 || row >= static_cast<long>(n)) continue;
-      track.tau_hip_pred_Nm[static_cast<std::size_t>(row)] = tau(i, 0);
-      track.tau_knee_pred_Nm[static_cast<std::size_t>(row)] = tau(i, 1);
-    }
-  }
   std::string name = j.value("method", std::string("identified"));
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
-  track.prediction_name = name;
-}
-
-render::Track trackFromDataset(const std::string& path, const std::string& ident_json, const ident::SignalOptions& signals) {
-  const ident::Dataset d = readLog(path, LogInput{});
-  render::Track tr;
-  tr.title = "recorded: " + baseName(path);
-  tr.t_s = toVector(d.t_s);
-  tr.q_hip_rad = toVector(d.q_rad.col(0));
-  tr.q_knee_rad = toVector(d.q_rad.col(1));
-  const auto& names = d.extra_names;
-  const auto has = [&](const char* n) { return std::find(names.begin(), names.end(), n) != names.end(); };
-  if (has("base_x") && has("base_z") && has("base_pitch")) {
-    tr.base_x_m = toVector(d.extraColumn("base_x"));
-    tr.base_z_m = toVector(d.extraColumn("base_z"));
-    tr.base_pitch_rad = toVector(d.extraColumn("base_pitch"));
-  }
-  tr.tau_hip_Nm = toVector(d.tau_Nm.col(0));
-  tr.tau_knee_Nm = toVector(d.tau_Nm.col(1));
-  if (!ident_json.empty()) addPrediction(ident_json, d, signals, tr);
-  return tr;
-}
-
-render::Track trackFromSimulation(const RenderArgs& a) {
-  a.sim.validate();
-  const auto t0 = std::chrono::steady_clock::now();
-  const sim::SimResult r = sim::simulate(a.sim);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::cout << "simulated " << a.sim.duration_s << " s of trajectory " << a.sim.trajectory << " in " << wall << " s\n";
-  render::Track tr = render::trackFromSimulation(
-      r, "trajectory " + core::toText(a.sim.trajectory) + " (simulated" +
-             (a.sim.variant.vibration_level > 0 ? ", vibration " + core::toText(a.sim.variant.vibration_level).substr(0, 4) : std::string()) +
-             ")");
-  if (!a.ident_json.empty()) {
-    // The identification sees what a rig records: the measured angles and torques.
-    addPrediction(a.ident_json, toDataset(r), a.signals, tr);
-  }
-  return tr;
+  placePrediction(d, s, ident::predictTorque(s, x, c), name, track);
 }
 
 // A chain's identify JSON (`exoid identify --model ... --json`): its least-squares base
@@ -159,32 +122,58 @@ Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChai
   return Eigen::Map<const Eigen::VectorXd>(ls.data(), static_cast<Eigen::Index>(ls.size()));
 }
 
-// The identified chain's predicted torques on `d` (signals prepared as identification does with
-// `signals`), placed by time, NaN where the processing trimmed the edges.
 void addChainPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals,
-                        const LoadedChain& loaded, render::OverlayTrack& track) {
-  const Eigen::VectorXd beta = chainEstimateFrom(json_path, loaded);
+                        const LoadedChain& loaded, render::Track& track) {
   const ident::JointSignals s = ident::prepareSignals(d, signals);
   const ident::RecordRows rows = ident::recordRows(loaded.robot, s);
-  const Eigen::VectorXd tau = rows.W * beta;
-  const std::size_t n = static_cast<std::size_t>(d.size());
-  for (render::OverlayJoint& j : track.joints) j.tau_pred_Nm.assign(n, std::numeric_limits<double>::quiet_NaN());
-  if (s.size() > 0) {
-    const long offset = std::lround((s.t_s[0] - d.t_s[0]) / d.sampleInterval_s());
-    const Eigen::Index dof = rows.dof;
-    for (Eigen::Index i = 0; i < s.size(); ++i) {
-      const long row = offset + static_cast<long>(i);
-      if (row < 0 || row >= static_cast<long>(n)) continue;
-      for (Eigen::Index k = 0; k < dof; ++k) track.joints[static_cast<std::size_t>(k)].tau_pred_Nm[static_cast<std::size_t>(row)] = tau[i * dof + k];
-    }
-  }
-  track.prediction_name = "LS";
+  const Eigen::VectorXd tau = rows.W * chainEstimateFrom(json_path, loaded);
+  // W's rows are sample-major (every joint of a sample together).
+  const Eigen::MatrixXd by_joint = Eigen::Map<const Eigen::MatrixXd>(tau.data(), rows.dof, s.size()).transpose();
+  placePrediction(d, s, by_joint, "LS", track);
 }
 
-// A model other than the APAL leg: its chain posed along the record (--data, read with the
-// model's joints) or along a simulation of it (exoid simulate --model's), with the overlay of
-// every joint's angle and torque (and, with --ident, the identified prediction and its error).
-void runChain(const RenderArgs& a, bool still) {
+// A record's track: every joint's angle and torque, the APAL pedestal's columns when recorded.
+render::Track trackOf(const ident::Dataset& d, const std::string& title) {
+  render::Track tr;
+  tr.title = title;
+  tr.t_s = toVector(d.t_s);
+  for (Eigen::Index k = 0; k < d.dof(); ++k) {
+    tr.joints.push_back({d.joints[static_cast<std::size_t>(k)], toVector(d.q_rad.col(k)), toVector(d.tau_Nm.col(k)), {}});
+  }
+  const auto has = [&](const char* n) { return std::find(d.extra_names.begin(), d.extra_names.end(), n) != d.extra_names.end(); };
+  if (has("base_x") && has("base_z") && has("base_pitch")) {
+    tr.base_x_m = toVector(d.extraColumn("base_x"));
+    tr.base_z_m = toVector(d.extraColumn("base_z"));
+    tr.base_pitch_rad = toVector(d.extraColumn("base_pitch"));
+  }
+  return tr;
+}
+
+// The APAL leg's track: the record (--data) or a simulation's exact states; --ident's prediction
+// on what a rig records (the measured angles and torques).
+render::Track legTrack(const RenderArgs& a) {
+  if (!a.data.empty()) {
+    const ident::Dataset d = readLog(a.data, LogInput{});
+    render::Track tr = trackOf(d, "recorded: " + baseName(a.data));
+    if (!a.ident_json.empty()) addLegPrediction(a.ident_json, d, a.signals, tr);
+    return tr;
+  }
+  a.sim.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  const sim::SimResult r = sim::simulate(a.sim);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "simulated " << a.sim.duration_s << " s of trajectory " << a.sim.trajectory << " in " << wall << " s\n";
+  render::Track tr = render::trackFromSimulation(
+      r, "trajectory " + core::toText(a.sim.trajectory) + " (simulated" +
+             (a.sim.variant.vibration_level > 0 ? ", vibration " + core::toText(a.sim.variant.vibration_level).substr(0, 4) : std::string()) +
+             ")");
+  if (!a.ident_json.empty()) addLegPrediction(a.ident_json, toDataset(r), a.signals, tr);
+  return tr;
+}
+
+// Any other chain's track: its record (--data, read with the model's joints) or a simulation of
+// it (exoid simulate --model's).
+render::Track chainTrack(const RenderArgs& a) {
   const LoadedChain loaded = loadChain(a.sim.model_path);
   ident::Dataset d;
   std::string title;
@@ -197,35 +186,9 @@ void runChain(const RenderArgs& a, bool still) {
     d = chainDataset(sim::simulateChain(chainSimConfig(a.sim)));
     title = loaded.chain.name + " simulated (seed " + core::toText(a.sim.seed) + ")";
   }
-  render::ChainClipOptions o;
-  o.render = a.clip.render;
-  if (a.antialias) o.render.multisamples = 4;
-  o.fps = a.clip.fps;
-  o.ffmpeg = a.clip.ffmpeg;
-  o.overlay = a.clip.overlay;
-  o.overlay.plot = !a.no_plot;
-  // A torque panel per joint below the text's band: 560 px (the tallest image with the small
-  // font) keep three panels ~110 px each (480 px: 85); two get the APAL leg's ~145.
-  if (!a.no_overlay && o.overlay.plot && a.height_opt->count() == 0 && d.joints.size() > 2) o.render.height = std::max(o.render.height, 560);
-  render::OverlayTrack track;
-  track.title = title;
-  track.t_s = toVector(d.t_s);
-  for (std::size_t j = 0; j < d.joints.size(); ++j) {
-    const auto k = static_cast<Eigen::Index>(j);
-    track.joints.push_back({d.joints[j], toVector(d.q_rad.col(k)), toVector(d.tau_Nm.col(k)), {}});
-  }
-  if (!a.ident_json.empty()) {
-    if (a.signals.cutoff_from_data || a.signals.derivative_cutoff_from_data) {
-      throw std::invalid_argument("render's predicted torque uses the paper's signal processing: give --cutoff-hz and "
-                                  "--derivative-cutoff-hz as numbers, not auto");
-    }
-    addChainPrediction(a.ident_json, d, a.signals, loaded, track);
-  }
-  const auto t0 = std::chrono::steady_clock::now();
-  render::renderChain(a.sim.model_path, d.joints, d.t_s, d.q_rad, a.out, o, still ? std::optional<double>(a.frame_s) : std::nullopt,
-                      a.no_overlay ? nullptr : &track);
-  std::cout << "wrote " << a.out << " (" << d.joints.size() << " joints of " << a.sim.model_path << ", "
-            << core::formatNumber(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 3) << " s)\n";
+  render::Track tr = trackOf(d, title);
+  if (!a.ident_json.empty()) addChainPrediction(a.ident_json, d, a.signals, loaded, tr);
+  return tr;
 }
 
 void run(RenderArgs& a) {
@@ -237,7 +200,6 @@ void run(RenderArgs& a) {
     throw std::invalid_argument("a video is written as H.264 MP4: give --out FILE.mp4 (got '" + a.out +
                                 "'), or --frame T --out FILE.png for a still");
   }
-  if (!isApalLegModel(a.sim.model_path)) return runChain(a, still);
   if (still && a.data.empty() && !(a.frame_s >= 0.0 && a.frame_s < a.sim.duration_s)) {
     throw std::invalid_argument("--frame " + core::toText(a.frame_s) + " is outside the simulated record [0, " +
                                 core::toText(a.sim.duration_s) + ") s (see --duration)");
@@ -246,21 +208,26 @@ void run(RenderArgs& a) {
   a.clip.overlay_enabled = !a.no_overlay;
   a.clip.overlay.plot = !a.no_plot;
   a.clip.validate();
+  if (!a.ident_json.empty() && (a.signals.cutoff_from_data || a.signals.derivative_cutoff_from_data)) {
+    throw std::invalid_argument("render's predicted torque uses the paper's signal processing: give --cutoff-hz and "
+                                "--derivative-cutoff-hz as numbers, not auto");
+  }
   if (!still && (a.clip.render.width % 2 != 0 || a.clip.render.height % 2 != 0)) {
     throw std::invalid_argument("an H.264 video needs an even width and height (yuv420p), got " + core::toText(a.clip.render.width) +
                                 "x" + core::toText(a.clip.render.height) + ": e.g. --width " +
                                 core::toText(a.clip.render.width + a.clip.render.width % 2) + " --height " +
                                 core::toText(a.clip.render.height + a.clip.render.height % 2));
   }
-  if (a.signals.cutoff_from_data || a.signals.derivative_cutoff_from_data) {
-    throw std::invalid_argument("render's predicted torque uses the paper's signal processing: give --cutoff-hz and "
-                                "--derivative-cutoff-hz as numbers, not auto");
-  }
   // Fail fast, before simulating or rendering: ffmpeg present, output folder writable.
   if (!still) render::requireFfmpeg(a.clip.ffmpeg);
   core::checkOutputWritable(a.out);
-
-  const render::Track track = a.data.empty() ? trackFromSimulation(a) : trackFromDataset(a.data, a.ident_json, a.signals);
+  const render::Track track = sim::isApalLegModel(a.sim.model_path) ? legTrack(a) : chainTrack(a);
+  // A torque panel per joint below the text's band: 560 px (the tallest image with the small
+  // font; even, as a video needs) keep three panels ~110 px each (480 px: 85); two get the APAL
+  // leg's ~145.
+  if (!a.no_overlay && !a.no_plot && a.height_opt->count() == 0 && track.joints.size() > 2) {
+    a.clip.render.height = std::max(a.clip.render.height, 560);
+  }
   if (still) {
     render::renderStill(track, a.frame_s, a.clip, a.out);
     std::cout << "wrote " << a.out << " (" << a.clip.render.width << "x" << a.clip.render.height << ", t = " << a.frame_s

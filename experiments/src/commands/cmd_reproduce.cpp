@@ -75,7 +75,7 @@ void runChain(const Args& a) {
 }
 
 void run(Args a) {
-  if (!isApalLegModel(a.config.sim.model_path)) return runChain(a);
+  if (!sim::isApalLegModel(a.config.sim.model_path)) return runChain(a);
   if (a.cmd->count("--design-restarts") > 0) {
     throw CLI::ValidationError("--design-restarts", "designs a chain's excitation (--model leg3|FILE); the APAL leg's designs are "
                                "--excitation-knee and --excitation-both");

@@ -55,7 +55,7 @@ void runChainSimulate(const SimulateArgs& a) {
 }
 
 void runSimulate(const SimulateArgs& a) {
-  if (!isApalLegModel(a.config.model_path)) return runChainSimulate(a);
+  if (!sim::isApalLegModel(a.config.model_path)) return runChainSimulate(a);
   for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--lock", "--bandwidth", "--integral-hz"}) {
     if (a.cmd->count(chain_only) > 0) {
       throw CLI::ValidationError(chain_only, "is an option of the motor rig (--model leg3|FILE); the APAL leg's rig takes --lock-hip, "
@@ -100,7 +100,7 @@ void runTruth(TruthArgs a) {
   if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
   a.model = a.model.empty() ? a.model : sim::modelPathFor(a.model);
   // Another robot than the APAL leg: its chain's truth (standard and base parameters).
-  if (!a.model.empty() && !endsWith(a.model, ".urdf") && !isApalLegModel(a.model)) return truthOfChain(a.model, a.json_out);
+  if (!a.model.empty() && !endsWith(a.model, ".urdf") && !sim::isApalLegModel(a.model)) return truthOfChain(a.model, a.json_out);
   if (!a.urdf.empty() && !endsWith(a.urdf, ".xml")) {
     // X is the 2-link leg's (hip, knee); any other chain gets its own parameters, never X of
     // two of its joints.

@@ -33,7 +33,7 @@ struct SweepArgs {
 void runSweepCommand(const SweepArgs& a) {
   std::string file = a.config;
   // --model naming a chain without --config: the chain's default grid.
-  if (!a.model.empty() && a.config_option->count() == 0 && a.model != "apal" && !isApalLegModel(sim::modelPathFor(a.model))) {
+  if (!a.model.empty() && a.config_option->count() == 0 && a.model != "apal" && !sim::isApalLegModel(sim::modelPathFor(a.model))) {
     file = sim::dataPath("configs/robot_sweep.toml");
   }
   SweepConfig c = loadSweepConfig(file, a.model);

@@ -45,12 +45,6 @@ nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::V
 
 std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
-bool isApalLegModel(const std::string& path) {
-  if (endsWith(path, ".urdf")) return false;
-  const sim::ModelPtr m = sim::loadMjcfFile(path);
-  return m->nnames > 0 && std::string(m->names) == "apal_leg";
-}
-
 sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
   sim::ChainSimConfig c;
   c.model_path = s.model_path;

@@ -229,14 +229,12 @@ std::string renderMedia(const ProtocolResult& r, const std::string& dir, bool ra
   };
   const ident::LegConstants lc{r.truths.lt_m, r.truths.g_mps2};
   const Eigen::MatrixX2d pred = ident::predictTorque(rec.processed, shown->outcome.x, lc);
-  full.tau_hip_pred_Nm = placed(pred.col(0));
-  full.tau_knee_pred_Nm = placed(pred.col(1));
+  for (Eigen::Index j = 0; j < 2; ++j) full.joints[static_cast<std::size_t>(j)].tau_pred_Nm = placed(pred.col(j));
   full.prediction_name = toString(shown->variant);
   // Beside the prediction, the torque it was fitted to (filtered, as the methods saw it): the raw
   // record's sensor noise swings far wider than any model's error.
   if (!raw_torque) {
-    full.tau_hip_Nm = placed(rec.processed.tau_Nm.col(0));
-    full.tau_knee_Nm = placed(rec.processed.tau_Nm.col(1));
+    for (Eigen::Index j = 0; j < 2; ++j) full.joints[static_cast<std::size_t>(j)].tau_Nm = placed(rec.processed.tau_Nm.col(j));
     full.torque_name = "filtered";
   }
   // The clip: the first 3 s after the trimmed edge (where predictions exist).
@@ -246,11 +244,8 @@ std::string renderMedia(const ProtocolResult& r, const std::string& dir, bool ra
   auto cut = [&](std::vector<double>& v) {
     if (!v.empty()) v = std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(first), v.begin() + static_cast<std::ptrdiff_t>(first + count));
   };
-  for (auto* v : {&clip.t_s, &clip.q_hip_rad, &clip.q_knee_rad, &clip.base_x_m, &clip.base_z_m, &clip.base_pitch_rad,
-                  &clip.tau_hip_Nm, &clip.tau_knee_Nm, &clip.tau_hip_pred_Nm, &clip.tau_knee_pred_Nm}) {
-    cut(*v);
-  }
-  for (double v : clip.tau_hip_Nm) {
+  for (std::vector<double>* v : clip.series()) cut(*v);
+  for (double v : clip.joints.front().tau_Nm) {
     if (!std::isfinite(v)) throw std::logic_error("reproduce clip: a processed torque row is missing inside the clip");
   }
   render::ClipOptions o;

@@ -121,7 +121,7 @@ void SweepConfig::setModel(const std::string& name_or_path, const std::string& o
                            "(motors on its hinge joints, as models/leg3.xml)");
   }
   try {
-    if (isApalLegModel(path)) return;
+    if (sim::isApalLegModel(path)) return;
   } catch (const std::exception& e) {
     throw SweepConfigError(where(*this, "sweep.model") + ": " + e.what());
   }

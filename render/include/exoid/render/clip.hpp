@@ -1,10 +1,13 @@
 #pragma once
-// A track rendered frame by frame: to an MP4 (ffmpeg) or to one PNG still.
-#include "exoid/render/leg_scene.hpp"
+// A track rendered frame by frame, for any robot (scene.hpp): to an MP4 (ffmpeg) or to one PNG
+// still.
 #include "exoid/render/offscreen_renderer.hpp"
 #include "exoid/render/overlay.hpp"
+#include "exoid/render/scene.hpp"
 #include "exoid/render/track.hpp"
 
+#include <memory>
+#include <optional>
 #include <string>
 
 namespace exoid::render {
@@ -14,12 +17,14 @@ struct ClipOptions {
   OverlayOptions overlay;
   bool overlay_enabled = true;
   double fps = 30.0;                               ///< frames per second, in (0, 240]
+  /// The robot's MJCF: the APAL leg's (posed by the track's hip and knee and its pedestal) or any
+  /// chain's (posed by the track's joint names).
   std::string model_path = sim::defaultModelPath();
-  /// Multiplies the pedestal mount coordinates when drawing (1 = true size); >= 0.
+  /// Multiplies the APAL pedestal's mount coordinates when drawing (1 = true size); >= 0.
   double base_motion_gain = 1.0;
-  /// Fit the camera to the volume the rig sweeps over the track (render/framing.hpp), so the leg
-  /// stays in frame whatever the motion; with the overlay's plots on, the leg keeps to the left
-  /// 55 % of the image. false: render.camera as given.
+  /// Fit the camera to the volume the robot sweeps over the track (render/framing.hpp), so it
+  /// stays in frame whatever the motion; with the overlay's plots on, it keeps to the left 55 % of
+  /// the image. false: render.camera as given.
   bool auto_frame = true;
   /// ffmpeg executable: a name looked up in PATH, or a path.
   std::string ffmpeg = "ffmpeg";
@@ -29,7 +34,7 @@ struct ClipOptions {
 /// Frame source: a scene posed from the track and a renderer, created once.
 class TrackRenderer {
  public:
-  /// Validates the track and options; throws like LegScene and OffscreenRenderer.
+  /// Validates the track and options; throws like openScene and OffscreenRenderer.
   TrackRenderer(const Track& track, const ClipOptions& options);
   /// The renderer keeps a reference to the track: a temporary would dangle.
   TrackRenderer(Track&& track, const ClipOptions& options) = delete;
@@ -45,9 +50,9 @@ class TrackRenderer {
   const Track& track_;
   ClipOptions options_;
   int frames_;
-  LegScene scene_;
+  std::unique_ptr<Scene> scene_;
   OffscreenRenderer renderer_;
-  OverlayBuilder overlay_;
+  std::optional<OverlayBuilder> overlay_;  // when the options draw it
 };
 
 struct ClipSummary {

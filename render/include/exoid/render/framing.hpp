@@ -1,22 +1,22 @@
 #pragma once
-// A camera that keeps the whole leg in view over a track: the volume the rig's bodies sweep in
+// A camera that keeps the whole robot in view over a track: the volume its bodies sweep in
 // the sagittal plane, fitted into a chosen part of the image (the overlay's plots take the
 // right-hand side).
-#include "exoid/render/leg_scene.hpp"
 #include "exoid/render/offscreen_renderer.hpp"
+#include "exoid/render/scene.hpp"
 #include "exoid/render/track.hpp"
 
 #include <array>
 
 namespace exoid::render {
 
-/// World x (anterior) and z (up) extents of every geom of the trunk and the bodies below it (the
-/// leg, the cylinder and rod; not the pedestal), over `samples` rows of the track spread evenly,
-/// first and last included.
+/// World x (anterior) and z (up) extents of the scene's framed geoms (Scene::framed: the APAL leg's
+/// trunk and all below it, not the pedestal; a chain's moving bodies), over `samples` rows of the
+/// track spread evenly, first and last included.
 struct SweptBox {
   double x_min = 0.0, x_max = 0.0, z_min = 0.0, z_max = 0.0;
 };
-SweptBox sweptBox(LegScene& scene, const Track& track, double base_motion_gain = 1.0, int samples = 240);
+SweptBox sweptBox(Scene& scene, const Track& track, int samples = 240);
 
 /// The camera of `camera` (azimuth, elevation, lookat's y kept) moved so that `box` fills at
 /// most `width_fraction` of the image width from the left and 90 % of its height, for a

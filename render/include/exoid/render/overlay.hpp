@@ -36,44 +36,17 @@ struct OverlayOptions {
   void validate() const;        ///< throws std::invalid_argument naming the field
 };
 
-/// One joint of what the overlay shows: its angle and torques at every sample of the track.
-struct OverlayJoint {
-  std::string name;                ///< "hip", "knee", "ankle", ...: the lines' and panels' labels
-  std::vector<double> q_rad;       ///< the angle (full size)
-  std::vector<double> tau_Nm;      ///< measured torque: empty, or full size for every joint
-  std::vector<double> tau_pred_Nm;  ///< predicted torque: empty, or full size for every joint (NaN = none at that sample)
-};
-
-/// What the overlay of any robot shows, on a uniform time axis: the APAL leg's Track (hip, knee,
-/// pedestal) or any serial chain's joints.
-struct OverlayTrack {
-  std::string title;
-  std::vector<double> t_s;
-  std::vector<OverlayJoint> joints;
-  std::vector<double> base_x_m, base_z_m;  ///< pedestal position: empty, or full size
-  std::string torque_name = "measured";
-  std::string prediction_name = "identified";
-  bool hasTorque() const { return !joints.empty() && !joints.front().tau_Nm.empty(); }
-  bool hasPrediction() const { return !joints.empty() && !joints.front().tau_pred_Nm.empty(); }
-  bool hasBase() const { return !base_x_m.empty(); }
-  /// Throws std::invalid_argument naming the joint and series whose size is not t_s's, or < 2 samples.
-  void validate() const;
-};
-
-/// The APAL leg's track as the overlay sees it: hip and knee, and the pedestal.
-OverlayTrack overlayTrackOf(const Track& track);
-
 /// Builds the overlay of any row of one track: a text line per joint's angle (and torques), and a
 /// torque panel per joint. The plots' y ranges are fixed over the whole track (no jumping axes);
 /// the x range is [t - window, t] once t > window, else [t0, t0 + window].
 class OverlayBuilder {
  public:
-  OverlayBuilder(const Track& track, const OverlayOptions& options);
-  OverlayBuilder(OverlayTrack track, const OverlayOptions& options);
+  /// Throws std::invalid_argument as Track::validate and OverlayOptions::validate.
+  OverlayBuilder(Track track, const OverlayOptions& options);
   Overlay at(std::size_t row) const;
 
  private:
-  OverlayTrack track_;
+  Track track_;
   OverlayOptions options_;
   std::vector<std::array<double, 2>> y_range_;  // per joint
 };

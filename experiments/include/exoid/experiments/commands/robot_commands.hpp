@@ -19,9 +19,6 @@
 
 namespace exoid::experiments {
 
-/// True when the MJCF at `path` is the APAL leg (its <mujoco model="apal_leg">, as the built-in
-/// models/apal_leg.xml and copies of it): its own simulator (four-bar, pedestal) runs it.
-bool isApalLegModel(const std::string& path);
 
 /// The chain simulator's settings from `exoid simulate`'s (model, duration, dt, encoder noise and
 /// resolution, torque noise, seed); the chain-only ones keep their defaults.
