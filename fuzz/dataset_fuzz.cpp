@@ -4,8 +4,9 @@
 #include "fuzz_support.hpp"
 
 #include "exoid/ident/io/dataset.hpp"
+#include "exoid/ident/model/robot.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
-#include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/processing.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -65,8 +66,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   s.differentiation = Differentiation::kCentral4;
   s.cutoff_from_data = s.derivative_cutoff_from_data = (data[0] & 16) != 0;
   try {
-    const ProcessedRecord r = processRecord(d, LegConstants{0.45, 9.81}, s);
-    EXOID_FUZZ_CHECK(r.hip.allFinite() && r.knee.allFinite() && r.tau_Nm.allFinite());
+    const RecordRows r = processRecord(d, twoLinkLeg(LegConstants{0.45, 9.81}), s);
+    EXOID_FUZZ_CHECK(r.W.allFinite() && r.y.allFinite() && r.W.rows() == r.y.size());
   } catch (const std::invalid_argument&) {
   }
   return 0;

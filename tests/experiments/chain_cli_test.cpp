@@ -122,6 +122,28 @@ TEST(ChainCli, TruthOfAChainIsItsOwnParameters) {
   EXPECT_FALSE(m.contains("parameters"));
 }
 
+// The chain's twin of IdentifyCli.AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsTheKneeRecord:
+// a leg3 record whose hip is locked does not determine the base parameters of the thigh and the
+// hip joint, whatever the condition number reads: exit 3 naming them; the segmental strategy
+// takes the same record as its knee stage.
+TEST(ChainCli, AHipLockedRecordExitsThreeNamingTheHipsBaseParameters) {
+  const std::string dir = ::testing::TempDir() + "/hip_locked_chain";
+  std::filesystem::create_directories(dir);
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "6", "--seed", "4", "--lock", "hip", "--out", dir + "/locked.csv"}), 0);
+  EXPECT_EQ(runExoid({"identify", "--model", "leg3", "--data", dir + "/locked.csv", "--json", dir + "/locked.json"}), 3);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json j = readJson(dir + "/locked.json");
+  const nlohmann::json& names = j["determination"]["not_determined"];
+  ASSERT_GE(names.size(), 3u) << j["determination"];
+  for (const auto& n : names) {
+    const std::string s = n.get<std::string>();
+    EXPECT_TRUE(s.rfind("thigh.", 0) == 0 || s.rfind("hip.", 0) == 0) << s;
+  }
+  EXPECT_FALSE(j["determination"]["records"][0]["joints_rad"][0]["moved"].get<bool>());
+  EXPECT_NE(j["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << j["problems"];
+}
+
 TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   // The paper's strategy on the 3-DOF leg: an ankle record with hip and knee locked, a knee record
   // with the hip locked, then every joint. Exact records (sgn Coulomb, recorded derivatives): every

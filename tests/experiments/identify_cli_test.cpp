@@ -172,6 +172,30 @@ TEST(IdentifyCli, RankDeficientRecordExitsWithCode3AndNamesParameters) {
   EXPECT_EQ(readJson(out)["status"], "not_usable");
 }
 
+// The paper's knee-only motion (trajectory 1) on the simulated rig: the hip never moves and its
+// torque is the lock's. The review measured exit 0 with Mxt -28.6 (standard error 110) and fv1
+// 5579 (7.7e4): column scaling brought the condition number to 3579, under --max-condition. The
+// record does not determine the hip's parameters, whatever the condition number reads: exit 3
+// naming them; the same record as the segmental strategy's knee record fits.
+TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsTheKneeRecord) {
+  const std::string dir = ::testing::TempDir();
+  const std::string t1 = dir + "/hip_locked_t1.csv", t3 = dir + "/both_t3.csv", out = dir + "/hip_locked.json";
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "1", "--duration", "5", "--seed", "8", "--out", t1}), 0);
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "9", "--out", t3}), 0);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", t1, "--method", "ls", "--json", out}), 3);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("not determined by the records' motion: Mxt, Myt, Jt, fc1, fv1 (hip held"), std::string::npos) << err;
+  const nlohmann::json j = readJson(out);
+  EXPECT_EQ(j["status"], "not_usable");
+  EXPECT_EQ(j["determination"]["not_determined"], nlohmann::json({"Mxt", "Myt", "Jt", "fc1", "fv1"}));
+  EXPECT_FALSE(j["determination"]["records"][0]["joints_rad"][0]["moved"].get<bool>());
+  EXPECT_TRUE(j["determination"]["records"][0]["joints_rad"][1]["moved"].get<bool>());
+  EXPECT_EQ(runExoid({"identify", "--knee-data", t1, "--both-data", t3, "--method", "ls", "--json", out}), 0);
+  EXPECT_TRUE(readJson(out)["determination"]["not_determined"].empty());
+  EXPECT_EQ(runExoid({"identify", "--data", t3, "--method", "ls", "--json", out}), 0);
+}
+
 TEST(IdentifyCli, BadCsvNamesFileLineAndColumn) {
   const std::string csv = ::testing::TempDir() + "/bad.csv";
   std::ofstream(csv) << "t,q_hip,q_knee,tau_hip,tau_knee\n0,0,0,0,0\n0.001,0,x,0,0\n";

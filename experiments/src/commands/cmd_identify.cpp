@@ -483,7 +483,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        const std::vector<MethodOutcome>& outcomes,
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                        const std::map<std::string, ident::ParamVector>& truths,
-                       const std::optional<BandSensitivity>& sensitivity) {
+                       const std::optional<BandSensitivity>& sensitivity, const ident::Robot& robot,
+                       const ident::Determination& determination) {
   const bool single = !a.data.empty();
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -506,7 +507,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   // The first method's estimate at top level, for tools that expect one answer.
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
-  j["status"] = problemsOf(outcomes.front()).empty() ? "usable" : "not_usable";
+  j["determination"] = determinationJson(robot, determination);
+  j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = sensitivityJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
@@ -590,7 +592,29 @@ struct LegRecords {
   ident::LegConstants c;
   ident::Robot robot;  ///< the 2-link leg of c (with the knee armature when asked)
   std::string constants_origin;
+  /// What the records' motion determines: one fit of every parameter from both equations; or,
+  /// segmental, the knee equation's parameters from the knee records and the rest from the
+  /// both-joint records' hip equation.
+  ident::Determination determination;
 };
+
+ident::Determination legDetermination(const LegRecords& r, bool segmental) {
+  const int p = r.robot.parameters();
+  std::vector<int> all(static_cast<std::size_t>(p));
+  for (int i = 0; i < p; ++i) all[static_cast<std::size_t>(i)] = i;
+  if (!segmental) return ident::determination(r.robot, r.primary.data, r.primary.rows, all);
+  const std::vector<int>& knee_params = r.robot.joint_columns[1];
+  std::vector<int> hip_params;
+  for (int i : all) {
+    if (std::find(knee_params.begin(), knee_params.end(), i) == knee_params.end()) hip_params.push_back(i);
+  }
+  ident::Determination d = ident::determination(r.robot, r.knee.data, r.knee.rows, knee_params, {1});
+  const ident::Determination hip = ident::determination(r.robot, r.primary.data, r.primary.rows, hip_params, {0});
+  d.records.insert(d.records.end(), hip.records.begin(), hip.records.end());
+  d.undetermined.insert(d.undetermined.end(), hip.undetermined.begin(), hip.undetermined.end());
+  std::sort(d.undetermined.begin(), d.undetermined.end());
+  return d;
+}
 
 LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {
   const bool single = !a.data.empty();
@@ -605,6 +629,8 @@ LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {
   std::cout << "constants: Lt " << fmt(r.c.thigh_length_m) << " m, g " << fmt(r.c.gravity_mps2) << " m/s^2 (" << r.constants_origin << ")\n";
   r.robot = ident::twoLinkLeg(r.c, a.knee_armature);
   processRoles(log, r.robot, a.signals, !single, r.primary, r.knee);
+  r.determination = legDetermination(r, !single);
+  if (const std::string p = undeterminedProblem(r.robot, r.determination); !p.empty()) std::cout << p << '\n';
   return r;
 }
 
@@ -694,8 +720,12 @@ void run(const IdentifyArgs& a) {
   printResults(a.timing, outcomes, validations, truths);
   printConsistency(outcomes);
   if (sensitivity) printSensitivity(*sensitivity);
-  if (!a.json_out.empty()) writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity);
-  if (const std::string problems = problemsOf(outcomes); !problems.empty()) throw UnusableResult(problems);
+  if (!a.json_out.empty()) {
+    writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination);
+  }
+  std::string problems = undeterminedProblem(r.robot, r.determination);
+  if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;
+  if (!problems.empty()) throw UnusableResult(problems);
 }
 
 }  // namespace

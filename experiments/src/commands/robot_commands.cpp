@@ -550,11 +550,15 @@ int identifyChain(const ChainIdentifyArgs& a) {
   std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
   core::prepareOutputFile(a.plot);
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
+  const ident::RecordRows stacked = ident::stackRecords(fit.records);
+  std::vector<int> every(static_cast<std::size_t>(base.rank));
+  for (int i = 0; i < base.rank; ++i) every[static_cast<std::size_t>(i)] = i;
+  const ident::Determination determination = ident::determination(loaded.robot, data, stacked, every);
+  if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) std::cout << p << '\n';
   data.clear();
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
-  const ident::RecordRows stacked = ident::stackRecords(fit.records);
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
@@ -563,12 +567,17 @@ int identifyChain(const ChainIdentifyArgs& a) {
 
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
-  const ChainVerdict verdict = verdictOf(a, base, est, others);
+  ChainVerdict verdict = verdictOf(a, base, est, others);
+  if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) verdict.problems.insert(verdict.problems.begin(), p);
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   }
   printChainEstimates(base, est, others, truth, verdict.mahalanobis);
-  if (!a.json_out.empty()) writeJsonFile(a.json_out, chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict));
+  if (!a.json_out.empty()) {
+    nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict);
+    j["determination"] = determinationJson(loaded.robot, determination);
+    writeJsonFile(a.json_out, j);
+  }
   throwIfUnusable(verdict.problems);
   return 0;
 }

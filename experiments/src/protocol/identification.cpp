@@ -360,4 +360,27 @@ nlohmann::json readJsonFile(const std::string& path) {
   }
 }
 
+nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d) {
+  const auto signals = [](const std::vector<ident::SignalMotion>& list) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const ident::SignalMotion& m : list) {
+      out.push_back({{"name", m.name}, {"range", m.range}, {"noise", m.noise}, {"floor", m.floor}, {"moved", m.moved()}});
+    }
+    return out;
+  };
+  nlohmann::json records = nlohmann::json::array();
+  for (const ident::RecordMotion& r : d.records) {
+    records.push_back({{"joints_rad", signals(r.joints)}, {"base_imu", signals(r.base)}, {"base_moved", r.baseMoved()}});
+  }
+  std::vector<std::string> names;
+  for (int i : d.undetermined) names.push_back(robot.names()[static_cast<std::size_t>(i)]);
+  return {{"records", records}, {"not_determined", names}};
+}
+
+std::string undeterminedProblem(const ident::Robot& robot, const ident::Determination& d) {
+  if (d.undetermined.empty()) return "";
+  return "not determined by the records' motion: " + d.describe(robot) +
+         "; fit them from a record that moves their joints, or leave them to another stage";
+}
+
 }  // namespace exoid::experiments

@@ -23,8 +23,9 @@ const char* toString(BaseTerms b) {
   return "unknown";
 }
 
-namespace {
 const char* const kBaseColumns[3] = {"base_acc_x", "base_acc_z", "base_gyro_y"};
+
+namespace {
 const char* const kBaseAlphaColumn = "base_alpha_y";  // optional: the pitch acceleration, recorded
 }
 

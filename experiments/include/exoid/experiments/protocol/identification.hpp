@@ -6,6 +6,7 @@
 #include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/leg/metrics.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/model/determination.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
 #include <nlohmann/json.hpp>
@@ -128,5 +129,12 @@ nlohmann::json readJsonFile(const std::string& path);
 /// A JSON file the user gave (a controller, a design, a truth, an identification), `what` naming
 /// it: std::invalid_argument "PATH: cannot open the WHAT" or "PATH: not valid JSON: ...".
 nlohmann::json readUserJsonFile(const std::string& path, const std::string& what);
+
+/// Which parameters the records determine by their own motion (ident/model/determination.hpp),
+/// as identify's JSON gives it: each record's joints (range, noise, floor, moved) and the
+/// parameters not determined.
+nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d);
+/// identify's exit-3 reason when some requested parameter is not determined ("" when all are).
+std::string undeterminedProblem(const ident::Robot& robot, const ident::Determination& d);
 
 }  // namespace exoid::experiments

@@ -36,7 +36,9 @@ enum class BaseTerms {
   kOn,    ///< required: a dataset without them is an error
 };
 const char* toString(BaseTerms b);  ///< "off", "auto", "on"
-/// True when the dataset has base_acc_x, base_acc_z and base_gyro_y.
+/// The IMU's columns: base_acc_x, base_acc_z, base_gyro_y.
+extern const char* const kBaseColumns[3];
+/// True when the dataset has kBaseColumns.
 bool hasBaseColumns(const Dataset& d);
 
 struct SignalOptions {

@@ -1,0 +1,190 @@
+#include "exoid/ident/model/determination.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/ident/signals/preprocess.hpp"
+
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace exoid::ident {
+
+namespace {
+
+// A joint moving less than this share of the record's widest joint motion is held (a lock's
+// give, a held joint's tracking error): no dynamics is identified from it.
+constexpr double kRelativeFloor = 1e-3;
+// Frozen rows evaluated per record: a rank test, not a fit.
+constexpr Eigen::Index kMaxSamplesPerRecord = 2000;
+// Singular values below this share of the largest (column-scaled rows) are null directions, and a
+// parameter is undetermined when a unit null direction has a component above kTouch along it.
+constexpr double kRankTolerance = 1e-9;
+constexpr double kTouch = 1e-3;
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// A signal's noise standard deviation from its second differences (white noise of variance s^2
+// gives differences of variance 6 s^2; a smooth motion's are ~qdd dt^2), robustly (MAD).
+double noiseOf(const Eigen::VectorXd& q) {
+  std::vector<double> d2(static_cast<std::size_t>(q.size() - 2));
+  for (Eigen::Index i = 0; i + 2 < q.size(); ++i) d2[static_cast<std::size_t>(i)] = q[i + 2] - 2.0 * q[i + 1] + q[i];
+  const double m = median(d2);
+  for (double& x : d2) x = std::abs(x - m);
+  return 1.4826 * median(d2) / std::sqrt(6.0);
+}
+
+}  // namespace
+
+bool RecordMotion::baseMoved() const {
+  return std::any_of(base.begin(), base.end(), [](const SignalMotion& m) { return m.moved(); });
+}
+
+RecordMotion recordMotion(const Dataset& d) {
+  const Eigen::Index n = d.size();
+  if (n < 3) throw std::invalid_argument("motion of a record: expected at least 3 samples, got " + core::toText(n));
+  // The range n samples of the noise alone span (the expected range of n normal draws is about
+  // 2 sqrt(2 ln n) standard deviations), with 2 more for the spread of that range.
+  const double noise_span = 2.0 * std::sqrt(2.0 * std::log(static_cast<double>(n))) + 2.0;
+  const auto motion = [&](const std::string& name, const Eigen::VectorXd& x) {
+    SignalMotion m;
+    m.name = name;
+    m.range = x.maxCoeff() - x.minCoeff();
+    m.noise = noiseOf(x);
+    m.floor = noise_span * m.noise;
+    return m;
+  };
+  RecordMotion out;
+  double widest = 0.0;
+  for (Eigen::Index j = 0; j < d.dof(); ++j) {
+    out.joints.push_back(motion(d.joints[static_cast<std::size_t>(j)], d.q_rad.col(j)));
+    widest = std::max(widest, out.joints.back().range);
+  }
+  for (SignalMotion& m : out.joints) m.floor = std::max(m.floor, kRelativeFloor * widest);
+  if (hasBaseColumns(d)) {
+    for (const char* c : kBaseColumns) out.base.push_back(motion(c, d.extraColumn(c)));
+  }
+  return out;
+}
+
+Determination determination(const Robot& robot, const std::vector<Dataset>& records, const RecordRows& rows,
+                            const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations_in) {
+  const Eigen::Index dof = robot.dof();
+  std::vector<Eigen::Index> equations = equations_in;
+  if (equations.empty()) {
+    equations.resize(static_cast<std::size_t>(dof));
+    std::iota(equations.begin(), equations.end(), Eigen::Index{0});
+  }
+  if (rows.dof != dof || rows.record_rows.size() != records.size()) {
+    throw std::invalid_argument("determination: " + core::toText(records.size()) + " records but rows of " +
+                                core::toText(rows.record_rows.size()) + " records of a " + core::toText(rows.dof) + "-joint robot");
+  }
+  Determination out;
+  // Each record's rows at up to kMaxSamplesPerRecord of its samples, its held joints frozen.
+  std::vector<Eigen::MatrixXd> blocks;
+  Eigen::Index first_sample = 0;
+  RobotWorkspace work;
+  Eigen::MatrixXd Y(dof, robot.parameters());
+  for (std::size_t r = 0; r < records.size(); ++r) {
+    out.records.push_back(recordMotion(records[r]));
+    const Eigen::Index samples = rows.record_rows[r] / dof;
+    JointSignals s;
+    s.q_rad = rows.states.q_rad.middleRows(first_sample, samples);
+    s.qd_radps = rows.states.qd_radps.middleRows(first_sample, samples);
+    s.qdd_radps2 = rows.states.qdd_radps2.middleRows(first_sample, samples);
+    if (rows.states.base.rows() > 0) s.base = rows.states.base.middleRows(first_sample, samples);
+    s.t_s = rows.states.t_s.segment(first_sample, samples);
+    s.tau_Nm = rows.states.tau_Nm.middleRows(first_sample, samples);
+    first_sample += samples;
+    const RecordMotion& motion = out.records.back();
+    for (Eigen::Index j = 0; j < dof; ++j) {
+      if (motion.joints[static_cast<std::size_t>(j)].moved()) continue;
+      s.q_rad.col(j).setConstant(s.q_rad.col(j).mean());
+      s.qd_radps.col(j).setZero();
+      s.qdd_radps2.col(j).setZero();
+    }
+    if (s.base.rows() > 0 && !motion.baseMoved()) {
+      // Columns (f_x, f_z, omega, alpha): the mean specific force, no rotation.
+      for (Eigen::Index c = 0; c < 2; ++c) s.base.col(c).setConstant(s.base.col(c).mean());
+      s.base.rightCols(2).setZero();
+    }
+    const Eigen::Index step = std::max<Eigen::Index>(1, (samples + kMaxSamplesPerRecord - 1) / kMaxSamplesPerRecord);
+    const Eigen::Index kept = (samples + step - 1) / step;
+    Eigen::MatrixXd block(kept * static_cast<Eigen::Index>(equations.size()), static_cast<Eigen::Index>(unknowns.size()));
+    for (Eigen::Index k = 0; k < kept; ++k) {
+      const Eigen::Index i = k * step;
+      robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
+                    baseMotionAt(robot, s, i), work, Y);
+      for (std::size_t e = 0; e < equations.size(); ++e) {
+        for (std::size_t u = 0; u < unknowns.size(); ++u) {
+          block(k * static_cast<Eigen::Index>(equations.size()) + static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(u)) =
+              Y(equations[e], unknowns[u]);
+        }
+      }
+    }
+    blocks.push_back(std::move(block));
+  }
+  Eigen::Index total = 0;
+  for (const Eigen::MatrixXd& b : blocks) total += b.rows();
+  Eigen::MatrixXd H(total, static_cast<Eigen::Index>(unknowns.size()));
+  Eigen::Index at = 0;
+  for (const Eigen::MatrixXd& b : blocks) {
+    H.middleRows(at, b.rows()) = b;
+    at += b.rows();
+  }
+  // Column-scaled; a zero column is a parameter no row involves.
+  std::vector<bool> undetermined(unknowns.size(), false);
+  for (Eigen::Index c = 0; c < H.cols(); ++c) {
+    const double norm = H.col(c).norm();
+    if (norm > 0.0) {
+      H.col(c) /= norm;
+    } else {
+      undetermined[static_cast<std::size_t>(c)] = true;
+    }
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(H, Eigen::ComputeThinV);
+  const Eigen::VectorXd& sv = svd.singularValues();
+  const double top = sv.size() ? sv[0] : 0.0;
+  for (Eigen::Index k = 0; k < sv.size(); ++k) {
+    if (sv[k] > kRankTolerance * top) continue;
+    for (Eigen::Index c = 0; c < H.cols(); ++c) {
+      if (std::abs(svd.matrixV()(c, k)) > kTouch) undetermined[static_cast<std::size_t>(c)] = true;
+    }
+  }
+  for (std::size_t u = 0; u < unknowns.size(); ++u) {
+    if (undetermined[u]) out.undetermined.push_back(unknowns[u]);
+  }
+  std::sort(out.undetermined.begin(), out.undetermined.end());
+  return out;
+}
+
+std::string Determination::describe(const Robot& robot) const {
+  if (undetermined.empty()) return "";
+  std::string s;
+  for (std::size_t i = 0; i < undetermined.size(); ++i) s += (i ? ", " : "") + robot.names()[static_cast<std::size_t>(undetermined[i])];
+  std::string held;
+  const std::size_t joints = records.empty() ? 0 : records.front().joints.size();
+  for (std::size_t j = 0; j < joints; ++j) {
+    bool always = true;
+    double range = 0.0, floor = 0.0;
+    for (const RecordMotion& r : records) {
+      always = always && !r.joints[j].moved();
+      range = std::max(range, r.joints[j].range);
+      floor = std::max(floor, r.joints[j].floor);
+    }
+    if (always) {
+      held += std::string(held.empty() ? "" : "; ") + records.front().joints[j].name + " held in every record (range " +
+              core::formatNumber(range, 3) + " rad, floor " + core::formatNumber(floor, 3) + " rad)";
+    }
+  }
+  return s + (held.empty() ? std::string(" (no motion of the records separates them)") : " (" + held + ")");
+}
+
+}  // namespace exoid::ident
