@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <vector>
 
 namespace exoid::experiments::stats {
 namespace {
@@ -96,6 +98,49 @@ TEST(Stats, MinimalDetectableDifferenceMatchesTheLargeSampleFormula) {
   EXPECT_TRUE(std::isnan(minimalDetectableDifference(1.0, 1)));
 }
 
+
+TEST(Stats, CoverageOfAKnownSampleAndItsWilsonInterval) {
+  // Errors 0, 1, 3 with sigma 1 (and two pairs without a usable sigma, skipped): |z| <= 1.96 for
+  // two of three. Wilson (z = 1.96, n = 3, p = 2/3): centre (p + z^2/6) / (1 + z^2/3), half-width
+  // z / (1 + z^2/3) sqrt(p (1 - p) / 3 + z^2 / 36), by hand: [0.2077, 0.9385].
+  const stats::Coverage c = stats::coverageOf({0.0, 1.0, 3.0, 5.0, 7.0}, {1.0, 1.0, 1.0, 0.0, NAN});
+  EXPECT_EQ(c.n, 3);
+  EXPECT_DOUBLE_EQ(c.share, 2.0 / 3.0);
+  EXPECT_NEAR(c.low, 0.2077, 5e-5);
+  EXPECT_NEAR(c.high, 0.9385, 5e-5);
+  EXPECT_DOUBLE_EQ(c.mean_error_over_sigma, 4.0 / 3.0);
+  EXPECT_NEAR(c.sd_over_mean_sigma, std::sqrt(7.0 / 3.0), 1e-12);  // sample std of 0, 1, 3
+  // All held: the interval reaches 1 and stays inside [0, 1]; none: NaN.
+  const stats::Coverage all = stats::coverageOf({0.1, -0.2, 0.3, 0.0}, {1.0, 1.0, 1.0, 1.0});
+  EXPECT_EQ(all.share, 1.0);
+  EXPECT_EQ(all.high, 1.0);
+  EXPECT_NEAR(all.low, 4.0 / (4.0 + 1.959963984540054 * 1.959963984540054), 1e-12);  // n / (n + z^2) when p = 1
+  EXPECT_TRUE(std::isnan(stats::coverageOf({}, {}).share));
+}
+
+TEST(Stats, HonestSigmasCoverNinetyFivePercentAndABiasIsSeen) {
+  // 20000 normal errors of known sigma: the share within 1.96 sigma is 0.95 to its binomial
+  // spread (0.0015); shifted by 2 sigma, 0.484 (Phi(-0.04) - Phi(-3.96)), mean error 2 sigma.
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  std::vector<double> e, biased, s;
+  for (int k = 0; k < 20000; ++k) {
+    const double sigma = 0.5 + (k % 4);
+    const double x = sigma * n(gen);
+    e.push_back(x);
+    biased.push_back(x + 2.0 * sigma);
+    s.push_back(sigma);
+  }
+  const stats::Coverage honest = stats::coverageOf(e, s), off = stats::coverageOf(biased, s);
+  EXPECT_NEAR(honest.share, 0.95, 4 * 0.0015);
+  // The Wilson interval about the share: for large n, -+ 1.96 sqrt(p (1 - p) / n).
+  const double half = 1.959963984540054 * std::sqrt(honest.share * (1 - honest.share) / 20000.0);
+  EXPECT_NEAR(honest.high - honest.low, 2 * half, 1e-3 * half);
+  EXPECT_NEAR(0.5 * (honest.low + honest.high), honest.share, 1e-3);
+  EXPECT_NEAR(honest.mean_error_over_sigma, 0.0, 4 / std::sqrt(20000.0));
+  EXPECT_NEAR(off.share, 0.484, 4 * 0.0036);
+  EXPECT_NEAR(off.mean_error_over_sigma, 2.0, 4 / std::sqrt(20000.0));
+}
 
 TEST(Stats, MedianOfOddEvenAndEmptySamples) {
   EXPECT_EQ(stats::median({3.0, 1.0, 2.0}), 2.0);

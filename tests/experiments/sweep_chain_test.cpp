@@ -146,6 +146,7 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
   ASSERT_EQ(summary["conditions"].size(), 4u);
   std::map<int, std::vector<double>> ls_median;  // cell -> per seed
   std::map<int, std::vector<double>> ls_z2;      // cell -> sum over seeds of z^2, per parameter
+  std::map<int, std::vector<int>> ls_held;       // cell -> seeds whose x -+ 1.96 se held the truth, per parameter
   for (const auto& e : std::filesystem::directory_iterator(d + "/runs")) {
     const nlohmann::json j = exoid::test::readJson(e.path().string());
     ASSERT_EQ(j["status"], "ok") << j["message"];
@@ -162,9 +163,12 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
     std::vector<double> rel;
     std::vector<double>& z2 = ls_z2[j["cell"]];
     z2.resize(t.size(), 0.0);
+    std::vector<int>& held = ls_held[j["cell"]];
+    held.resize(t.size(), 0);
     for (std::size_t i = 0; i < t.size(); ++i) {
       if (std::abs(t[i]) > 1e-12 * scale) rel.push_back(std::abs(x[i] - t[i]) / std::abs(t[i]));
       z2[i] += (x[i] - t[i]) * (x[i] - t[i]) / (se[i] * se[i]);
+      held[i] += std::abs(x[i] - t[i]) <= 1.959963984540054 * se[i] ? 1 : 0;
     }
     ls_median[j["cell"]].push_back(medianOf(rel));
   }
@@ -175,7 +179,11 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
     ASSERT_EQ(m.size(), 2u);
     EXPECT_NEAR(ls["metrics"]["median_abs_rel_err"]["mean"].get<double>(), 0.5 * (m[0] + m[1]), 1e-15);
     for (std::size_t i = 0; i < leg3.base.names.size(); ++i) {
-      EXPECT_NEAR(ls["parameters"][leg3.base.names[i]]["z_rms"].get<double>(), std::sqrt(ls_z2[cell][i] / 2.0), 1e-12);
+      const nlohmann::json& p = ls["parameters"][leg3.base.names[i]];
+      EXPECT_NEAR(p["z_rms"].get<double>(), std::sqrt(ls_z2[cell][i] / 2.0), 1e-12);
+      if (!p.contains("coverage95")) continue;  // a noise-free cell's zero standard errors give no interval
+      EXPECT_EQ(p["coverage95"]["n"], 2);
+      EXPECT_DOUBLE_EQ(p["coverage95"]["share"].get<double>(), ls_held[cell][i] / 2.0) << leg3.base.names[i];
     }
     EXPECT_TRUE(c["methods"]["lad"].contains("vs_ls"));
     EXPECT_EQ(c["methods"]["lad"]["vs_ls"]["n"], 2);

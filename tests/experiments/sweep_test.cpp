@@ -30,6 +30,10 @@ TEST(Sweep, WritesEveryOutputWithOneRowPerRunAndMethod) {
   EXPECT_EQ(s["conditions"][0]["methods"]["ls"]["parameters"]["Mxt"]["crb_std"].get<double>(), 0.0);
   EXPECT_TRUE(s["conditions"][0]["methods"]["ls"]["rms_error_over_crb_max"].is_null());
   EXPECT_GT(s["conditions"][1]["methods"]["ls"]["parameters"]["Mxt"]["crb_std"].get<double>(), 0.0);
+  // Coverage of estimate -+ 1.96 CRB std: over the noisy cell's two seeds; none where the CRB is 0.
+  EXPECT_EQ(s["conditions"][1]["methods"]["ls"]["parameters"]["Mxt"]["coverage95"]["n"], 2);
+  EXPECT_EQ(s["conditions"][0]["methods"]["ls"]["parameters"]["Mxt"]["coverage95"]["n"], 0);
+  EXPECT_NE(slurp(d + "/summary.md").find("Coverage: seeds (%) whose estimate -+ 1.96 CRB std held the truth"), std::string::npos);
   const auto& rp = s["conditions"][1]["methods"]["rls-pso"];
   EXPECT_EQ(rp["n"], 2);
   EXPECT_EQ(rp["vs_ls"]["torque_err_mean"]["n"], 2);

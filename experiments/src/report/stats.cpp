@@ -101,6 +101,34 @@ double studentTQuantile(double p, double df) {
   return p > 0.5 ? q : -q;
 }
 
+Coverage coverageOf(const std::vector<double>& errors, const std::vector<double>& sigmas) {
+  constexpr double kZ = 1.959963984540054;  // the normal's 97.5 % quantile
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> e, z, s;
+  int held = 0;
+  for (std::size_t k = 0; k < errors.size() && k < sigmas.size(); ++k) {
+    if (!std::isfinite(errors[k]) || !std::isfinite(sigmas[k]) || !(sigmas[k] > 0.0)) continue;
+    e.push_back(errors[k]);
+    s.push_back(sigmas[k]);
+    z.push_back(errors[k] / sigmas[k]);
+    if (std::abs(z.back()) <= kZ) ++held;
+  }
+  Coverage c;
+  c.n = static_cast<int>(e.size());
+  if (c.n == 0) return {0, nan, nan, nan, nan, nan};
+  const double n = c.n, p = held / n, z2 = kZ * kZ;
+  c.share = p;
+  // Wilson's score interval: the binomial share's interval that stays inside [0, 1] and keeps its
+  // level near 0 and 1, where the normal approximation's does not.
+  const double centre = (p + z2 / (2 * n)) / (1 + z2 / n);
+  const double half = kZ / (1 + z2 / n) * std::sqrt(p * (1 - p) / n + z2 / (4 * n * n));
+  c.low = std::max(0.0, centre - half);
+  c.high = std::min(1.0, centre + half);
+  c.mean_error_over_sigma = mean(z);
+  c.sd_over_mean_sigma = sampleStd(e) / mean(s);
+  return c;
+}
+
 ConfidenceInterval meanCi(const std::vector<double>& x, double level) {
   ConfidenceInterval ci;
   ci.n = static_cast<int>(x.size());

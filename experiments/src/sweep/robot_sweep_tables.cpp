@@ -39,6 +39,7 @@ struct Row {
   std::vector<double> error;      ///< x - truth, per base parameter
   std::vector<double> rel_error;  ///< (x - truth) / |truth|, NaN where the truth is zero
   std::vector<double> z;          ///< LS: error / its standard error; else empty
+  std::vector<double> se;         ///< LS: its standard errors; else empty
   double median_abs_rel = kNaN, max_abs_rel = kNaN, torque_err = kNaN, val_rms = kNaN;
 };
 
@@ -93,6 +94,7 @@ std::vector<Row> rowsOf(const std::vector<nlohmann::json>& jobs, ParameterSets& 
       if (m.contains("std_error")) {
         const std::vector<double> se = m.at("std_error").get<std::vector<double>>();
         for (std::size_t i = 0; i < se.size() && i < r.error.size(); ++i) r.z.push_back(se[i] > 0.0 ? r.error[i] / se[i] : kNaN);
+        r.se = se;
       }
       if (!abs_rel.empty()) {
         r.median_abs_rel = stats::median(abs_rel);
@@ -155,6 +157,7 @@ struct MethodCell {
   PairedComparison rel, torque;
   std::vector<stats::ConfidenceInterval> rel_error;  // per base parameter (NaN-free values only)
   std::vector<double> abs_rel_median, abs_error_rms, z_rms;
+  std::vector<stats::Coverage> coverage;  ///< of estimate -+ 1.96 standard errors (LS; n = 0 for others)
 };
 
 struct CellTables {
@@ -175,10 +178,14 @@ MethodCell summarizeMethod(const std::string& method, const Replicates& reps, in
     m.metrics.push_back(stats::meanCi(x));
   }
   for (std::size_t i = 0; i < n_params; ++i) {
-    std::vector<double> rel, abs_rel;
+    std::vector<double> rel, abs_rel, errors, ses;
     double e2 = 0.0, z2 = 0.0;
     int zn = 0;
     for (const auto& [rep, row] : reps) {
+      if (i < row->se.size()) {
+        errors.push_back(row->error[i]);
+        ses.push_back(row->se[i]);
+      }
       if (std::isfinite(row->rel_error[i])) {
         rel.push_back(row->rel_error[i]);
         abs_rel.push_back(std::abs(row->rel_error[i]));
@@ -193,6 +200,7 @@ MethodCell summarizeMethod(const std::string& method, const Replicates& reps, in
     m.abs_rel_median.push_back(stats::median(abs_rel));
     m.abs_error_rms.push_back(reps.empty() ? kNaN : std::sqrt(e2 / static_cast<double>(reps.size())));
     m.z_rms.push_back(zn ? std::sqrt(z2 / zn) : kNaN);
+    m.coverage.push_back(stats::coverageOf(errors, ses));
   }
   if (ls && method != "ls") {
     std::vector<double> a_rel, b_rel, a_t, b_t;
@@ -266,7 +274,9 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
                      {"vs_ls", "paired Wilcoxon signed-rank test on the seeds both have (two-sided); win rate = share of seeds with the "
                                "lower value, ties 1/2; Holm over the cells, per method and score"},
                      {"parameters", "rel_err: signed (x - truth) / |truth| (null where the truth is zero); abs_err_rms: RMS of x - truth; z_rms: LS only, RMS over the "
-                                    "seeds of (x - truth) / its own standard error (1 when the standard errors are honest)"}};
+                                    "seeds of (x - truth) / its own standard error (1 when the standard errors are honest); coverage95: LS only, the "
+                                    "share of seeds whose x -+ 1.96 standard errors held the truth, its Wilson 95 % interval, the mean error and the "
+                                    "scatter in standard errors"}};
   // As the APAL sweep's summary.json: conditions, each with its methods and parameters by name.
   j["conditions"] = nlohmann::json::array();
   for (const CellTables& c : cells) {
@@ -289,6 +299,7 @@ nlohmann::json summaryJson(const SweepLayout& layout, const std::vector<CellTabl
       for (std::size_t i = 0; i < names.size(); ++i) {
         mj["parameters"][names[i]] = {{"rel_err", ciJson(m.rel_error[i])}, {"abs_rel_err_median", jsonNumber(m.abs_rel_median[i])},
                                       {"abs_err_rms", jsonNumber(m.abs_error_rms[i])}, {"z_rms", jsonNumber(m.z_rms[i])}};
+        if (m.coverage[i].n > 0) mj["parameters"][names[i]]["coverage95"] = coverageJson(m.coverage[i]);
       }
       cj["methods"][m.method] = mj;
     }
@@ -354,12 +365,15 @@ void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& ce
     for (const MethodCell& m : c.methods) {
       if (m.method == "ls") ls = &m;
     }
-    if (ls) md << "; LS z: RMS of error / LS's own standard error (1 when its standard errors are honest)";
+    if (ls) {
+      md << "; LS z: RMS of error / LS's own standard error (1 when its standard errors are honest); LS coverage: seeds (%) whose "
+            "estimate -+ 1.96 standard errors held the truth (nominal 95 %)";
+    }
     md << ".\n\n| base parameter | truth |";
     for (const MethodCell& m : c.methods) md << " " << m.method << " |";
-    if (ls) md << " LS z |";
+    if (ls) md << " LS z | LS coverage |";
     md << "\n|---|---|";
-    for (std::size_t i = 0; i < c.methods.size() + (ls ? 1 : 0); ++i) md << "---|";
+    for (std::size_t i = 0; i < c.methods.size() + (ls ? 2 : 0); ++i) md << "---|";
     md << "\n";
     for (std::size_t i = 0; i < names.size(); ++i) {
       md << "| " << names[i] << " | " << fmt(truth[i], 6) << " |";
@@ -367,8 +381,17 @@ void writeSummaryMd(const SweepLayout& layout, const std::vector<CellTables>& ce
         md << " " << (hasRelativeError(truth, i) ? pct(m.abs_rel_median[i]) : (std::isfinite(m.abs_error_rms[i]) ? fmt(m.abs_error_rms[i], 3) + " abs" : "-"))
            << " |";
       }
-      if (ls) md << " " << (std::isfinite(ls->z_rms[i]) ? fmt(ls->z_rms[i], 3) : "-") << " |";
+      if (ls) {
+        md << " " << (std::isfinite(ls->z_rms[i]) ? fmt(ls->z_rms[i], 3) : "-") << " | "
+           << (ls->coverage[i].n ? fixed(100.0 * ls->coverage[i].share, 0) : std::string("-")) << " |";
+      }
       md << "\n";
+    }
+    if (ls) {
+      const std::string short_of = coverageShortfall(names, ls->coverage);
+      md << "\n" << (short_of.empty() ? "LS covers every base parameter in at least " + fixed(100.0 * kCoverageShortfall, 0) + " % of the seeds.\n"
+                                       : "LS short of " + fixed(100.0 * kCoverageShortfall, 0) + " % (share [Wilson 95 %], the mean error and the "
+                                         "scatter in standard errors): " + short_of + "\n");
     }
     md << "\n";
   }

@@ -43,6 +43,27 @@ void holmAdjustFamily(const std::vector<PairedComparison*>& family) {
   }
 }
 
+nlohmann::json coverageJson(const stats::Coverage& c) {
+  return {{"n", c.n},
+          {"share", jsonNumber(c.share)},
+          {"wilson95_low", jsonNumber(c.low)},
+          {"wilson95_high", jsonNumber(c.high)},
+          {"mean_error_over_sigma", jsonNumber(c.mean_error_over_sigma)},
+          {"sd_over_mean_sigma", jsonNumber(c.sd_over_mean_sigma)}};
+}
+
+std::string coverageShortfall(const std::vector<std::string>& names, const std::vector<stats::Coverage>& coverage) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < coverage.size(); ++i) {
+    const stats::Coverage& c = coverage[i];
+    if (c.n == 0 || !(c.share < kCoverageShortfall)) continue;
+    out += (out.empty() ? "" : ", ") + names[i] + " " + fixed(100.0 * c.share, 0) + " % [" + fixed(100.0 * c.low, 0) + ", " +
+           fixed(100.0 * c.high, 0) + "] (mean error " + fmt(c.mean_error_over_sigma, 2) + " sigma, scatter " +
+           fmt(c.sd_over_mean_sigma, 2) + " sigma)";
+  }
+  return out;
+}
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -273,10 +294,12 @@ stats::ConfidenceInterval metricCi(const Replicates& reps, SweepMetric m) {
 // Parameter i over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
 // mean noise std (CRB) and RMS of error / CRB.
 ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
-  std::vector<double> rel, abs_rel, crb;
+  std::vector<double> rel, abs_rel, crb, errors, sigmas;
   double z2 = 0.0;
   int zn = 0;
   for (const auto& [rep, row] : reps) {
+    errors.push_back(row->abs_best_fit[i]);
+    sigmas.push_back(row->crb[i]);
     rel.push_back(row->rel_best_fit[i]);
     abs_rel.push_back(std::abs(row->rel_best_fit[i]));
     if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
@@ -291,6 +314,7 @@ ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
   p.abs_rel_err_max = abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end());
   p.crb_std = stats::mean(crb);
   p.rms_error_over_crb = zn ? std::sqrt(z2 / zn) : kNaN;
+  p.coverage = stats::coverageOf(errors, sigmas);
   return p;
 }
 
@@ -441,6 +465,9 @@ nlohmann::json statisticsJson() {
       {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
                   "(experiments::noiseStd); mean over the cell's seeds"},
       {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std of that seed"},
+      {"coverage95", "share of seeds whose estimate -+ 1.96 crb_std (that seed's) held the best fit truth, with its Wilson 95 % "
+                     "interval; mean_error_over_sigma: mean of (estimate - truth) / crb_std (the bias in those stds); "
+                     "sd_over_mean_sigma: sample std of the errors / mean crb_std (1 when crb_std is the scatter)"},
       {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
 }
 
@@ -465,7 +492,8 @@ nlohmann::json summaryJson(const ParameterStatistics& p) {
           {"abs_rel_err_median", jsonNumber(p.abs_rel_err_median)},
           {"abs_rel_err_max", jsonNumber(p.abs_rel_err_max)},
           {"crb_std", jsonNumber(p.crb_std)},
-          {"rms_error_over_crb", jsonNumber(p.rms_error_over_crb)}};
+          {"rms_error_over_crb", jsonNumber(p.rms_error_over_crb)},
+          {"coverage95", coverageJson(p.coverage)}};
 }
 
 // An object of each parameter's entry, keyed by its name.
@@ -520,6 +548,7 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
     }
     for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
     out << ",rms_error_over_crb_max";
+    for (int i = 0; i < kNumParams; ++i) out << ",coverage95_" << ident::paramName(i);
     for (const PaperPaired& p : kVersusPaper) {
       out << ",win_rate_vs_paper_trajectories_" << metricName(p.metric) << ",p_holm_vs_paper_trajectories_" << metricName(p.metric);
     }
@@ -540,6 +569,7 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
         }
         for (const ParameterStatistics& p : m.parameters) out << ',' << csvNumber(p.rms_error_over_crb);
         out << ',' << csvNumber(m.rms_error_over_crb_max);
+        for (const ParameterStatistics& p : m.parameters) out << ',' << csvNumber(p.coverage.share);
         for (const PaperPaired& p : kVersusPaper) {
           if (m.vs_paper_trajectories) {
             const PairedComparison& q = ((*m.vs_paper_trajectories).*p.field).test;
@@ -704,6 +734,35 @@ void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, c
   }
 }
 
+// Per cell: how often each method's nominal 95 % intervals (-+ 1.96 CRB std) held the truth, per
+// parameter, and the verdict naming every parameter short of kCoverageShortfall.
+void writeCoverageTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+  std::vector<std::string> names, header{"method"};
+  for (int i = 0; i < kNumParams; ++i) names.emplace_back(ident::paramName(i));
+  header.insert(header.end(), names.begin(), names.end());
+  for (const CellSummary* c : cs) {
+    md << "\nCoverage: seeds (%) whose estimate -+ 1.96 CRB std held the truth, torque noise " << fmt(c->condition.torque_noise_Nm, 4)
+       << " N m (nominal 95 %)\n\n";
+    TextTable t(header);
+    std::string verdict;
+    for (Variant v : methods) {
+      const MethodSummary& m = c->method(v);
+      std::vector<std::string> row{toString(v)};
+      std::vector<stats::Coverage> coverage;
+      for (const ParameterStatistics& p : m.parameters) {
+        row.push_back(p.coverage.n ? fixed(100.0 * p.coverage.share, 0) : "-");
+        coverage.push_back(p.coverage);
+      }
+      t.addRow(row);
+      if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += std::string("- ") + toString(v) + ": " + short_of + "\n";
+    }
+    t.printMarkdown(md);
+    md << "\n" << (verdict.empty() ? "Every method covers every parameter in at least " + fixed(100.0 * kCoverageShortfall, 0) + " % of the seeds.\n"
+                                    : "Short of " + fixed(100.0 * kCoverageShortfall, 0) + " % (share [Wilson 95 %], the mean error and the scatter "
+                                      "in CRB stds):\n" + verdict);
+  }
+}
+
 // RLS-PSO vs LS on the paired metrics, when the sweep compared them in any of the section's cells.
 void writeRlsPsoTable(std::ostream& md, const std::vector<const CellSummary*>& cs) {
   bool have_pair = false;
@@ -745,6 +804,7 @@ void writeSummaryMd(const SweepSummary& s, const std::string& path) {
       writeMethodTables(md, s.layout.methods, cs);
       writeVersusLsTable(md, s.layout.methods, cs);
       writeRlsPsoTable(md, cs);
+      writeCoverageTables(md, s.layout.methods, cs);
     }
     writeTrajectoryComparisonMd(s, md);
   });

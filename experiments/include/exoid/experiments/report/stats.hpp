@@ -1,6 +1,7 @@
 #pragma once
 // Small-sample statistics for the sweep summary: mean, sample std, median, Student-t confidence
-// intervals, and the Wilcoxon signed-rank test for paired comparisons.
+// intervals, the Wilcoxon signed-rank test for paired comparisons, and the coverage of nominal
+// intervals.
 #include <vector>
 
 namespace exoid::experiments::stats {
@@ -23,6 +24,20 @@ struct ConfidenceInterval {
 };
 /// Student-t interval of the mean at `level` (e.g. 0.95). NaNs (missing runs) must be removed first.
 ConfidenceInterval meanCi(const std::vector<double>& x, double level = 0.95);
+
+/// How often a parameter's nominal 95 % intervals (estimate -+ 1.96 sigma of that run) held the
+/// truth over runs, with the Wilson score 95 % interval of that share; and the errors in sigmas:
+/// their mean (a bias, in the runs' own sigmas) and their sample std over the mean sigma (1 when
+/// sigma is the scatter). NaN where undefined (no runs; the std needs 2).
+struct Coverage {
+  int n = 0;  ///< runs with a finite error and a finite positive sigma
+  double share = 0.0, low = 0.0, high = 0.0;
+  double mean_error_over_sigma = 0.0;
+  double sd_over_mean_sigma = 0.0;
+};
+/// errors[k] = estimate - truth and sigmas[k] of run k (same size; pairs without a finite error or a
+/// finite positive sigma are skipped).
+Coverage coverageOf(const std::vector<double>& errors, const std::vector<double>& sigmas);
 
 struct WilcoxonResult {
   int n_used = 0;        ///< pairs with a non-zero difference

@@ -99,7 +99,22 @@ struct ParameterStatistics {
   double abs_rel_err_max = std::numeric_limits<double>::quiet_NaN();
   double crb_std = std::numeric_limits<double>::quiet_NaN();             ///< mean noise-limited std
   double rms_error_over_crb = std::numeric_limits<double>::quiet_NaN();  ///< RMS of error / that seed's CRB std
+  /// How often estimate -+ 1.96 CRB std held the best-fit truth (the interval the noise alone
+  /// would justify), the mean error and the scatter in those stds.
+  stats::Coverage coverage;
 };
+
+/// Coverage below this share of the runs names the parameter in summary.md's verdict: a nominal
+/// 95 % interval that holds the truth in fewer than 90 % of 200 runs is short by 4 binomial
+/// standard deviations, not by chance.
+inline constexpr double kCoverageShortfall = 0.90;
+
+/// A parameter's coverage in summary.json: n, share, its Wilson interval, the mean error and the
+/// scatter in sigmas.
+nlohmann::json coverageJson(const stats::Coverage& c);
+/// "Mxt 43 % [36, 50] (mean error -3.3 sigma, scatter 1.1 sigma), ..." for every parameter whose
+/// coverage is short of kCoverageShortfall ("" when none is).
+std::string coverageShortfall(const std::vector<std::string>& names, const std::vector<stats::Coverage>& coverage);
 
 /// One method in one cell, over the seeds where it gave an estimate.
 struct MethodSummary {
