@@ -511,6 +511,9 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
   j["base_parameters"] = {{"names", loaded.base.names},
                           {"ls", toVector(est.beta)},
                           {"std_error", toVector(est.std_error)},
+                          {"std_error_newey_west", toVector(est.errors.newey_west)},
+                          {"std_error_block_jackknife", toVector(est.errors.jackknife)},
+                          {"std_error_are", kReportedErrorsAre},
                           {"condition_number", est.ls.condition_number},
                           {"residual_rms_Nm", est.ls.residual_rms},
                           {"rows", est.rows}};

@@ -156,6 +156,11 @@ std::vector<std::string> ConsistencyStep::withinNoise() const {
   return out;
 }
 
+const char* const kReportedErrorsAre =
+    "per parameter the larger of: Newey-West from the fit's residuals (Bartlett weights, automatic lag), and the jackknife "
+    "over contiguous blocks of the records (10 in all, at least 2 per record; the fit repeated without each block), which "
+    "sees model error as slow as the motion";
+
 void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options) {
   if (m.stages.size() != 1 || m.stages.front().name != "all") {
@@ -168,10 +173,11 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident:
   ConsistencyStep step;
   step.unconstrained = x;
   step.significance_sigmas = options.significance_sigmas;
-  // One channel, both equations of a sample one step (their residuals are correlated).
-  const Eigen::MatrixXd cov = ident::residualCovariance(p.W, p.y - p.W * x, ident::interleavedChannels(p.W.rows(), 1), -1, 2);
-  step.std_err = cov.diagonal().cwiseSqrt();
-  step.fit = ident::solveConsistentLeastSquares(p.W, p.y, c.thigh_length_m, x, cov, options);
+  // One channel, both equations of a sample one step (their residuals are correlated); the blocks
+  // of the jackknife: each record cut into whole samples.
+  step.errors = ident::reportedErrors(p.W, p.y, x, ident::interleavedChannels(p.W.rows(), 1), 2, ident::recordBlocks(p.record_rows, p.W.rows(), 2));
+  step.std_err = step.errors.reported;
+  step.fit = ident::solveConsistentLeastSquares(p.W, p.y, c.thigh_length_m, x, step.errors.covariance, options);
   m.x = step.fit.x.head(kNumParams);
   if (armature) m.knee_armature = step.fit.x[ident::kKneeArmature];
   m.implausible = step.significant();
@@ -292,15 +298,21 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
                         {"standard_error", jsonNumber(k.standard_error)},
                         {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
     }
-    nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object();
+    nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object(), nw = nlohmann::json::object(),
+                   jk = nlohmann::json::object(), from = nlohmann::json::object();
     for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
       const std::string name(ident::paramName(static_cast<int>(i)));
       un[name] = cs.unconstrained[i];
       se[name] = jsonNumber(cs.std_err[i]);
+      nw[name] = jsonNumber(cs.errors.newey_west[i]);
+      jk[name] = jsonNumber(cs.errors.jackknife[i]);
+      from[name] = cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "block_jackknife" : "newey_west";
     }
     j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
                         {"unconstrained_parameters", un}, {"standard_errors", se},
-                        {"standard_errors_from", "the fit's residuals, Newey-West (Bartlett weights, automatic lag), per joint"},
+                        {"standard_errors_newey_west", nw}, {"standard_errors_block_jackknife", jk},
+                        {"standard_errors_from", from},
+                        {"standard_errors_are", kReportedErrorsAre},
                         {"checks", checks}};
   }
   return j;

@@ -2,6 +2,7 @@
 
 #include "exoid/core/format.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/QR>
 
 #include <algorithm>
@@ -63,6 +64,79 @@ Eigen::MatrixXd residualCovariance(const Eigen::MatrixXd& H, const Eigen::Vector
   const Eigen::MatrixXd B = A * A.transpose();
   Eigen::MatrixXd C = B * S * B;
   return 0.5 * (C + C.transpose());
+}
+
+std::vector<RowBlock> recordBlocks(const std::vector<Eigen::Index>& record_rows, Eigen::Index total_rows, int rows_per_step, int blocks) {
+  if (rows_per_step < 1) throw std::invalid_argument("record blocks: rows_per_step must be >= 1");
+  const std::vector<Eigen::Index> records = record_rows.empty() ? std::vector<Eigen::Index>{total_rows} : record_rows;
+  Eigen::Index sum = 0;
+  for (Eigen::Index r : records) sum += r;
+  if (sum != total_rows) throw std::invalid_argument("record blocks: records of " + core::toText(sum) + " rows, the problem has " + core::toText(total_rows));
+  const auto per_record = static_cast<Eigen::Index>(std::max<std::size_t>(2, (static_cast<std::size_t>(std::max(blocks, 1)) + records.size() - 1) / records.size()));
+  std::vector<RowBlock> out;
+  Eigen::Index start = 0;
+  for (Eigen::Index rows : records) {
+    const Eigen::Index steps = rows / rows_per_step;
+    for (Eigen::Index b = 0; b < per_record; ++b) {
+      const Eigen::Index from = start + steps * b / per_record * rows_per_step;
+      const Eigen::Index to = b + 1 == per_record ? start + rows : start + steps * (b + 1) / per_record * rows_per_step;
+      if (to > from) out.push_back({from, to - from});
+    }
+    start += rows;
+  }
+  return out;
+}
+
+Eigen::MatrixXd blockJackknifeCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<RowBlock>& blocks) {
+  const Eigen::Index p = H.cols();
+  const auto G = static_cast<Eigen::Index>(blocks.size());
+  if (G < 2) return Eigen::MatrixXd::Constant(p, p, std::numeric_limits<double>::quiet_NaN());
+  // Unit columns: the normal equations' condition is the scaled regressor's squared.
+  Eigen::VectorXd scale = H.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < p; ++c) scale[c] = scale[c] > 0.0 ? scale[c] : 1.0;
+  const Eigen::MatrixXd Hs = H * scale.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd A = Hs.transpose() * Hs;
+  const Eigen::VectorXd b = Hs.transpose() * y;
+  Eigen::MatrixXd fits(G, p);
+  for (Eigen::Index g = 0; g < G; ++g) {
+    const RowBlock& k = blocks[static_cast<std::size_t>(g)];
+    if (k.first < 0 || k.rows < 0 || k.first + k.rows > H.rows()) throw std::invalid_argument("block jackknife: a block outside the rows");
+    const auto Hg = Hs.middleRows(k.first, k.rows);
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A - Hg.transpose() * Hg);
+    // A pivot at rounding level of the unit diagonal: the fit without this block is singular (LDLT
+    // would quietly solve the rest).
+    const Eigen::VectorXd d = ldlt.vectorD();
+    if (ldlt.info() != Eigen::Success || !(d.minCoeff() > 1e-14 * d.cwiseAbs().maxCoeff())) {
+      return Eigen::MatrixXd::Constant(p, p, std::numeric_limits<double>::infinity());
+    }
+    fits.row(g) = ldlt.solve(b - Hg.transpose() * y.segment(k.first, k.rows)).transpose();
+  }
+  const Eigen::MatrixXd centred = fits.rowwise() - fits.colwise().mean();
+  const Eigen::MatrixXd V = (static_cast<double>(G - 1) / static_cast<double>(G)) * (centred.transpose() * centred);
+  return scale.cwiseInverse().asDiagonal() * V * scale.cwiseInverse().asDiagonal();
+}
+
+ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
+                              int rows_per_step, const std::vector<RowBlock>& blocks) {
+  ReportedErrors out;
+  const Eigen::MatrixXd nw = residualCovariance(H, y - H * x, channels, -1, rows_per_step);
+  out.newey_west = nw.diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.jackknife = blockJackknifeCovariance(H, y, blocks).diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.reported = out.newey_west;
+  out.from_jackknife.assign(static_cast<std::size_t>(x.size()), false);
+  Eigen::VectorXd raise = Eigen::VectorXd::Ones(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (!(out.jackknife[i] > out.newey_west[i])) continue;  // NaN (too few blocks) keeps Newey-West's
+    out.reported[i] = out.jackknife[i];
+    out.from_jackknife[static_cast<std::size_t>(i)] = true;
+    raise[i] = out.newey_west[i] > 0.0 ? out.jackknife[i] / out.newey_west[i] : 0.0;
+  }
+  out.covariance = raise.asDiagonal() * nw * raise.asDiagonal();
+  // A parameter Newey-West puts no error on (an exact fit) takes the jackknife's alone.
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (raise[i] == 0.0) out.covariance(i, i) = out.reported[i] * out.reported[i];
+  }
+  return out;
 }
 
 }  // namespace exoid::ident

@@ -39,9 +39,10 @@ ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const 
       channels.push_back(std::move(c));
       start += rows;
     }
-    const Eigen::VectorXd residual = record.y - Wb * out.beta;
-    out.covariance = residualCovariance(Wb, residual, channels, -1, static_cast<int>(std::max<Eigen::Index>(record.dof, 1)));
-    out.std_error = out.covariance.diagonal().cwiseMax(0.0).cwiseSqrt();
+    const int dof = static_cast<int>(std::max<Eigen::Index>(record.dof, 1));
+    out.errors = reportedErrors(Wb, record.y, out.beta, channels, dof, recordBlocks(records, out.rows, dof));
+    out.covariance = out.errors.covariance;
+    out.std_error = out.errors.reported;
     if (options.consistent) {
       out.consistent = consistentFitNormal(model, base, A, Wb.transpose() * record.y, record.y.squaredNorm(), phi_start, options.consistent_fit);
     }

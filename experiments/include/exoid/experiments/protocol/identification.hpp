@@ -3,6 +3,7 @@
 // 10 parameters from both equations) or the paper's segmental strategy, plus their JSON form.
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/leg/metrics.hpp"
 #include "exoid/ident/leg/regressor.hpp"
@@ -28,9 +29,13 @@ struct Stage {
 /// The physically consistent step of a least-squares fit of all parameters (identify's default):
 /// the unconstrained estimate, its standard errors from its own residuals (Newey-West) and the
 /// constrained estimate with each condition's distance in those standard errors.
+/// What the reported standard errors are, in words (identify's JSON and console).
+extern const char* const kReportedErrorsAre;
+
 struct ConsistencyStep {
   Eigen::VectorXd unconstrained;  ///< 10 (or 11 with Ia2)
-  Eigen::VectorXd std_err;        ///< of the unconstrained estimate
+  Eigen::VectorXd std_err;        ///< of the unconstrained estimate: errors.reported
+  ident::ReportedErrors errors;   ///< Newey-West's, the block jackknife's, and which was reported
   ident::ConsistentEstimate fit;
   double significance_sigmas = 2.0;
   /// Conditions violated beyond significance_sigmas ("... violated by 3.1 standard errors ...").

@@ -2,6 +2,7 @@
 // Least squares of any chain's base parameters from its processed rows, with standard errors and
 // the physically consistent estimate beside it.
 #include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/chain.hpp"
 #include "exoid/ident/model/robot.hpp"
@@ -26,12 +27,12 @@ struct ChainEstimateOptions {
 struct ChainEstimate {
   std::vector<std::string> names;  ///< the base parameters' readable combinations
   Eigen::VectorXd beta;            ///< least squares
-  /// Standard errors of beta from its own residuals: Newey and West's covariance
-  /// (standard_errors.hpp), each record one channel, a sample's dof equations one step (the
-  /// filtered rows' residuals are correlated in time and across joints: sigma^2 (Wb' Wb)^-1
-  /// underestimated the spread of 50 simulated leg3 records 1.5-2.1x).
+  /// Standard errors of beta (standard_errors.hpp): per base parameter the larger of Newey and
+  /// West's from the residuals (each record a channel, the joints of a sample one step) and the
+  /// block jackknife's over the records; NaN when LS is rank deficient.
   Eigen::VectorXd std_error;
-  Eigen::MatrixXd covariance;  ///< of beta, the same estimate
+  Eigen::MatrixXd covariance;  ///< of beta: Newey-West's correlations, std_error's variances
+  ReportedErrors errors;       ///< both estimates and which was reported
   LsResult ls;
   std::optional<ConsistentFit> consistent;  ///< when asked and LS is usable (full rank)
   Eigen::Index rows = 0;
