@@ -105,7 +105,7 @@ TEST(IdentifyCli, EveryChoiceMadeFromTheDataIsPrintedAndInTheJsonAndTheBytesRepe
   EXPECT_EQ(outputs[0], outputs[1]);
   EXPECT_EQ(jsons[0], jsons[1]);
   EXPECT_NE(outputs[0].find("band: motion up to"), std::string::npos) << outputs[0];
-  EXPECT_NE(outputs[0].find("standard errors (the larger of Newey-West from the residuals and a block jackknife"), std::string::npos) << outputs[0];
+  EXPECT_NE(outputs[0].find("standard errors (the larger of Newey-West from the residuals and a jackknife"), std::string::npos) << outputs[0];
   EXPECT_NE(outputs[0].find("band sensitivity"), std::string::npos) << outputs[0];
   const nlohmann::json j = nlohmann::json::parse(jsons[0]);
   const nlohmann::json& band = j["processing_per_record"][csv];
@@ -116,9 +116,10 @@ TEST(IdentifyCli, EveryChoiceMadeFromTheDataIsPrintedAndInTheJsonAndTheBytesRepe
   // Both standard errors, and per parameter which one is reported: the larger.
   const nlohmann::json& c = j["methods"]["ls"]["consistency"];
   for (const auto& [name, se] : c["standard_errors"].items()) {
-    const double nw = c["standard_errors_newey_west"][name], jk = c["standard_errors_block_jackknife"][name];
+    const double nw = c["standard_errors_newey_west"][name], jk = c["standard_errors_jackknife"][name];
     EXPECT_DOUBLE_EQ(se.get<double>(), std::max(nw, jk)) << name;
-    EXPECT_EQ(c["standard_errors_from"][name], jk > nw ? "block_jackknife" : "newey_west") << name;
+    EXPECT_EQ(c["standard_errors_from"][name], jk > nw ? "jackknife" : "newey_west") << name;
+    EXPECT_TRUE(c["standard_errors_record_jackknife"][name].is_null()) << name;  // one record
   }
   EXPECT_TRUE(j.contains("band_sensitivity"));
   EXPECT_EQ(jsons[0].find("wall_time_s"), std::string::npos);

@@ -126,7 +126,8 @@ TEST(BlockJackknife, ReportedErrorsAreTheLargerOfTheTwo) {
   for (Eigen::Index i = 0; i < n; ++i) y[i] += 0.1 * std::sin(0.02 * static_cast<double>(i)) + 0.01 * std::sin(1.7 * static_cast<double>(i * i));
   const Eigen::VectorXd x = solveLeastSquares(H, y).x;
   const std::vector<RowBlock> blocks = recordBlocks({}, n, 1);
-  const ReportedErrors e = reportedErrors(H, y, x, interleavedChannels(n, 1), 1, blocks);
+  const ReportedErrors e = reportedErrors(H, y, x, interleavedChannels(n, 1), 1, blocks, wholeRecords({}, n));
+  EXPECT_TRUE(e.record_jackknife.array().isNaN().all());  // one record: no between-record estimate
   const Eigen::VectorXd nw = residualCovariance(H, y - H * x, interleavedChannels(n, 1)).diagonal().cwiseSqrt();
   const Eigen::VectorXd jk = blockJackknifeCovariance(H, y, blocks).diagonal().cwiseSqrt();
   for (Eigen::Index i = 0; i < 4; ++i) {
@@ -135,6 +136,21 @@ TEST(BlockJackknife, ReportedErrorsAreTheLargerOfTheTwo) {
     EXPECT_DOUBLE_EQ(e.reported[i], std::max(nw[i], jk[i]));
     EXPECT_EQ(e.from_jackknife[static_cast<std::size_t>(i)], jk[i] > nw[i]);
     EXPECT_NEAR(std::sqrt(e.covariance(i, i)), e.reported[i], 1e-12 * e.reported[i]);
+  }
+  // Four records, each with its own constant offset (a bias that differs between records): the
+  // delete-one-record jackknife sees it, the blocks within records hardly; the larger is reported.
+  Eigen::VectorXd yb = y;
+  const double offsets[4] = {0.3, -0.2, 0.25, -0.35};
+  for (Eigen::Index i = 0; i < n; ++i) yb[i] += offsets[i / 100];
+  const Eigen::VectorXd xb = solveLeastSquares(H, yb).x;
+  const std::vector<Eigen::Index> four = {100, 100, 100, 100};
+  const ReportedErrors r = reportedErrors(H, yb, xb, interleavedChannels(n, 1), 1, recordBlocks(four, n, 1), wholeRecords(four, n));
+  const Eigen::VectorXd by_record = blockJackknifeCovariance(H, yb, wholeRecords(four, n)).diagonal().cwiseSqrt();
+  EXPECT_GT(r.record_jackknife[0], 2.0 * r.block_jackknife[0]);  // the constant column carries the offsets
+  for (Eigen::Index i = 0; i < 4; ++i) {
+    EXPECT_DOUBLE_EQ(r.record_jackknife[i], by_record[i]);
+    EXPECT_DOUBLE_EQ(r.jackknife[i], std::max(r.block_jackknife[i], r.record_jackknife[i]));
+    EXPECT_DOUBLE_EQ(r.reported[i], std::max(r.newey_west[i], r.jackknife[i]));
   }
   // Records: at least two blocks each, of whole steps, covering every row once.
   const std::vector<RowBlock> b = recordBlocks({10, 30}, 40, 2, 3);

@@ -388,8 +388,8 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
   for (const MethodOutcome& m : outcomes) {
     if (!m.consistency) continue;
     const ConsistencyStep& cs = *m.consistency;
-    std::cout << ident::toString(m.method) << ": standard errors (the larger of Newey-West from the residuals and a block jackknife "
-              << "over the records; * the jackknife's):";
+    std::cout << ident::toString(m.method) << ": standard errors (the larger of Newey-West from the residuals and a jackknife "
+              << "over blocks of the records and, from 3 records, over whole records; * the jackknife's):";
     for (Eigen::Index i = 0; i < cs.std_err.size(); ++i) {
       std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.std_err[i], 3)
                 << (cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "*" : "");

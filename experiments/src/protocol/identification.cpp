@@ -157,9 +157,10 @@ std::vector<std::string> ConsistencyStep::withinNoise() const {
 }
 
 const char* const kReportedErrorsAre =
-    "per parameter the larger of: Newey-West from the fit's residuals (Bartlett weights, automatic lag), and the jackknife "
+    "per parameter the larger of: Newey-West from the fit's residuals (Bartlett weights, automatic lag), and the jackknife: "
     "over contiguous blocks of the records (10 in all, at least 2 per record; the fit repeated without each block), which "
-    "sees model error as slow as the motion";
+    "sees model error as slow as the motion, and with 3 records or more over whole records, which sees a bias that differs "
+    "between records";
 
 void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options) {
@@ -175,7 +176,8 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident:
   step.significance_sigmas = options.significance_sigmas;
   // One channel, both equations of a sample one step (their residuals are correlated); the blocks
   // of the jackknife: each record cut into whole samples.
-  step.errors = ident::reportedErrors(p.W, p.y, x, ident::interleavedChannels(p.W.rows(), 1), 2, ident::recordBlocks(p.record_rows, p.W.rows(), 2));
+  step.errors = ident::reportedErrors(p.W, p.y, x, ident::interleavedChannels(p.W.rows(), 1), 2, ident::recordBlocks(p.record_rows, p.W.rows(), 2),
+                                      ident::wholeRecords(p.record_rows, p.W.rows()));
   step.std_err = step.errors.reported;
   step.fit = ident::solveConsistentLeastSquares(p.W, p.y, c.thigh_length_m, x, step.errors.covariance, options);
   m.x = step.fit.x.head(kNumParams);
@@ -299,18 +301,20 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
                         {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
     }
     nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object(), nw = nlohmann::json::object(),
-                   jk = nlohmann::json::object(), from = nlohmann::json::object();
+                   jk = nlohmann::json::object(), rj = nlohmann::json::object(), from = nlohmann::json::object();
     for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
       const std::string name(ident::paramName(static_cast<int>(i)));
       un[name] = cs.unconstrained[i];
       se[name] = jsonNumber(cs.std_err[i]);
       nw[name] = jsonNumber(cs.errors.newey_west[i]);
       jk[name] = jsonNumber(cs.errors.jackknife[i]);
-      from[name] = cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "block_jackknife" : "newey_west";
+      rj[name] = jsonNumber(cs.errors.record_jackknife[i]);
+      from[name] = cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "jackknife" : "newey_west";
     }
     j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
                         {"unconstrained_parameters", un}, {"standard_errors", se},
-                        {"standard_errors_newey_west", nw}, {"standard_errors_block_jackknife", jk},
+                        {"standard_errors_newey_west", nw}, {"standard_errors_jackknife", jk},
+                        {"standard_errors_record_jackknife", rj},
                         {"standard_errors_from", from},
                         {"standard_errors_are", kReportedErrorsAre},
                         {"checks", checks}};

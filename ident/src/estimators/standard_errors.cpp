@@ -87,6 +87,17 @@ std::vector<RowBlock> recordBlocks(const std::vector<Eigen::Index>& record_rows,
   return out;
 }
 
+std::vector<RowBlock> wholeRecords(const std::vector<Eigen::Index>& record_rows, Eigen::Index total_rows) {
+  std::vector<RowBlock> out;
+  Eigen::Index start = 0;
+  for (Eigen::Index rows : record_rows.empty() ? std::vector<Eigen::Index>{total_rows} : record_rows) {
+    out.push_back({start, rows});
+    start += rows;
+  }
+  if (start != total_rows) throw std::invalid_argument("whole records: records of " + core::toText(start) + " rows, the problem has " + core::toText(total_rows));
+  return out;
+}
+
 Eigen::MatrixXd blockJackknifeCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<RowBlock>& blocks) {
   const Eigen::Index p = H.cols();
   const auto G = static_cast<Eigen::Index>(blocks.size());
@@ -117,11 +128,19 @@ Eigen::MatrixXd blockJackknifeCovariance(const Eigen::MatrixXd& H, const Eigen::
 }
 
 ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
-                              int rows_per_step, const std::vector<RowBlock>& blocks) {
+                              int rows_per_step, const std::vector<RowBlock>& blocks, const std::vector<RowBlock>& records) {
   ReportedErrors out;
   const Eigen::MatrixXd nw = residualCovariance(H, y - H * x, channels, -1, rows_per_step);
   out.newey_west = nw.diagonal().cwiseMax(0.0).cwiseSqrt();
-  out.jackknife = blockJackknifeCovariance(H, y, blocks).diagonal().cwiseMax(0.0).cwiseSqrt();
+  const auto sd = [](const Eigen::MatrixXd& c) { return Eigen::VectorXd(c.diagonal().cwiseMax(0.0).cwiseSqrt()); };
+  out.block_jackknife = sd(blockJackknifeCovariance(H, y, blocks));
+  // Between records: a variance with 2 degrees of freedom or more.
+  out.record_jackknife = records.size() >= 3 ? sd(blockJackknifeCovariance(H, y, records))
+                                             : Eigen::VectorXd::Constant(x.size(), std::numeric_limits<double>::quiet_NaN());
+  out.jackknife = out.block_jackknife;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (out.record_jackknife[i] > out.jackknife[i] || std::isnan(out.jackknife[i])) out.jackknife[i] = out.record_jackknife[i];
+  }
   out.reported = out.newey_west;
   out.from_jackknife.assign(static_cast<std::size_t>(x.size()), false);
   Eigen::VectorXd raise = Eigen::VectorXd::Ones(x.size());

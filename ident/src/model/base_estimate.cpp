@@ -40,7 +40,7 @@ ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const 
       start += rows;
     }
     const int dof = static_cast<int>(std::max<Eigen::Index>(record.dof, 1));
-    out.errors = reportedErrors(Wb, record.y, out.beta, channels, dof, recordBlocks(records, out.rows, dof));
+    out.errors = reportedErrors(Wb, record.y, out.beta, channels, dof, recordBlocks(records, out.rows, dof), wholeRecords(records, out.rows));
     out.covariance = out.errors.covariance;
     out.std_error = out.errors.reported;
     if (options.consistent) {

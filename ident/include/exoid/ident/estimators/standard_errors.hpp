@@ -50,20 +50,27 @@ struct RowBlock {
 /// record. Throws std::invalid_argument when the records do not sum to total_rows.
 std::vector<RowBlock> recordBlocks(const std::vector<Eigen::Index>& record_rows, Eigen::Index total_rows, int rows_per_step, int blocks = 10);
 
+/// One block per record: the delete-one-record jackknife's (between-record error: a bias constant
+/// within each record, which no block of one record can show).
+std::vector<RowBlock> wholeRecords(const std::vector<Eigen::Index>& record_rows, Eigen::Index total_rows);
+
 /// The delete-one-block jackknife covariance of x = argmin ||y - H x||: x refitted without each
 /// block g, V = (G - 1) / G sum_g (x_g - mean)(x_g - mean)^T. +inf entries when a fit without some
 /// block is singular (the estimate rests on that block alone); NaN with fewer than 2 blocks.
 Eigen::MatrixXd blockJackknifeCovariance(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<RowBlock>& blocks);
 
-/// What identify reports of a least-squares estimate: both standard errors and the larger of them
-/// per parameter, the covariance the consistency and usability rules use (Newey-West's correlations,
-/// each parameter's variance the reported one's).
+/// What identify reports of a least-squares estimate: Newey-West's standard errors, the
+/// jackknife's (the larger of the within-record blocks' and, with 3 records or more, the
+/// delete-one-record one's), the larger of the two per parameter, and the covariance the
+/// consistency and usability rules use (Newey-West's correlations, the reported variances).
 struct ReportedErrors {
   Eigen::VectorXd newey_west, jackknife, reported;
+  Eigen::VectorXd block_jackknife, record_jackknife;  ///< the two jackknives (record: NaN below 3 records)
   std::vector<bool> from_jackknife;  ///< per parameter: reported = jackknife
   Eigen::MatrixXd covariance;
 };
+/// blocks: recordBlocks(...); records: wholeRecords(...).
 ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
-                              int rows_per_step, const std::vector<RowBlock>& blocks);
+                              int rows_per_step, const std::vector<RowBlock>& blocks, const std::vector<RowBlock>& records);
 
 }  // namespace exoid::ident
