@@ -204,6 +204,27 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
   EXPECT_EQ(runExoid({"identify", "--data", t3, "--method", "ls", "--json", out}), 0);
 }
 
+// A missing term is not called merely implausible: 3 kg m^2 of knee armature on the simulated rig,
+// which the default fit leaves out, makes the estimate violate Jt >= Js; identify says which option
+// explains it (issue 36, item 5). Without the armature, no such hint.
+TEST(IdentifyCli, AnImplausibleFitThatAKneeArmatureExplainsNamesTheOption) {
+  const std::string dir = ::testing::TempDir();
+  const std::string armed = dir + "/armature_t3.csv", plain = dir + "/plain_t3.csv", out = dir + "/armature.json";
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "9", "--knee-armature", "3", "--out", armed}), 0);
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "9", "--out", plain}), 0);
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--data", armed, "--json", out}), 3);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("physically implausible"), std::string::npos) << err;
+  EXPECT_NE(err.find("the records show a knee armature the model leaves out"), std::string::npos) << err;
+  EXPECT_NE(err.find("rerun with --knee-armature"), std::string::npos) << err;
+  const nlohmann::json j = readJson(out);
+  EXPECT_TRUE(j["optional_terms"]["knee_armature"]["significant"].get<bool>());
+  EXPECT_GT(j["optional_terms"]["knee_armature"]["Ia2_kgm2"].get<double>(), 0.0);
+  EXPECT_EQ(runExoid({"identify", "--data", plain, "--json", out}), 0);
+  EXPECT_FALSE(readJson(out).contains("optional_terms"));
+}
+
 TEST(IdentifyCli, BadCsvNamesFileLineAndColumn) {
   const std::string csv = ::testing::TempDir() + "/bad.csv";
   std::ofstream(csv) << "t,q_hip,q_knee,tau_hip,tau_knee\n0,0,0,0,0\n0.001,0,x,0,0\n";

@@ -9,6 +9,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/experiments/protocol/options.hpp"
+#include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/signals/band.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
@@ -486,7 +487,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                        const std::map<std::string, ident::ParamVector>& truths,
                        const std::optional<BandSensitivity>& sensitivity, const ident::Robot& robot,
-                       const ident::Determination& determination) {
+                       const ident::Determination& determination, const nlohmann::json& optional_terms) {
   const bool single = !a.data.empty();
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -510,6 +511,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
   j["determination"] = determinationJson(robot, determination);
+  if (!optional_terms.is_null()) j["optional_terms"] = optional_terms;
   j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = sensitivityJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
@@ -689,6 +691,36 @@ std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(co
   return validations;
 }
 
+// An optional term the records may need (issue 36, item 5): when the fit without the knee armature
+// is physically implausible, the same records (each in its band) fitted with it. The term is named
+// when it is significant: Ia2 more than --significance reported standard errors above 0 (an
+// armature is a positive inertia).
+struct OptionalTerm {
+  double value = 0.0, std_error = 0.0;
+  bool significant = false;
+};
+
+OptionalTerm kneeArmatureTest(const LegRecords& r, double significance_sigmas) {
+  const ident::Robot with = ident::twoLinkLeg(r.c, true);
+  std::vector<ident::RecordRows> rows;
+  for (std::size_t k = 0; k < r.primary.data.size(); ++k) rows.push_back(ident::processRecord(r.primary.data[k], with, r.primary.signals[k]));
+  const ident::RecordRows st = ident::stackRecords(rows);
+  const ident::LsResult ls = ident::solveLeastSquares(st.W, st.y);
+  OptionalTerm t;
+  if (ls.rank < st.W.cols()) return t;
+  const ident::ReportedErrors e = ident::reportedErrors(st.W, st.y, ls.x, ident::interleavedChannels(st.W.rows(), 1), 2,
+                                                        ident::recordBlocks(st.record_rows, st.W.rows(), 2), ident::wholeRecords(st.record_rows, st.W.rows()));
+  t.value = ls.x[ident::kKneeArmature];
+  t.std_error = e.reported[ident::kKneeArmature];
+  t.significant = t.std_error > 0.0 && t.value > significance_sigmas * t.std_error;
+  return t;
+}
+
+std::string optionalTermHint(const OptionalTerm& t) {
+  return "the records show a knee armature the model leaves out (Ia2 = " + fmt(t.value, 4) + " +- " + fmt(t.std_error, 2) + " kg m^2, " +
+         fmt(t.value / t.std_error, 3) + " standard errors above 0): rerun with --knee-armature";
+}
+
 void run(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (runChainModel(a)) return;
@@ -716,17 +748,29 @@ void run(const IdentifyArgs& a) {
       if (m.method == ident::Method::kLs) applyConsistency(m, r.primary.rows, r.c, a.consistency_options);
     }
   }
+  std::optional<OptionalTerm> armature;
+  const bool implausible = std::any_of(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return !m.implausible.empty(); });
+  if (single && !a.knee_armature && implausible) armature = kneeArmatureTest(r, a.consistency_options.significance_sigmas);
   const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
   const std::vector<std::pair<std::string, std::vector<Validation>>> validations = validateOutcomes(a, log, r, outcomes);
 
   printResults(a.timing, outcomes, validations, truths);
   printConsistency(outcomes);
   if (sensitivity) printSensitivity(*sensitivity);
+  if (armature && armature->significant) std::cout << "implausible: " << optionalTermHint(*armature) << '\n';
   if (!a.json_out.empty()) {
-    writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination);
+    nlohmann::json optional_terms;
+    if (armature) {
+      optional_terms["knee_armature"] = {{"Ia2_kgm2", armature->value}, {"std_error", jsonNumber(armature->std_error)}, {"significant", armature->significant},
+                                         {"rule", "fitted with the records when the estimate is physically implausible; significant when Ia2 > "
+                                                  "--significance reported standard errors"}};
+    }
+    writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination,
+                      optional_terms);
   }
   std::string problems = undeterminedProblem(r.robot, r.determination);
   if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;
+  if (armature && armature->significant) problems += "; " + optionalTermHint(*armature);
   if (!problems.empty()) throw UnusableResult(problems);
 }
 
