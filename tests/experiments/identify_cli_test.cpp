@@ -206,7 +206,7 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
 
 // A missing term is not called merely implausible: 3 kg m^2 of knee armature on the simulated rig,
 // which the default fit leaves out, makes the estimate violate Jt >= Js; identify says which option
-// explains it (issue 36, item 5). Without the armature, no such hint.
+// explains it. Without the armature, no such hint.
 TEST(IdentifyCli, AnImplausibleFitThatAKneeArmatureExplainsNamesTheOption) {
   const std::string dir = ::testing::TempDir();
   const std::string armed = dir + "/armature_t3.csv", plain = dir + "/plain_t3.csv", out = dir + "/armature.json";

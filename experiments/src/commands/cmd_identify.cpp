@@ -691,7 +691,7 @@ std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(co
   return validations;
 }
 
-// An optional term the records may need (issue 36, item 5): when the fit without the knee armature
+// An optional term the records may need: when the fit without the knee armature
 // is physically implausible, the same records (each in its band) fitted with it. The term is named
 // when it is significant: Ia2 more than --significance reported standard errors above 0 (an
 // armature is a positive inertia).
