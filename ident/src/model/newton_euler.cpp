@@ -39,6 +39,27 @@ Eigen::Matrix3d rotationAbout(const Eigen::Vector3d& axis, double q) {
   return R;
 }
 
+// A link's motion in its own frame: angular velocity, angular acceleration, and the specific force
+// (acceleration less gravity) at its origin.
+struct LinkMotion {
+  Eigen::Vector3d w, wd, a;
+};
+
+// The forward step both recursions share: the parent's motion carried across joint j at (q, qd,
+// qdd) into the child's frame. Returns the parent-to-child rotation R (parent_R_joint turned by q).
+Eigen::Matrix3d advance(const ChainJoint& j, double q, double qd, double qdd, LinkMotion& m) {
+  // Most robot files place joint frames unrotated: skip the product then (same bits).
+  const Eigen::Matrix3d turn = rotationAbout(j.axis, q);
+  const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
+  const Eigen::Vector3d& p = j.parent_p_joint_m;
+  const Eigen::Vector3d a_joint = m.a + m.wd.cross(p) + m.w.cross(m.w.cross(p));  // the joint origin, parent frame
+  const Eigen::Vector3d w_carried = R.transpose() * m.w;
+  m.w = w_carried + j.axis * qd;
+  m.wd = R.transpose() * m.wd + w_carried.cross(j.axis * qd) + j.axis * qdd;
+  m.a = R.transpose() * a_joint;
+  return R;
+}
+
 void requireSize(const char* what, Eigen::Index got, int dof) {
   if (got != dof) {
     throw std::invalid_argument(std::string("chain regressor: expected ") + core::toText(dof) + " entries in " + what +
@@ -67,21 +88,14 @@ void chainRegressorInto(const ChainModel& model, const Eigen::Ref<const Eigen::V
   work.origin_seen.resize(un);
   work.link_column.resize(un);
 
-  Eigen::Vector3d w = base.omega_radps, wd = base.alpha_radps2, a = base.specific_force_mps2;
+  LinkMotion m{base.omega_radps, base.alpha_radps2, base.specific_force_mps2};
+  const Eigen::Vector3d &w = m.w, &wd = m.wd, &a = m.a;
   int column = 0;
   for (int k = 0; k < n; ++k) {
     const std::size_t uk = static_cast<std::size_t>(k);
     const ChainJoint& j = model.joints[uk];
-    // Link k's motion in its own frame.
-    // Most robot files place joint frames unrotated: skip the product then (same bits).
-    const Eigen::Matrix3d turn = rotationAbout(j.axis, q[k]);
-    const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
+    const Eigen::Matrix3d R = advance(j, q[k], qd[k], qdd[k], m);  // link k's motion in its own frame
     const Eigen::Vector3d& p = j.parent_p_joint_m;
-    const Eigen::Vector3d a_joint = a + wd.cross(p) + w.cross(w.cross(p));  // the joint origin, parent frame
-    const Eigen::Vector3d w_carried = R.transpose() * w;
-    w = w_carried + j.axis * qd[k];
-    wd = R.transpose() * wd + w_carried.cross(j.axis * qd[k]) + j.axis * qdd[k];
-    a = R.transpose() * a_joint;
     // The joints below, seen from link k.
     for (int i = 0; i < k; ++i) {
       const std::size_t ui = static_cast<std::size_t>(i);
@@ -145,19 +159,11 @@ void chainInverseDynamicsInto(const ChainModel& model, const Eigen::Ref<const Ei
   work.force.resize(un);
   work.moment.resize(un);
   const std::vector<JointParameterLayout> layout = model.layout();
-  Eigen::Vector3d w = base.omega_radps, wd = base.alpha_radps2, a = base.specific_force_mps2;
+  LinkMotion m{base.omega_radps, base.alpha_radps2, base.specific_force_mps2};
+  const Eigen::Vector3d &w = m.w, &wd = m.wd, &a = m.a;
   for (int k = 0; k < n; ++k) {
     const std::size_t uk = static_cast<std::size_t>(k);
-    const ChainJoint& j = model.joints[uk];
-    const Eigen::Matrix3d turn = rotationAbout(j.axis, q[k]);
-    const Eigen::Matrix3d R = j.parent_R_joint.isIdentity(0.0) ? turn : Eigen::Matrix3d(j.parent_R_joint * turn);
-    const Eigen::Vector3d& p = j.parent_p_joint_m;
-    const Eigen::Vector3d a_joint = a + wd.cross(p) + w.cross(w.cross(p));
-    const Eigen::Vector3d w_carried = R.transpose() * w;
-    w = w_carried + j.axis * qd[k];
-    wd = R.transpose() * wd + w_carried.cross(j.axis * qd[k]) + j.axis * qdd[k];
-    a = R.transpose() * a_joint;
-    work.R[uk] = R;
+    work.R[uk] = advance(model.joints[uk], q[k], qd[k], qdd[k], m);
     const auto l = phi.segment<kLinkParams>(layout[uk].link);
     const Eigen::Vector3d h(l[1], l[2], l[3]);
     Eigen::Matrix3d I;
