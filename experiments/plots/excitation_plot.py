@@ -2,7 +2,6 @@
 """Figure of `exoid excite`: the designed trajectory over one period (angle, speed, acceleration,
 nominal torque per joint) with the limits it was designed under, and the paper's trajectory on the
 same axes. Usage: excitation_plot.py SERIES_CSV DESIGN_JSON OUT_PNG"""
-import csv
 import json
 import sys
 
@@ -11,14 +10,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plot_style import save_figure  # noqa: E402
+from plot_style import read_columns, save_figure  # noqa: E402
 
 
 def main(series_path, design_path, out_png):
-    with open(series_path, newline="") as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], rows[1:]
-    cols = {name: [float(r[i]) for r in data] for i, name in enumerate(header)}
+    cols = read_columns(series_path)
     with open(design_path) as f:
         design = json.load(f)
     lim = design["limits"]

@@ -1,11 +1,14 @@
 """What exoid's figure scripts share: one colour and line style per method, the order methods
-are shown in (the paper's comparison first), and a deterministic atomic save."""
+are shown in (the paper's comparison first), the series CSVs read by column, and a deterministic
+atomic save."""
+import csv
 import os
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 # One distinct colour per method (matplotlib's default cycle has 10, the protocol 11 arms).
 COLORS = {"ls": "#1f77b4", "rls": "#9467bd", "pso": "#ff7f0e", "rls-pso": "#2ca02c", "lad": "#7f7f7f",
@@ -23,6 +26,14 @@ ORDER = ["ls", "rls-pso", "pso", "rls", "lad", "ls-exact", "ls-stacked", "ls-par
 def ordered(methods):
     """The paper's arms first, then the harness's, then anything unknown (sorted, so stable)."""
     return [m for m in ORDER if m in methods] + sorted(m for m in methods if m not in ORDER)
+
+
+def read_columns(path):
+    """A series CSV (one header row, numbers below) as {column name: numpy array}."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], np.array(rows[1:], dtype=float)
+    return {name: data[:, i] for i, name in enumerate(header)}
 
 
 def save_figure(fig, path):

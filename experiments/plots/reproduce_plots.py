@@ -3,7 +3,6 @@
 
 The paper's question is "is RLS-PSO better than LS (and PSO)?", so every figure puts ls, rls-pso
 and pso first and in strong colours; the harness's other arms come after, in lighter styles."""
-import csv
 import json
 import os
 import sys
@@ -17,19 +16,12 @@ from matplotlib.colors import LogNorm  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from plot_style import COLORS, ORDER, STYLES, ordered, save_figure  # noqa: E402
+from plot_style import COLORS, ORDER, STYLES, ordered, read_columns, save_figure  # noqa: E402
 
 PAPER_ARMS = ORDER[:3]  # ls, rls-pso, pso
 VALIDATION_KEYS = {"knee": "knee_on_trajectory_2", "hip": "hip_on_trajectory_4"}
 OFF_SCALE = 5.0  # an arm whose RMS error exceeds 5x the best one would flatten the others: not drawn
 PARAMS = ["Mxt", "Myt", "Jt", "fc1", "fv1", "Mxs", "Mys", "Js", "fc2", "fv2"]
-
-
-def read_columns(path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], np.array(rows[1:], dtype=float)
-    return {name: data[:, i] for i, name in enumerate(header)}
 
 
 def save(fig, out_dir, name):

@@ -2,7 +2,6 @@
 """Figure of `exoid identify --model ... --plot`: each joint's measured torque (processed as the fit
 processed its records) and the torque the estimate predicts, with their difference.
 Usage: torque_fit_plot.py SERIES_CSV OUT_PNG TITLE"""
-import csv
 import sys
 
 import matplotlib
@@ -10,15 +9,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plot_style import save_figure  # noqa: E402
+from plot_style import read_columns, save_figure  # noqa: E402
 
 
 def main(series_path, out_png, title):
-    with open(series_path, newline="") as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], rows[1:]
-    cols = {name: [float(r[i]) for r in data] for i, name in enumerate(header)}
-    joints = [h[len("tau_"):] for h in header if h.startswith("tau_") and not h.endswith("_predicted")]
+    cols = read_columns(series_path)
+    joints = [h[len("tau_"):] for h in cols if h.startswith("tau_") and not h.endswith("_predicted")]
     t = cols["t_s"]
     fig, axes = plt.subplots(len(joints), 1, figsize=(10, 2.6 * len(joints)), sharex=True, squeeze=False)
     for ax, joint in zip(axes[:, 0], joints):
