@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 namespace exoid::ident {
@@ -30,17 +31,16 @@ ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const 
   const bool full_rank = out.ls.rank == base.rank;
   if (full_rank && out.rows > base.rank) {
     const Eigen::MatrixXd A = Wb.transpose() * Wb;
+    // Each record one channel of Newey-West's, and one block of the record jackknife.
+    const std::vector<RowBlock> records = wholeRecords(record.record_rows, out.rows);
     std::vector<Channel> channels;
-    Eigen::Index start = 0;
-    const std::vector<Eigen::Index> records = record.record_rows.empty() ? std::vector<Eigen::Index>{out.rows} : record.record_rows;
-    for (const Eigen::Index rows : records) {
-      Channel c(static_cast<std::size_t>(rows));
-      for (Eigen::Index k = 0; k < rows; ++k) c[static_cast<std::size_t>(k)] = start + k;
+    for (const RowBlock& r : records) {
+      Channel c(static_cast<std::size_t>(r.rows));
+      std::iota(c.begin(), c.end(), r.first);
       channels.push_back(std::move(c));
-      start += rows;
     }
     const int dof = static_cast<int>(std::max<Eigen::Index>(record.dof, 1));
-    out.errors = reportedErrors(Wb, record.y, out.beta, channels, dof, recordBlocks(records, out.rows, dof), wholeRecords(records, out.rows));
+    out.errors = reportedErrors(Wb, record.y, out.beta, channels, dof, recordBlocks(record.record_rows, out.rows, dof), records);
     out.covariance = out.errors.covariance;
     out.std_error = out.errors.reported;
     if (options.consistent) {
