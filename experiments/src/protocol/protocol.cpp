@@ -60,6 +60,7 @@ void ProtocolConfig::validate() const {
   }
   methods.validate();
   iv.validate();
+  band_rule.validate();
   if (knee_excitation) {
     knee_excitation->validate();
     if (!knee_excitation->locked_joints) throw std::invalid_argument("the knee excitation must hold the hip (design it with exoid excite --knee-only)");
@@ -127,7 +128,7 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     r.closed_loop_base.signals = parallelSignals(c.signals, true);
     r.closed_loop_base.measured = ident::processRecord(r.data, r.robot, r.closed_loop_base.signals);
     // Record 1's hip is held by the rig's lock: no hip torque is measured, its knee equation judges.
-    ident::BandRule rule;
+    ident::BandRule rule = c.band_rule;
     rule.first_moving_joint = k == 0 ? 1 : 0;
     r.default_signals = ident::resolveSignalOptions(r.data, r.robot, defaultIdentifySignals(), rule);
     r.default_rows = ident::processRecord(r.data, r.robot, r.default_signals);

@@ -104,7 +104,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
 
   std::optional<ident::BandChoice> band;
-  const ident::RecordRows rec = ident::processRecord(d, loaded.robot, signals, {}, &band);
+  const ident::RecordRows rec = ident::processRecord(d, loaded.robot, signals, c.base.band_rule, &band);
   const ident::SignalOptions fit_signals = band ? ident::withBand(signals, *band) : signals;
   ident::ChainEstimateOptions eo;
   eo.ls = c.base.methods.ls;

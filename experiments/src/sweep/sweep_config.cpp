@@ -239,6 +239,11 @@ void SweepConfig::validate() const {
   } else {
     validateApal();
   }
+  try {
+    base.band_rule.validate();
+  } catch (const std::invalid_argument& e) {
+    throw SweepConfigError(std::string("[identification] band_* (the band rule): ") + e.what());
+  }
   if (seeds < 1 || seeds > 1000000) {
     throw SweepConfigError(where(*this, "sweep.seeds") + ": must be in [1, 1e6], got " + core::toText(seeds));
   }
@@ -346,6 +351,11 @@ nlohmann::json gridJson(const SweepConfig& c) {
   return g;
 }
 
+nlohmann::json bandRuleJson(const ident::BandRule& b) {
+  return {{"motion_fraction", b.motion_fraction}, {"pilot_factor", b.pilot_factor},     {"scan_band_hz", b.scan_band_hz},
+          {"inconsistency_ratio", b.inconsistency_ratio}, {"max_factor", b.max_factor}, {"derivative_factor", b.derivative_factor}};
+}
+
 }  // namespace
 
 nlohmann::json SweepConfig::chainJson() const {
@@ -366,6 +376,7 @@ nlohmann::json SweepConfig::chainJson() const {
   }
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(defaultIdentifySignals());
+  j["band_rule"] = bandRuleJson(base.band_rule);
   j["method_options"] = experiments::toJson(base.methods);
   j["method_options"]["pso_box"] = origin.count("identification.wide_box") ? "wide_box" : "10 x the largest |LS estimate|";
   return j;
@@ -388,6 +399,7 @@ nlohmann::json SweepConfig::toJson() const {
   if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(*optimised_both);
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
+  j["band_rule"] = bandRuleJson(base.band_rule);  // the 'default' arm's
   j["method_options"] = experiments::toJson(base.methods);
   return j;
 }
@@ -506,6 +518,16 @@ void readIdentificationKey(Reader& r, const std::string& full, const toml::node&
     c.base.signals.cutoff_hz = r.number(v, full);
   } else if (full == "identification.filter") {
     c.base.signals.filter = r.boolean(v, full);
+  } else {
+    // The band rule's constants (band_*), for the study that chose them (docs/findings.md).
+    ident::BandRule& b = c.base.band_rule;
+    double* field = full == "identification.band_motion_fraction"       ? &b.motion_fraction
+                    : full == "identification.band_pilot_factor"        ? &b.pilot_factor
+                    : full == "identification.band_scan_hz"             ? &b.scan_band_hz
+                    : full == "identification.band_inconsistency_ratio" ? &b.inconsistency_ratio
+                    : full == "identification.band_max_factor"          ? &b.max_factor
+                                                                        : &b.derivative_factor;
+    *field = r.number(v, full);
   }
 }
 
@@ -523,7 +545,9 @@ const std::map<std::string, SectionReader>& sectionReaders() {
         readGridKey}},
       {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both", "excitation"}, readSimulationKey}},
       {"identification",
-       {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter"}, readIdentificationKey}}};
+       {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter", "band_motion_fraction",
+         "band_pilot_factor", "band_scan_hz", "band_inconsistency_ratio", "band_max_factor", "band_derivative_factor"},
+        readIdentificationKey}}};
   return kSections;
 }
 

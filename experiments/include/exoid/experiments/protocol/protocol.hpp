@@ -5,6 +5,7 @@
 // it once and reports; `exoid sweep` runs it over a grid of conditions and seeds.
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/signals/band.hpp"
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/sim/simulate.hpp"
 
@@ -47,6 +48,8 @@ struct ProtocolConfig {
   ident::SignalOptions signals;    ///< paper defaults: forward differences, 10 Hz zero-phase filter
   ident::MethodOptions methods;    ///< paper defaults: G = 10000, cost < 1e-2
   ident::IvOptions iv;             ///< IDIM-IV's stopping rule
+  /// The 'default' arm's band rule (its constants: a sweep's [identification] band_* keys).
+  ident::BandRule band_rule;
   std::vector<Variant> variants = allVariants();
   /// Designed excitations (exoid excite) replacing the identification records: trajectory 1 (knee
   /// only, the hip locked) and trajectory 3 (both joints). Validation stays on the paper's 2 and 4.
