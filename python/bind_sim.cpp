@@ -13,6 +13,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <map>
 
 namespace exoid::python {
 
@@ -85,9 +86,9 @@ void bindSim(py::module_& m) {
         "(no noise, welded pedestal). model='leg3' (or any model other than the APAL leg) runs the serial-chain "
         "simulator: dataset has the model's joints, truth its standard_parameters and base_parameters.");
   m.def("load_chain",
-        [](const std::string& model) {
+        [](const std::string& model, const std::string& base, const std::string& tip, const std::map<std::string, double>& lock) {
           const std::string path = sim::modelPathFor(model);
-          const sim::SerialChain chain = sim::serialChainFromFile(path);
+          const sim::SerialChain chain = sim::serialChainFromFile(path, core::ChainSelection{base, tip, lock});
           const ident::ChainModel cm = experiments::chainModel(chain);
           py::dict limits;
           for (const sim::ChainLinkBody& l : chain.links) {
@@ -97,8 +98,9 @@ void bindSim(py::module_& m) {
           return py::dict(py::arg("model") = cm, py::arg("phi") = experiments::standardParameters(chain), py::arg("joints") = cm.jointNames(),
                           py::arg("limits") = limits, py::arg("name") = chain.name, py::arg("path") = path);
         },
-        py::arg("model"),
-        "A robot model as a serial chain: 'apal', 'leg3' or an MJCF/URDF file. Returns model (a ChainModel: regressor, "
+        py::arg("model"), py::arg("base") = "", py::arg("tip") = "", py::arg("lock") = std::map<std::string, double>{},
+        "A robot model as a serial chain: 'apal', 'leg3' or an MJCF/URDF file; base, tip and lock (joint -> value) pick "
+        "a chain out of a tree as the commands' --base, --tip and --lock do. Returns model (a ChainModel: regressor, "
         "base_parameters, consistent_fit), phi (the file's standard parameters, in model.parameter_names' order), joints, "
         "limits per joint (range, speed, torque; inf where the file gives none), name, path. Refuses what is not a serial "
         "chain of revolute joints, naming what it found.");

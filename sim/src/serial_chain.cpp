@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace exoid::sim {
@@ -17,13 +18,45 @@ std::string nameOf(const mjModel* m, mjtObj type, int id) {
   return n ? n : "#" + std::to_string(id);
 }
 
-// The bodies welded to `root` (reached from it without crossing a joint), root included.
-std::vector<int> weldedTo(const mjModel* m, int root) {
+// True when body b moves on no joint of its own but the locked ones.
+bool heldBody(const mjModel* m, int b, const std::map<int, double>& locked) {
+  for (int j = m->body_jntadr[b]; j < m->body_jntadr[b] + m->body_jntnum[b]; ++j) {
+    if (!locked.count(j)) return false;
+  }
+  return true;
+}
+
+// The bodies welded to `root` (reached from it without crossing a joint that is not locked), root included.
+std::vector<int> weldedTo(const mjModel* m, int root, const std::map<int, double>& locked) {
   std::vector<int> out{root};
   for (int b = root + 1; b < m->nbody; ++b) {
     int p = b;
-    while (p > root && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+    while (p > root && heldBody(m, p, locked)) p = m->body_parentid[p];
     if (p == root && b != root) out.push_back(b);
+  }
+  return out;
+}
+
+bool isBelow(const mjModel* m, int body, int ancestor) {
+  for (int p = body; p > 0; p = m->body_parentid[p]) {
+    if (p == ancestor) return true;
+  }
+  return ancestor == 0;
+}
+
+int bodyNamed(const mjModel* m, const std::string& path, const std::string& name, const char* option) {
+  const int id = mj_name2id(m, mjOBJ_BODY, name.c_str());
+  if (id < 0) throw std::invalid_argument("'" + path + "': " + option + " " + name + ": the model has no body of that name");
+  return id;
+}
+
+// The bodies without children below `from`, by name.
+std::string leavesBelow(const mjModel* m, int from) {
+  std::string out;
+  for (int b = from; b < m->nbody; ++b) {
+    bool leaf = isBelow(m, b, from);
+    for (int c = b + 1; c < m->nbody && leaf; ++c) leaf = m->body_parentid[c] != b;
+    if (leaf) out += (out.empty() ? "" : ", ") + nameOf(m, mjOBJ_BODY, b);
   }
   return out;
 }
@@ -71,11 +104,17 @@ int chainBaseBody(const mjModel* m, int first_body) {
 }
 
 SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints, const std::vector<double>& coulomb_Nm,
-                                const std::string& source) {
+                                const std::string& source, const std::map<int, double>& locked) {
   if (joints.empty()) throw std::invalid_argument("'" + source + "': no joints given for the chain");
   if (coulomb_Nm.size() != joints.size()) throw std::invalid_argument("'" + source + "': one Coulomb value per chain joint expected");
   DataPtr d = makeData(m);
   mju_copy(d->qpos, m->qpos0, m->nq);
+  for (const auto& [j, value] : locked) {
+    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) {
+      throw std::invalid_argument("'" + source + "': --lock " + nameOf(m, mjOBJ_JOINT, j) + ": a ball or free joint cannot be held at one value");
+    }
+    d->qpos[m->jnt_qposadr[j]] = value;
+  }
   mj_kinematics(m, d.get());
   SerialChain chain;
   chain.source = source;
@@ -105,7 +144,7 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
     link.parent_R_joint = R_parent.transpose() * R;
     link.parent_p_joint_m = R_parent.transpose() * (o - o_parent);
     link.axis = Eigen::Map<const Eigen::Vector3d>(m->jnt_axis + 3 * j).normalized();
-    lumpBodies(m, d.get(), weldedTo(m, b), R, o, link);
+    lumpBodies(m, d.get(), weldedTo(m, b, locked), R, o, link);
     const int dof = m->jnt_dofadr[j];
     link.coulomb_Nm = coulomb_Nm[i];
     link.damping_Nms = m->dof_damping[dof];
@@ -151,23 +190,56 @@ std::vector<int> drivenHinges(const mjModel* m, const std::string& path) {
   return driven;
 }
 
-SerialChain serialChainFromMjcfFile(const std::string& path) {
+SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelection& selection) {
   const ModelPtr model = loadMjcfFile(path);
   const mjModel* m = model.get();
-  const std::vector<int> driven = drivenHinges(m, path);
+  std::map<int, double> locked;
+  for (const auto& [name, value] : selection.locks) {
+    const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
+    if (j < 0) throw std::invalid_argument("'" + path + "': --lock " + name + ": the model has no joint of that name");
+    locked[j] = value;
+  }
+  const int base = selection.base.empty() ? 0 : bodyNamed(m, path, selection.base, "--base");
+  const int tip = selection.tip.empty() ? -1 : bodyNamed(m, path, selection.tip, "--tip");
+  if (tip >= 0 && !isBelow(m, tip, base)) {
+    throw std::invalid_argument("'" + path + "': --tip " + selection.tip + " is not below --base " + nameOf(m, mjOBJ_BODY, base));
+  }
+  // The driven hinges from the base to the tip (every one below the base without a tip); the
+  // others hang from the base (left out) or off a chain link (refused unless locked).
+  std::vector<int> chain_joints, off_chain;
+  for (int j : drivenHinges(m, path)) {
+    if (locked.count(j)) continue;
+    const int b = m->jnt_bodyid[j];
+    const bool on_path = b != base && isBelow(m, b, base) && (tip < 0 || isBelow(m, tip, b));
+    (on_path ? chain_joints : off_chain).push_back(j);
+  }
+  if (chain_joints.empty()) throw std::invalid_argument("'" + path + "': no driven hinge between --base and --tip: no chain to identify");
+  for (std::size_t i = 1; i < chain_joints.size(); ++i) {
+    if (!isBelow(m, m->jnt_bodyid[chain_joints[i]], m->jnt_bodyid[chain_joints[i - 1]])) {
+      throw std::invalid_argument("'" + path + "': joints '" + nameOf(m, mjOBJ_JOINT, chain_joints[i - 1]) + "' and '" + nameOf(m, mjOBJ_JOINT, chain_joints[i]) +
+                                  "' are driven on two branches: a tree, not a serial chain. Choose the chain with --tip BODY (and --base BODY, "
+                                  "default '" + nameOf(m, mjOBJ_BODY, base) + "'); the leaf bodies below it: " + leavesBelow(m, base));
+    }
+  }
+  for (int j : off_chain) {
+    if (isBelow(m, m->jnt_bodyid[j], m->jnt_bodyid[chain_joints.front()])) {
+      throw std::invalid_argument("'" + path + "': driven joint '" + nameOf(m, mjOBJ_JOINT, j) + "' moves a branch off the chain: hold it with --lock " +
+                                  nameOf(m, mjOBJ_JOINT, j) + "=VALUE (rad; lumped at that posture), or choose another --base/--tip");
+    }
+  }
   std::vector<double> coulomb;
-  for (int j : driven) {
+  for (int j : chain_joints) {
     const int id = mj_name2id(m, mjOBJ_NUMERIC, ("exoid_fc_" + nameOf(m, mjOBJ_JOINT, j)).c_str());
     coulomb.push_back(id >= 0 ? m->numeric_data[m->numeric_adr[id]] : 0.0);
   }
-  SerialChain chain = serialChainFromMjcf(m, driven, coulomb, path);
+  SerialChain chain = serialChainFromMjcf(m, chain_joints, coulomb, path, locked);
   chain.name = m->nnames > 0 && m->names[0] ? m->names : path;  // MuJoCo keeps <mujoco model=...> first
   return chain;
 }
 
-SerialChain serialChainFromFile(const std::string& path) {
+SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection) {
   const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
-  return urdf ? serialChainFromUrdf(path) : serialChainFromMjcfFile(path);
+  return urdf ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
 }
 
 SerialChain serialChain(const LegModel& leg) {

@@ -1,18 +1,31 @@
-// A URDF's revolute joints as a serial chain (urdfdom): links fixed below a moving link are
-// lumped into it; anything that is not a serial chain of revolute joints is refused by name.
+// A URDF's revolute joints as a serial chain (urdfdom): the chain from a base link to a tip link
+// of the tree, each link with the links fixed (or locked) below it lumped in; what is not a
+// serial chain of revolute joints is refused by name.
 #include "exoid/sim/serial_chain.hpp"
 
-#include <Eigen/Geometry>
-#include <urdf_parser/urdf_parser.h>
+#include "urdf_file.hpp"
 
-#include <fstream>
+#include <Eigen/Geometry>
+
+#include <optional>
+#include <set>
 #include <stdexcept>
+#include <utility>
 
 namespace exoid::sim {
 namespace {
 
-Eigen::Matrix3d rotationOf(const urdf::Rotation& r) { return Eigen::Quaterniond(r.w, r.x, r.y, r.z).normalized().toRotationMatrix(); }
+using JointPtr = urdf::JointConstSharedPtr;
+using Step = std::pair<JointPtr, Eigen::Isometry3d>;  // a moving joint and its frame at 0, in the frame collected in
+
 Eigen::Vector3d vectorOf(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
+
+Eigen::Isometry3d poseOf(const urdf::Pose& o) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z).normalized().toRotationMatrix();
+  T.translation() = vectorOf(o.position);
+  return T;
+}
 
 const char* typeName(int type) {
   switch (type) {
@@ -27,79 +40,152 @@ const char* typeName(int type) {
 }
 
 bool moves(const urdf::Joint& j) { return j.type != urdf::Joint::FIXED; }
+bool revolute(const urdf::Joint& j) { return j.type == urdf::Joint::REVOLUTE || j.type == urdf::Joint::CONTINUOUS; }
 
-// Mass, first moment and inertia about the origin of `link` and the links fixed below it, in the
-// frame where `link` sits at (R, p).
+// Mass, first moment and inertia about the origin of a link and what is fixed or locked below it.
 struct Lump {
   double mass = 0.0;
   Eigen::Vector3d first = Eigen::Vector3d::Zero();
   Eigen::Matrix3d inertia_origin = Eigen::Matrix3d::Zero();
 };
 
-// The moving joints below `link` through fixed joints: the chain's next joint, if any.
-void collect(const urdf::ModelInterface& model, const urdf::Link& link, const Eigen::Matrix3d& R, const Eigen::Vector3d& p,
-             Lump& lump, std::vector<std::pair<urdf::JointConstSharedPtr, Eigen::Isometry3d>>& next) {
-  if (link.inertial) {
-    const urdf::Inertial& in = *link.inertial;
-    Eigen::Matrix3d I;
-    I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
-    const Eigen::Matrix3d Ri = R * rotationOf(in.origin.rotation);
-    const Eigen::Vector3d c = p + R * vectorOf(in.origin.position);
-    lump.mass += in.mass;
-    lump.first += in.mass * c;
-    lump.inertia_origin += Ri * I * Ri.transpose() + in.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
-  }
-  for (const auto& j : link.child_joints) {
-    const urdf::Pose& o = j->parent_to_joint_origin_transform;
-    const Eigen::Matrix3d Rj = R * rotationOf(o.rotation);
-    const Eigen::Vector3d pj = p + R * vectorOf(o.position);
-    if (moves(*j)) {
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = Rj;
-      T.translation() = pj;
-      next.emplace_back(j, T);
-      continue;
+// The file, the selection, and which of its locks the walk has used.
+struct Walk {
+  const std::string& path;
+  const urdf::ModelInterface& model;
+  const ChainSelection& selection;
+  std::set<std::string> locks_used;
+
+  // The transform across joint j: fixed, or held at its lock.
+  Eigen::Isometry3d across(const urdf::Joint& j) {
+    Eigen::Isometry3d T = poseOf(j.parent_to_joint_origin_transform);
+    const auto lock = selection.locks.find(j.name);
+    if (lock == selection.locks.end()) return T;
+    locks_used.insert(j.name);
+    if (j.type == urdf::Joint::FLOATING || j.type == urdf::Joint::PLANAR) {
+      throw std::invalid_argument("'" + path + "': --lock " + j.name + ": a " + typeName(j.type) + " joint cannot be held at one value");
     }
-    if (const auto child = model.getLink(j->child_link_name)) collect(model, *child, Rj, pj, lump, next);
+    const Eigen::Vector3d a = vectorOf(j.axis).normalized();
+    if (revolute(j)) T.rotate(Eigen::AngleAxisd(lock->second, a));
+    if (j.type == urdf::Joint::PRISMATIC) T.translate(lock->second * a);
+    return T;
   }
+
+  bool held(const urdf::Joint& j) const { return !moves(j) || selection.locks.count(j.name) > 0; }
+
+  // Adds `link` (at T) and every link fixed or locked below it to `lump` (nullptr: the base, whose
+  // mass never moves), and lists the moving joints below them in `next`.
+  void collect(const urdf::Link& link, const Eigen::Isometry3d& T, Lump* lump, std::vector<Step>& next) {
+    if (lump && link.inertial) {
+      checkUsedLink(path, link);
+      const urdf::Inertial& in = *link.inertial;
+      Eigen::Matrix3d I;
+      I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+      const Eigen::Isometry3d Ti = T * poseOf(in.origin);
+      const Eigen::Matrix3d Ri = Ti.linear();
+      const Eigen::Vector3d c = Ti.translation();
+      lump->mass += in.mass;
+      lump->first += in.mass * c;
+      lump->inertia_origin += Ri * I * Ri.transpose() + in.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+    }
+    for (const auto& j : link.child_joints) {
+      if (!held(*j)) {
+        next.emplace_back(j, T * poseOf(j->parent_to_joint_origin_transform));
+        continue;
+      }
+      if (const auto child = model.getLink(j->child_link_name)) collect(*child, T * across(*j), lump, next);
+    }
+  }
+};
+
+// The leaf links below `from` (links with no child joint), in the file's order of the tree.
+void leavesBelow(const urdf::Link& from, std::vector<std::string>& out) {
+  if (from.child_links.empty()) out.push_back(from.name);
+  for (const auto& c : from.child_links) leavesBelow(*c, out);
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// The links from `base` down to `tip`, both included. Throws when tip is not below base.
+std::set<std::string> pathLinks(const std::string& path, const urdf::ModelInterface& model, const std::string& base, const std::string& tip) {
+  std::set<std::string> links;
+  for (urdf::LinkConstSharedPtr l = model.getLink(tip); l; l = l->getParent()) {
+    links.insert(l->name);
+    if (l->name == base) return links;
+  }
+  throw std::invalid_argument("'" + path + "': --tip " + tip + " is not below --base " + base + " (the tree's root is '" + model.getRoot()->name + "')");
+}
+
+urdf::LinkConstSharedPtr linkNamed(const std::string& path, const urdf::ModelInterface& model, const std::string& name, const char* option) {
+  const urdf::LinkConstSharedPtr l = model.getLink(name);
+  if (!l) throw std::invalid_argument("'" + path + "': " + option + " " + name + ": the URDF has no link of that name");
+  return l;
 }
 
 }  // namespace
 
-SerialChain serialChainFromUrdf(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw std::invalid_argument("cannot read URDF file '" + path + "'");
+SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& selection) {
+  const urdf::ModelInterfaceSharedPtr model = readUrdf(path);
+  for (const auto& [joint, value] : selection.locks) {
+    if (!model->getJoint(joint)) throw std::invalid_argument("'" + path + "': --lock " + joint + ": the URDF has no joint of that name");
   }
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(path);
-  if (!model) throw std::invalid_argument("'" + path + "': urdfdom could not parse the URDF (see its message above)");
-  for (const auto& [name, joint] : model->joints_) {
-    if (joint->type == urdf::Joint::PRISMATIC || joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR) {
-      throw std::invalid_argument("'" + path + "': joint '" + name + "' is " + typeName(joint->type) +
-                                  ": exoid identifies serial chains of revolute joints only (a floating base is not taken either)");
-    }
-  }
+  Walk walk{path, *model, selection, {}};
+  const urdf::LinkConstSharedPtr base = selection.base.empty() ? model->getRoot() : linkNamed(path, *model, selection.base, "--base");
+  std::optional<std::set<std::string>> on_path;
+  if (!selection.tip.empty()) on_path = pathLinks(path, *model, base->name, linkNamed(path, *model, selection.tip, "--tip")->name);
+
   SerialChain chain;
   chain.name = model->getName();
   chain.source = path;
-  chain.gravity_mps2 = Eigen::Vector3d(0.0, 0.0, -9.81);
-  // From the root: the base and its fixed links, then link by link.
-  std::vector<std::pair<urdf::JointConstSharedPtr, Eigen::Isometry3d>> next;
-  Lump base;
-  collect(*model, *model->getRoot(), Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), base, next);
-  while (!next.empty()) {
-    if (next.size() > 1) {
-      throw std::invalid_argument("'" + path + "': joints '" + next[0].first->name + "' and '" + next[1].first->name +
-                                  "' both move links below the same link: a tree, not a serial chain (exoid takes one "
-                                  "chain; make the other joints fixed)");
+  // Gravity along the root's -z, in the base's frame (the joints above the base held at 0 or their lock).
+  Eigen::Matrix3d R_root_base = Eigen::Matrix3d::Identity();
+  for (urdf::LinkConstSharedPtr l = base; l->getParent(); l = l->getParent()) R_root_base = walk.across(*l->parent_joint).linear() * R_root_base;
+  chain.gravity_mps2 = R_root_base.transpose() * Eigen::Vector3d(0.0, 0.0, -9.81);
+
+  // The next chain joint among the moving joints found below a link: the one towards the tip;
+  // below the base the others are left out, below a chain link they are refused.
+  const auto pick = [&](const std::vector<Step>& next, const std::string& below) -> std::optional<Step> {
+    std::optional<Step> step;
+    for (const Step& s : next) {
+      const bool towards_tip = on_path ? on_path->count(s.first->child_link_name) > 0 : next.size() == 1;
+      if (towards_tip) {
+        step = s;
+      } else if (chain.links.empty() && on_path) {
+        chain.left_out.push_back(s.first->child_link_name);
+      } else if (!on_path) {
+        std::vector<std::string> leaves;
+        leavesBelow(*base, leaves);
+        throw std::invalid_argument("'" + path + "': joints '" + next[0].first->name + "' and '" + next[1].first->name +
+                                    "' both move links below link '" + below + "': a tree, not a serial chain. Choose the chain with --tip LINK " +
+                                    "(and --base LINK, default '" + base->name + "'); the leaf links below '" + base->name + "': " + joined(leaves));
+      } else {
+        throw std::invalid_argument("'" + path + "': joint '" + s.first->name + "' (" + typeName(s.first->type) + ") moves a branch off chain link '" +
+                                    below + "': hold it with --lock " + s.first->name + "=VALUE (rad; lumped at that posture), or choose " +
+                                    "another --base/--tip");
+      }
     }
-    const urdf::Joint& j = *next[0].first;
-    const Eigen::Isometry3d T = next[0].second;
+    return step;
+  };
+
+  std::vector<Step> next;
+  walk.collect(*base, Eigen::Isometry3d::Identity(), nullptr, next);
+  for (std::optional<Step> step = pick(next, base->name); step;) {
+    const urdf::Joint& j = *step->first;
+    if (!revolute(j)) {
+      throw std::invalid_argument("'" + path + "': joint '" + j.name + "' is " + typeName(j.type) +
+                                  " (on the chain): exoid identifies serial chains of revolute joints only (a floating base is not taken either: "
+                                  "choose --base below it, or hold the joint with --lock)");
+    }
+    checkChainJoint(path, j);
     ChainLinkBody link;
     link.joint = j.name;
     link.link = j.child_link_name;
-    link.parent_R_joint = T.linear();
-    link.parent_p_joint_m = T.translation();
+    link.parent_R_joint = step->second.linear();
+    link.parent_p_joint_m = step->second.translation();
     link.axis = vectorOf(j.axis).normalized();
     if (j.dynamics) {
       link.coulomb_Nm = j.dynamics->friction;
@@ -113,19 +199,27 @@ SerialChain serialChainFromUrdf(const std::string& path) {
       if (j.limits->velocity > 0.0) link.qd_max_radps = j.limits->velocity;
       if (j.limits->effort > 0.0) link.tau_max_Nm = j.limits->effort;
     }
-    std::vector<std::pair<urdf::JointConstSharedPtr, Eigen::Isometry3d>> below;
-    Lump lump;
     const auto child = model->getLink(j.child_link_name);
     if (!child) throw std::invalid_argument("'" + path + "': joint '" + j.name + "' names a missing link '" + j.child_link_name + "'");
-    collect(*model, *child, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), lump, below);
+    Lump lump;
+    std::vector<Step> below;
+    walk.collect(*child, Eigen::Isometry3d::Identity(), &lump, below);
     link.mass_kg = lump.mass;
     link.com_m = lump.mass > 0.0 ? Eigen::Vector3d(lump.first / lump.mass) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d& c = link.com_m;
     link.inertia_com_kgm2 = lump.inertia_origin - lump.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
     chain.links.push_back(link);
-    next = below;
+    step = pick(below, link.link);
   }
-  if (chain.links.empty()) throw std::invalid_argument("'" + path + "': no revolute or continuous joint: no chain to identify");
+  if (chain.links.empty()) {
+    throw std::invalid_argument("'" + path + "': no revolute or continuous joint" + (on_path ? " between --base " + base->name + " and --tip " + selection.tip : std::string()) +
+                                ": no chain to identify");
+  }
+  for (const auto& [joint, value] : selection.locks) {
+    if (!walk.locks_used.count(joint)) {
+      throw std::invalid_argument("'" + path + "': --lock " + joint + ": the joint is neither on the chain nor on a branch off it or above its base");
+    }
+  }
   return chain;
 }
 

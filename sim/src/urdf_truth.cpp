@@ -2,11 +2,12 @@
 // carries the bare links only (no cylinder, no rod).
 #include "exoid/sim/truth.hpp"
 
+#include "urdf_file.hpp"
+
 #include <Eigen/Geometry>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 namespace exoid::sim {
@@ -22,8 +23,9 @@ struct LinkSums {
 };
 
 // Adds `link` (pose R, p in the joint frame) and the links fixed below it.
-void addLink(const urdf::ModelInterface& model, const urdf::Link& link, const Eigen::Matrix3d& R,
+void addLink(const std::string& path, const urdf::ModelInterface& model, const urdf::Link& link, const Eigen::Matrix3d& R,
              const Eigen::Vector3d& p, LinkSums& s) {
+  checkUsedLink(path, link);
   if (link.inertial) {
     const urdf::Inertial& in = *link.inertial;
     Eigen::Matrix3d I;
@@ -41,19 +43,14 @@ void addLink(const urdf::ModelInterface& model, const urdf::Link& link, const Ei
     const auto child = model.getLink(j->child_link_name);
     if (!child) continue;
     const urdf::Pose& o = j->parent_to_joint_origin_transform;
-    addLink(model, *child, R * rot(o.rotation), p + R * vec(o.position), s);
+    addLink(path, model, *child, R * rot(o.rotation), p + R * vec(o.position), s);
   }
 }
 
 }  // namespace
 
 Truth truthFromUrdf(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw std::invalid_argument("cannot read URDF file '" + path + "'");
-  }
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(path);
-  if (!model) throw std::invalid_argument("'" + path + "': urdfdom could not parse the URDF (see its message above)");
+  const urdf::ModelInterfaceSharedPtr model = readUrdf(path);
   urdf::JointConstSharedPtr joints[2] = {model->getJoint("hip"), model->getJoint("knee")};
   const char* names[2] = {"hip", "knee"};
   for (int k = 0; k < 2; ++k) {
@@ -82,8 +79,8 @@ Truth truthFromUrdf(const std::string& path) {
   const double Lt = -kp.z;
   LinkSums t, s;
   // Thigh alone (the knee joint is not fixed, so the shank is not included).
-  addLink(*model, *thigh, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), t);
-  addLink(*model, *shank, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), s);
+  addLink(path, *model, *thigh, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), t);
+  addLink(path, *model, *shank, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), s);
   Truth tr;
   tr.x[5] = s.Mx;
   tr.x[6] = s.My;
@@ -104,12 +101,7 @@ Truth truthFromUrdf(const std::string& path) {
 }
 
 UrdfJointLimits urdfJointLimits(const std::string& path) {
-  {
-    std::ifstream probe(path);
-    if (!probe) throw std::invalid_argument("cannot read URDF file '" + path + "'");
-  }
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(path);
-  if (!model) throw std::invalid_argument("'" + path + "': urdfdom could not parse the URDF (see its message above)");
+  const urdf::ModelInterfaceSharedPtr model = readUrdf(path);
   UrdfJointLimits out;
   const char* names[2] = {"hip", "knee"};
   for (std::size_t k = 0; k < 2; ++k) {

@@ -219,10 +219,17 @@ TEST(CommandLineMessages, AnUnknownCommandIsNamedWithTheNearestAndTheList) {
   EXPECT_NE(o.text.find("did you mean 'simulate'?"), std::string::npos) << o.text;
 }
 
-TEST(CommandLineMessages, AFileOfTheOtherKindNamesTheOptionThatReadsIt) {
-  const Outcome o = run({"truth", "--model", std::string(EXOID_SOURCE_DIR) + "/models/apal_leg.urdf"});
-  EXPECT_NE(o.rc, 0);
-  EXPECT_NE(o.text.find("is a URDF: read it with --urdf"), std::string::npos) << o.text;
+// --model names a robot in every command, a URDF as well as an MJCF; --urdf is its alias.
+TEST(CommandLineMessages, TruthTakesAUrdfByModelAsEveryCommandDoes) {
+  const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/apal_leg.urdf";
+  const Outcome by_model = run({"truth", "--model", urdf});
+  const Outcome by_urdf = run({"truth", "--urdf", urdf});
+  EXPECT_EQ(by_model.rc, 0) << by_model.text;
+  EXPECT_NE(by_model.text.find("X of the rigid links of"), std::string::npos) << by_model.text;
+  EXPECT_EQ(by_model.text, by_urdf.text);
+  const Outcome both = run({"truth", "--model", urdf, "--urdf", urdf});
+  EXPECT_NE(both.rc, 0);
+  EXPECT_NE(both.text.find("not both"), std::string::npos) << both.text;
 }
 
 TEST(CommandLineMessages, AnUnknownMethodListsAllToo) {

@@ -35,6 +35,7 @@ struct ExciteArgs {
   bool plot = true;  ///< <out>.png and <out>_series.csv next to the design
   CLI::App* cmd = nullptr;
   std::vector<std::string> armature;  ///< chain models: joints given an armature parameter the file lacks
+  core::ChainSelection selection;     ///< chain models: --base, --tip, --lock
 };
 
 // The design and the paper's trajectory sampled over one period of the design: angle, speed,
@@ -84,6 +85,7 @@ void exciteChainModel(const ExciteArgs& args) {
   c.options = args.options;
   c.limits = args.overrides;
   c.armature = args.armature;
+  c.selection = args.selection;
   exciteChain(c);
 }
 
@@ -217,7 +219,7 @@ void printDesign(const ExciteArgs& a, const ident::ExcitationDesign& d, const id
 }
 
 void runExcite(const ExciteArgs& args) {
-  if (!sim::isApalLegModel(args.model)) return exciteChainModel(args);
+  if (!sim::isApalLegModel(args.model) || !args.selection.empty()) return exciteChainModel(args);
   ExciteArgs a = args;
   a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
   a.options.validate();
@@ -285,6 +287,7 @@ void addExciteCommand(CLI::App& app) {
   cmd->add_flag("!--no-plot", a->plot, "Skip the figure (<out>.png, the design and the paper's trajectory against the limits) and its <out>_series.csv");
   cmd->add_option("--duration", a->duration_s, "Comparison: record duration, s")->check(positiveNumber())->capture_default_str();
   cmd->add_option("--noise-tau", a->sigma_Nm, "Comparison: torque noise std, N m")->check(positiveNumber())->capture_default_str();
+  addChainSelectionOptions(*cmd, a->selection);
   cmd->add_option("--armature", a->armature,
                   "Chain models: joints (comma-separated, or all) given an armature parameter where the file has none (a URDF\n"
                   "never does): the design then separates it too, as identify --armature fits it")

@@ -29,6 +29,7 @@ namespace {
 struct Args {
   std::string data, json_out, reference, model;
   std::vector<std::string> armature;  ///< --model: joints given an armature parameter the file lacks
+  core::ChainSelection selection;     ///< --model: --base, --tip, --lock
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
   LogInputFlags log;
@@ -94,7 +95,7 @@ void reportModelOnly(const Args& a) {
                                 "only so far; give --model alone for what the model lets anyone identify");
   }
 #ifdef EXOID_WITH_MUJOCO
-  reportModel(a.model, a.json_out, std::cout, a.armature);
+  reportModel(a.model, a.json_out, std::cout, a.armature, a.selection);
 #else
   throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
 #endif
@@ -216,6 +217,7 @@ nlohmann::json reportBlock(const Block& b, const Reference& ref) {
 
 void run(const Args& a) {
   if (!a.model.empty()) return reportModelOnly(a);
+  if (!a.selection.empty()) throw std::invalid_argument("--base/--tip/--lock pick a chain out of --model FILE: give --model");
   if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const ProcessedInput in = processInput(a);
@@ -248,6 +250,7 @@ void addIdentifiabilityCommand(CLI::App& app) {
                   "serial chain and base parameters: rank, each identifiable combination of the standard parameters\n"
                   "in words with its true value, what no torque shows, what is regrouped");
 #ifdef EXOID_WITH_MUJOCO
+  addChainSelectionOptions(*cmd, args->selection);
   cmd->add_option("--armature", args->armature,
                   "--model: joints (comma-separated, or all) given an armature parameter (a geared motor's reflected rotor\n"
                   "inertia) where the file has none, as identify --armature")

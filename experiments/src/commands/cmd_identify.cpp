@@ -52,6 +52,7 @@ struct IdentifyArgs {
   std::string model;  ///< --model: a robot other than the APAL leg goes to the chain path
   std::string plot;   ///< --plot (chain models): measured against predicted torques
   std::vector<std::string> armature;  ///< --armature (chain models)
+  core::ChainSelection selection;     ///< --base, --tip, --lock (chain models)
   bool moving_base_parameters = false;  ///< --moving-base-parameters (chain models)
   std::vector<std::string> stages;    ///< --stage JOINT=FILE (chain models' segmental strategy)
   CLI::App* cmd = nullptr;
@@ -526,7 +527,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 // --model naming a robot other than the APAL leg: its base parameters by least squares (and the
 // consistent estimate). What that path does not do yet is refused by name, never ignored.
 bool runChainModel(const IdentifyArgs& a) {
-  if (a.model.empty() || sim::isApalLegModel(sim::modelPathFor(a.model))) return false;
+  if (a.model.empty() && !a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
+  if (a.model.empty() || (sim::isApalLegModel(sim::modelPathFor(a.model)) && a.selection.empty())) return false;
   for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
@@ -556,6 +558,7 @@ bool runChainModel(const IdentifyArgs& a) {
   c.validate = a.validate;
   c.plot = a.plot;
   c.armature = a.armature;
+  c.selection = a.selection;
   c.moving_base_parameters = a.moving_base_parameters;
   c.truth = a.truth;
   c.json_out = a.json_out;
@@ -864,6 +867,7 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
                  "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
                  "record (else the first --data record), and its data as <plot>_series.csv")
       ->group("Output");
+  addChainSelectionOptions(cmd, args.selection);
   cmd.add_option("--armature", args.armature,
                  "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
                  "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")

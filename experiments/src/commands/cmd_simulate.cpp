@@ -90,39 +90,32 @@ void runSimulate(const SimulateArgs& a) {
 
 struct TruthArgs {
   std::string model, urdf, json_out;
+  core::ChainSelection selection;
   sim::ModelVariant variant;
 };
 
 void runTruth(TruthArgs a) {
   if (!a.model.empty() && !a.urdf.empty()) {
-    throw CLI::ValidationError("truth", "give one of --model FILE.xml or --urdf FILE.urdf, not both");
+    throw CLI::ValidationError("truth", "give the robot once: --model FILE (--urdf is its alias), not both");
   }
-  if (a.model.empty() && a.urdf.empty()) a.model = sim::defaultModelPath();  // the built-in leg
-  a.model = a.model.empty() ? a.model : sim::modelPathFor(a.model);
-  // Another robot than the APAL leg: its chain's truth (standard and base parameters).
-  if (!a.model.empty() && !endsWith(a.model, ".urdf") && !sim::isApalLegModel(a.model)) return truthOfChain(a.model, a.json_out);
-  if (!a.urdf.empty() && !endsWith(a.urdf, ".xml")) {
-    // X is the 2-link leg's (hip, knee); any other chain gets its own parameters, never X of
-    // two of its joints.
-    const sim::SerialChain chain = sim::serialChainFromUrdf(a.urdf);
-    if (chain.links.size() != 2 || chain.links[0].joint != "hip" || chain.links[1].joint != "knee") return truthOfChain(a.urdf, a.json_out);
+  // --model names a robot as every command does (MJCF or URDF); --urdf is kept as its alias.
+  const std::string path = !a.urdf.empty() ? a.urdf : !a.model.empty() ? a.model : sim::defaultModelPath();
+  const bool urdf = !endsWith(path, ".xml");
+  // Another robot than the APAL leg: its chain's truth (standard and base parameters). X is the
+  // 2-link leg's (hip, knee); any other chain gets its own parameters, never X of two of its joints.
+  if (!a.selection.empty() || (!urdf && !sim::isApalLegModel(path))) return truthOfChain(path, a.json_out, a.selection);
+  if (urdf) {
+    const sim::SerialChain chain = sim::serialChainFromUrdf(path);
+    if (chain.links.size() != 2 || chain.links[0].joint != "hip" || chain.links[1].joint != "knee") return truthOfChain(path, a.json_out);
   }
-  // A file of the other kind: say which option reads it (the MJCF loader's error would not).
-  if (endsWith(a.model, ".urdf")) throw CLI::ValidationError("--model", "'" + a.model + "' is a URDF: read it with --urdf " + a.model);
-  if (endsWith(a.urdf, ".xml")) throw CLI::ValidationError("--urdf", "'" + a.urdf + "' looks like MJCF: read it with --model " + a.urdf);
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
-  sim::Truth t;
-  if (!a.urdf.empty()) {
-    t = sim::truthFromUrdf(a.urdf);
-  } else {
-    t = sim::rigidTruth(sim::loadLeg(a.model, a.variant, true));
-  }
+  const sim::Truth t = urdf ? sim::truthFromUrdf(path) : sim::rigidTruth(sim::loadLeg(path, a.variant, true));
   TextTable table({"param", "unit", "value"});
   for (int i = 0; i < sim::kNumParams; ++i) {
     table.addRow({sim::paramNames()[static_cast<std::size_t>(i)], sim::paramUnits()[static_cast<std::size_t>(i)],
                   fmt(t.x[static_cast<std::size_t>(i)], 8)});
   }
-  std::cout << "X of the rigid links of " << (a.urdf.empty() ? a.model : a.urdf) << " (Lt = " << t.thigh_length_m
+  std::cout << "X of the rigid links of " << path << " (Lt = " << t.thigh_length_m
             << " m, g = " << t.gravity_mps2 << " m/s^2):\n";
   table.print(std::cout);
   if (!a.json_out.empty()) {
@@ -173,11 +166,12 @@ void addTruthCommand(CLI::App& app) {
   auto args = std::make_shared<TruthArgs>();
   CLI::App* cmd = app.add_subcommand("truth", "Print X of the rigid links of an MJCF model or a URDF (default: the built-in leg).");
   cmd->add_option("--model", args->model,
-                  "MJCF model: apal (default), leg3 or a file; for a robot other than the APAL leg, its standard and base\n"
-                  "parameters (as identify --model fits them)")
+                  "The robot: apal (default), leg3, or an MJCF (.xml) or URDF file; for a robot other than the APAL\n"
+                  "leg, its standard and base parameters (as identify --model fits them)")
       ->transform([](const std::string& s) { return sim::modelPathFor(s); })
       ->check(CLI::ExistingFile);
-  cmd->add_option("--urdf", args->urdf, "URDF of the rigid links (e.g. models/apal_leg.urdf)")->check(CLI::ExistingFile);
+  cmd->add_option("--urdf", args->urdf, "The same as --model (kept for older scripts)")->check(CLI::ExistingFile);
+  addChainSelectionOptions(*cmd, args->selection);
   cmd->add_option("--fc-hip", args->variant.fc_hip_Nm, "Override hip Coulomb friction, N m");
   cmd->add_option("--fv-hip", args->variant.fv_hip_Nms, "Override hip viscous friction, N m s/rad");
   cmd->add_option("--fc-knee", args->variant.fc_knee_Nm, "Override knee Coulomb friction, N m");

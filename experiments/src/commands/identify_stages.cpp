@@ -204,7 +204,7 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
   }
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
-  const LoadedChain still = loadChain(a.model, a.armature);
+  const LoadedChain still = loadChain(a.model, a.armature, a.selection);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
   const std::vector<StageInput> inputs = stageInputs(a, still.model);
   std::vector<std::vector<ident::Dataset>> data;

@@ -111,9 +111,9 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   return j;
 }
 
-void truthOfChain(const std::string& model_path, const std::string& json_out) {
+void truthOfChain(const std::string& model_path, const std::string& json_out, const core::ChainSelection& selection) {
   core::prepareOutputFile(json_out);
-  const LoadedChain loaded = loadChain(model_path);
+  const LoadedChain loaded = loadChain(model_path, {}, selection);
   const auto& [path, chain, model, phi, base, robot] = loaded;
   std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
   TextTable table({"parameter", "value"});
@@ -161,7 +161,7 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
 
 void exciteChain(const ChainExciteArgs& a) {
   core::prepareOutputFile(a.out);
-  const LoadedChain loaded = loadChain(a.model, a.armature);
+  const LoadedChain loaded = loadChain(a.model, a.armature, a.selection);
   const auto& [path, chain, model, nominal, base, robot] = loaded;
   const int dof = model.dof();
   ident::ChainExcitationLimits lim;
@@ -544,7 +544,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.stages.empty()) return identifyChainStages(a);
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   core::prepareOutputFile(a.json_out);
-  const LoadedChain still = loadChain(a.model, a.armature);
+  const LoadedChain still = loadChain(a.model, a.armature, a.selection);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
   std::vector<ident::Dataset> data;
   for (const std::string& file : a.data) data.push_back(readLog(file, log));

@@ -26,9 +26,10 @@ std::string list(const std::vector<int>& indices, const std::vector<std::string>
 
 }  // namespace
 
-void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out, const std::vector<std::string>& armature) {
+void reportModel(const std::string& model_name, const std::string& json_out, std::ostream& out, const std::vector<std::string>& armature,
+                 const core::ChainSelection& selection) {
   if (!json_out.empty()) core::checkOutputWritable(json_out);
-  const LoadedChain loaded = loadChain(model_name, armature);
+  const LoadedChain loaded = loadChain(model_name, armature, selection);
   const auto& [path, chain, model, phi, base, robot] = loaded;
   const ident::BaseParameterOptions options;
   const std::vector<std::string> names = model.standardParameterNames();

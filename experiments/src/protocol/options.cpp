@@ -283,4 +283,28 @@ nlohmann::json toJson(const ident::MethodOptions& o) {
           {"report_optimality_gap", o.report_optimality_gap}};
 }
 
+void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection) {
+  cmd.add_option("--base", selection.base,
+                 "Robot trees (a humanoid's or an exoskeleton's whole body): the link the chain starts from, held still\n"
+                 "(default: the file's root; MJCF: a body, default the world). Moving branches hanging from it are left out")
+      ->group("Robot");
+  cmd.add_option("--tip", selection.tip,
+                 "Robot trees: the link the chain ends at (e.g. a foot); without it a tree is refused with its leaf links")
+      ->group("Robot");
+  cmd.add_option_function<std::vector<std::string>>(
+         "--lock",
+         [&selection](const std::vector<std::string>& locks) {
+           for (const std::string& l : locks) {
+             try {
+               selection.addLock(l);
+             } catch (const std::invalid_argument& e) {
+               throw CLI::ValidationError("--lock", e.what());
+             }
+           }
+         },
+         "Robot trees: JOINT=VALUE holds a joint at VALUE (rad; m for a prismatic one); a moving branch off the chain\n"
+         "is refused unless locked, and is lumped into its link at that posture. Repeatable")
+      ->group("Robot");
+}
+
 }  // namespace exoid::experiments

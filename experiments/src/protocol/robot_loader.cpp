@@ -61,10 +61,10 @@ Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::C
   return phi;
 }
 
-LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature) {
+LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature, const core::ChainSelection& selection) {
   LoadedChain c;
   c.path = sim::modelPathFor(name_or_path);
-  c.chain = sim::serialChainFromFile(c.path);
+  c.chain = sim::serialChainFromFile(c.path, selection);
   c.model = withArmature(chainModel(c.chain), armature);
   c.phi = standardParameters(c.chain, c.model);
   c.robot = ident::chainRobot(c.model);

@@ -3,12 +3,13 @@
 // the true physical parameters, in URDF's frame convention (each link's frame on its joint's axis,
 // the joint frame placed in the parent link's frame). experiments turns it into ident's
 // ChainModel and standard parameter vector; sim itself never includes ident.
+#include "exoid/core/chain_selection.hpp"
 #include "exoid/sim/model.hpp"
 
 #include <Eigen/Core>
 
 #include <limits>
-
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,8 @@ struct ChainLinkBody {
   double tau_max_Nm = std::numeric_limits<double>::infinity();
 };
 
+using ChainSelection = core::ChainSelection;
+
 struct SerialChain {
   std::string name, source;
   std::vector<ChainLinkBody> links;  ///< base to tip
@@ -49,8 +52,9 @@ int chainBaseBody(const mjModel* m, int first_body);
 /// joint's body and every body welded below it. `coulomb_Nm` per joint (MuJoCo's frictionloss is a
 /// soft constraint, not fc sgn(qd): the caller says what its rig applies). Throws
 /// std::invalid_argument naming the joint when a joint is not a hinge or is not below the previous one.
+/// `locked` (joint id -> qpos) holds those joints there, their bodies lumped into the link above.
 SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints, const std::vector<double>& coulomb_Nm,
-                                const std::string& source);
+                                const std::string& source, const std::map<int, double>& locked = {});
 
 /// The APAL leg's chain (hip, knee) of a loaded leg, with its Coulomb settings.
 SerialChain serialChain(const LegModel& leg);
@@ -62,17 +66,22 @@ std::vector<int> drivenHinges(const mjModel* m, const std::string& path);
 /// The chain of an MJCF file: every hinge driven by a motor (an actuator on a joint), in tree
 /// order; Coulomb friction from the custom numerics exoid_fc_<joint> (0 when absent). Throws
 /// std::invalid_argument naming the file and what it found: a driven joint that is not a hinge
-/// (slide, ball, free), driven joints on two branches, none at all.
-SerialChain serialChainFromMjcfFile(const std::string& path);
+/// (slide, ball, free), driven joints on two branches (listing the leaf bodies to choose a --tip
+/// from), a driven joint off the chain that is not locked, none at all. `selection` names bodies.
+SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelection& selection = {});
 
-/// The chain of a URDF (urdfdom): its revolute and continuous joints from the root, each link
-/// with the links fixed below it lumped in; Coulomb and viscous friction from <dynamics friction
-/// damping>; gravity 9.81 m/s^2 along -z; no armature (URDF has none). Throws
-/// std::invalid_argument naming the file and what it found: a prismatic, planar or floating joint,
-/// a branch with moving joints on two sides, no revolute joint.
-SerialChain serialChainFromUrdf(const std::string& path);
+/// The chain of a URDF (urdfdom, read strictly: urdf_file.hpp): its revolute and continuous joints
+/// from `selection`'s base to its tip, each link with the links fixed (or locked) below it lumped
+/// in; Coulomb and viscous friction from <dynamics friction damping>; gravity 9.81 m/s^2 along the
+/// root's -z, expressed in the base's frame; no armature (URDF has none). Throws
+/// std::invalid_argument naming the file and what it found: a malformed file, a negative mass or an
+/// inertia that is not positive semi-definite on a link the chain uses, a non-positive effort or
+/// velocity limit on a chain joint, a prismatic, planar or floating joint on the chain, a tree
+/// without a tip (listing the leaf links to choose from), a moving branch off a chain link that
+/// is not locked, no revolute joint.
+SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& selection = {});
 
 /// By the file's extension: .urdf -> serialChainFromUrdf, else serialChainFromMjcfFile.
-SerialChain serialChainFromFile(const std::string& path);
+SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection = {});
 
 }  // namespace exoid::sim

@@ -1,6 +1,7 @@
 #pragma once
 // The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
+#include "exoid/core/chain_selection.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/design/excitation.hpp"
@@ -37,7 +38,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
 /// `exoid truth --model` for a chain: its standard parameters (per link, about the joint) and base
 /// parameters from the file; json_out (optional) gets {"truth": {"standard_parameters", "base_parameters"}},
 /// the form identify --truth reads.
-void truthOfChain(const std::string& model_path, const std::string& json_out);
+void truthOfChain(const std::string& model_path, const std::string& json_out, const core::ChainSelection& selection = {});
 
 /// `exoid excite`'s overrides of the limits a design respects (--q-min-deg ... --tau-max), one
 /// value per joint; an empty one keeps the model's (or the envelope's) limit.
@@ -64,6 +65,7 @@ struct ChainExciteArgs {
   /// and no torque limit).
   LimitOverrides limits;
   std::vector<std::string> armature;  ///< joints (or "all") given an armature parameter the file lacks
+  core::ChainSelection selection;     ///< --base, --tip, --lock
 };
 /// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
 void exciteChain(const ChainExciteArgs& args);
@@ -84,6 +86,7 @@ struct ChainIdentifyArgs {
   /// Joints that get an armature (rotor inertia) parameter although the file gives none (a URDF
   /// never does), or {"all"}.
   std::vector<std::string> armature;
+  core::ChainSelection selection;  ///< --base, --tip, --lock: the chain out of a tree
   /// Fit in the base parameters of a moving base (movingBase): records with base-motion terms.
   bool moving_base_parameters = false;
   std::string json_out;

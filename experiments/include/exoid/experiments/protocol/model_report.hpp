@@ -1,5 +1,7 @@
 #pragma once
 // What a robot model lets anyone identify, before any record: `exoid identifiability --model`.
+#include "exoid/core/chain_selection.hpp"
+
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -11,6 +13,6 @@ namespace exoid::experiments {
 /// its true value), what no torque shows and what is regrouped; writes the same as JSON to
 /// json_out unless empty. Throws std::invalid_argument naming the file for a model exoid cannot take.
 void reportModel(const std::string& model, const std::string& json_out, std::ostream& out,
-                 const std::vector<std::string>& armature = {});
+                 const std::vector<std::string>& armature = {}, const core::ChainSelection& selection = {});
 
 }  // namespace exoid::experiments

@@ -1,6 +1,7 @@
 #pragma once
 // Command-line flags shared by the identification commands (identify, identifiability,
 // reproduce, sweep), and their JSON echo for outputs.
+#include "exoid/core/chain_selection.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
@@ -22,6 +23,9 @@ ident::SignalOptions defaultIdentifySignals();
 const CLI::Validator& seedValidator();
 /// A number > 0 (CLI11's PositiveNumber names the range as 309-digit numbers).
 const CLI::Validator& positiveNumber();
+/// --base LINK, --tip LINK and --lock JOINT=VALUE (repeatable): the chain of a tree that the
+/// command reads from --model (core::ChainSelection), the same spelling in every command.
+void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection);
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
 void addMethodOptions(CLI::App& app, ident::MethodOptions& o);

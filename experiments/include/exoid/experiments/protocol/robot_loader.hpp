@@ -37,7 +37,9 @@ struct LoadedChain {
   ident::BaseParameters base;
   ident::Robot robot;  ///< model in its base parameters
 };
-LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {});
+/// `selection` picks the chain out of a tree (--base, --tip, --lock).
+LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {},
+                      const core::ChainSelection& selection = {});
 
 /// True when a record processed with `signals` carries base-motion terms (its IMU columns, and
 /// base_terms on, or auto).

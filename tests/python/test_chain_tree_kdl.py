@@ -1,0 +1,210 @@
+"""A chain out of a tree (--base/--tip, load_chain's base and tip) against Orocos KDL's own:
+Tree::getChain on the tree kdl_parser builds from the same URDF (python3-pykdl, from Debian; the
+URDF read here with xml.etree as kdl_parser reads it), inverse dynamics by ChainIdSolver_RNE.
+The URDF is a two-legged exoskeleton with trunk, arms and head (tests/data/two_leg_exo.urdf)."""
+import json
+import math
+import os
+import subprocess
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+import exoid
+
+PyKDL = pytest.importorskip("PyKDL")
+
+SOURCE = os.environ.get("EXOID_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+URDF = os.path.join(SOURCE, "tests", "data", "two_leg_exo.urdf")
+# Both sides sum O(10^2) products of O(1..100) factors: roundoff ~1e-14 of the torque scale.
+REL_TOL = 1e-12
+
+
+def rpy_matrix(r, p, y):
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+                     [-sp, cp * sr, cp * cr]])
+
+
+def origin_of(element):
+    o = element.find("origin")
+    xyz = np.array([float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()])
+    rpy = [float(v) for v in (o.get("rpy", "0 0 0") if o is not None else "0 0 0").split()]
+    return xyz, rpy_matrix(*rpy)
+
+
+def kdl_frame(p, R):
+    return PyKDL.Frame(PyKDL.Rotation(*map(float, R.reshape(-1))), PyKDL.Vector(*map(float, p)))
+
+
+def body_of(link):
+    """(mass, COM, inertia about the COM) of a link in its own frame (kdl_parser's reading)."""
+    inertial = link.find("inertial")
+    if inertial is None:
+        return 0.0, np.zeros(3), np.zeros((3, 3))
+    c, R = origin_of(inertial)
+    i = inertial.find("inertia")
+    I = np.array([[float(i.get("ixx")), float(i.get("ixy")), float(i.get("ixz"))],
+                  [float(i.get("ixy")), float(i.get("iyy")), float(i.get("iyz"))],
+                  [float(i.get("ixz")), float(i.get("iyz")), float(i.get("izz"))]])
+    return float(inertial.find("mass").get("value")), c, R @ I @ R.T
+
+
+def merged(a, b):
+    """Two bodies (mass, COM, inertia about the COM) in one frame as one (parallel axis theorem)."""
+    m = a[0] + b[0]
+    if m == 0.0:
+        return a
+    c = (a[0] * a[1] + b[0] * b[1]) / m
+    shift = lambda body: body[2] + body[0] * ((body[1] - c) @ (body[1] - c) * np.eye(3) - np.outer(body[1] - c, body[1] - c))
+    return m, c, shift(a) + shift(b)
+
+
+def kdl_tree(path):
+    """As kdl_parser's treeFromUrdfModel (a segment per moving joint's child link, its joint at the
+    joint's origin), except that a link on a fixed joint is merged into its parent's segment: KDL's
+    Tree::getChain keeps the segments on the path only, and would drop a fixed branch's mass (a
+    thigh cuff) that rides with the chain. Returns the tree and which segment holds each link."""
+    robot = ET.parse(path).getroot()
+    links = {l.get("name"): l for l in robot.findall("link")}
+    joints = robot.findall("joint")
+    children = {j.find("child").get("link") for j in joints}
+    root = next(name for name in links if name not in children)
+    segments, body, owner = [], {root: (0.0, np.zeros(3), np.zeros((3, 3)))}, {}
+
+    def visit(segment, link, p, R):  # `link` rides with `segment`, at (p, R) in its frame
+        owner[link] = segment
+        m, c, I = body_of(links[link])
+        body[segment] = merged(body[segment], (m, p + R @ c, R @ I @ R.T))
+        for j in joints:
+            if j.find("parent").get("link") != link:
+                continue
+            pj, Rj = origin_of(j)
+            child = j.find("child").get("link")
+            if j.get("type") == "fixed":
+                visit(segment, child, p + R @ pj, R @ Rj)
+                continue
+            axis = np.array([float(v) for v in j.find("axis").get("xyz").split()])
+            segments.append((child, segment, j, p + R @ pj, R @ Rj, axis))
+            body[child] = (0.0, np.zeros(3), np.zeros((3, 3)))
+            visit(child, child, np.zeros(3), np.eye(3))
+
+    visit(root, root, np.zeros(3), np.eye(3))
+    tree = PyKDL.Tree(root)
+    for child, parent, j, p, R, axis in segments:
+        kind = PyKDL.Joint.TransAxis if j.get("type") == "prismatic" else PyKDL.Joint.RotAxis
+        joint = PyKDL.Joint(j.get("name"), PyKDL.Vector(*map(float, p)), PyKDL.Vector(*map(float, R @ axis)), kind)
+        m, c, I = body[child]
+        inertia = PyKDL.RigidBodyInertia(m, PyKDL.Vector(*map(float, c)),
+                                         PyKDL.RotationalInertia(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
+        assert tree.addSegment(PyKDL.Segment(child, joint, kdl_frame(p, R), inertia), parent)
+    return tree, owner
+
+
+def kdl_chain(path, base, tip):
+    tree, owner = kdl_tree(path)
+    return tree.getChain(owner[base], owner[tip])
+
+
+def friction_of(path):
+    robot = ET.parse(path).getroot()
+    out = {}
+    for j in robot.findall("joint"):
+        d = j.find("dynamics")
+        out[j.get("name")] = (float(d.get("friction", 0)), float(d.get("damping", 0))) if d is not None else (0.0, 0.0)
+    return out
+
+
+def kdl_torques(chain, gravity, q, qd, qdd):
+    n = chain.getNrOfJoints()
+    arrays = []
+    for v in (q, qd, qdd):
+        a = PyKDL.JntArray(n)
+        for k in range(n):
+            a[k] = float(v[k])
+        arrays.append(a)
+    tau = PyKDL.JntArray(n)
+    wrenches = [PyKDL.Wrench() for _ in range(chain.getNrOfSegments())]
+    assert PyKDL.ChainIdSolver_RNE(chain, PyKDL.Vector(*map(float, gravity))).CartToJnt(*arrays, wrenches, tau) >= 0
+    return np.array([tau[k] for k in range(n)])
+
+
+def without_friction(leg):
+    phi = np.array(leg["phi"], dtype=float)
+    for k, name in enumerate(leg["model"].parameter_names):
+        if name.endswith(".fc") or name.endswith(".fv"):
+            phi[k] = 0.0
+    return phi
+
+
+# (base, tip, gravity in the base's frame at q = 0): pelvis sits on base_link by a translation;
+# l_thigh is turned by its hip_pitch origin's roll of 0.05 rad.
+CASES = [("pelvis", "l_sole", np.array([0.0, 0.0, -9.81])),
+         ("pelvis", "r_sole", np.array([0.0, 0.0, -9.81])),
+         ("l_thigh", "l_sole", rpy_matrix(0.05, 0.0, 0.0).T @ np.array([0.0, 0.0, -9.81]))]
+
+
+@pytest.mark.parametrize("base,tip,gravity", CASES)
+def test_a_leg_out_of_the_tree_equals_kdls_get_chain(base, tip, gravity):
+    leg = exoid.load_chain(URDF, base=base, tip=tip)
+    chain = kdl_chain(URDF, base, tip)
+    assert chain.getNrOfJoints() == len(leg["joints"])
+    phi = without_friction(leg)
+    rng = np.random.default_rng(37)
+    worst = 0.0
+    for _ in range(50):
+        n = len(leg["joints"])
+        q, qd, qdd = rng.uniform(-1.5, 1.5, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n)
+        ours = leg["model"].regressor(q, qd, qdd) @ phi
+        theirs = kdl_torques(chain, gravity, q, qd, qdd)
+        worst = max(worst, np.abs(ours - theirs).max() / max(1.0, np.abs(theirs).max()))
+    assert worst <= REL_TOL, f"largest difference {worst:.3g} of the torque scale"
+
+
+def test_a_tree_without_a_tip_is_refused_with_its_leaves():
+    with pytest.raises(ValueError, match="l_sole, l_thigh_cuff, r_sole"):
+        exoid.load_chain(URDF)
+
+
+def record(path, joints, chain, friction, gravity, seed, duration_s=20.0, dt_s=0.002):
+    """Exact torques (KDL plus the URDF's friction) along a multisine, with exact derivatives."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, duration_s, dt_s)
+    n = len(joints)
+    f = rng.uniform(0.1, 0.6, (n, 3))
+    a = rng.uniform(0.1, 0.4, (n, 3))
+    ph = rng.uniform(0, 2 * math.pi, (n, 3))
+    w = 2 * math.pi * f
+    q = np.einsum("jk,tjk->tj", a, np.sin(w[None] * t[:, None, None] + ph[None]))
+    qd = np.einsum("jk,tjk->tj", a * w, np.cos(w[None] * t[:, None, None] + ph[None]))
+    qdd = np.einsum("jk,tjk->tj", -a * w * w, np.sin(w[None] * t[:, None, None] + ph[None]))
+    tau = np.array([kdl_torques(chain, gravity, q[i], qd[i], qdd[i]) for i in range(len(t))])
+    for k, j in enumerate(joints):
+        fc, fv = friction[j]
+        tau[:, k] += fc * np.sign(qd[:, k]) + fv * qd[:, k]
+    header = ["t"] + [f"{p}_{j}" for p in ("q", "qd", "qdd", "tau") for j in joints]
+    np.savetxt(path, np.column_stack([t, q, qd, qdd, tau]), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
+
+
+def test_identify_is_exact_on_one_leg_of_the_tree_from_kdl_data(tmp_path):
+    binary = os.environ.get("EXOID_BINARY")
+    if not binary:
+        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    base, tip, gravity = CASES[0]
+    leg = exoid.load_chain(URDF, base=base, tip=tip)
+    chain = kdl_chain(URDF, base, tip)
+    fit, check = tmp_path / "fit.csv", tmp_path / "check.csv"
+    record(fit, leg["joints"], chain, friction_of(URDF), gravity, 1)
+    record(check, leg["joints"], chain, friction_of(URDF), gravity, 2)
+    out = tmp_path / "id.json"
+    done = subprocess.run([binary, "identify", "--model", URDF, "--base", base, "--tip", tip, "--data", str(fit), "--validate", str(check),
+                           "--json", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+    j = json.loads(out.read_text())
+    rms = [joint["rms_error_Nm"] for v in j["validation"] for joint in v["joints"]]
+    assert len(rms) == 6 and max(rms) <= 1e-6, rms
+    # The same URDF without the options: exit 1 listing the leaf links to choose a tip from.
+    done = subprocess.run([binary, "identify", "--model", URDF, "--data", str(fit)], capture_output=True, text=True)
+    assert done.returncode == 1 and "l_sole" in done.stderr and "r_sole" in done.stderr, done.stderr
