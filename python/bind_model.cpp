@@ -80,7 +80,7 @@ void bindModel(py::module_& m) {
             o.samples = samples;
             o.seed = seed;
             const BaseParameters b = baseParameters(model, o);
-            return py::dict(py::arg("rank") = b.rank, py::arg("names") = b.names, py::arg("combination") = b.combination,
+            return py::dict(py::arg("rank") = b.rank, py::arg("names") = b.names, py::arg("combinations") = b.combinations, py::arg("combination") = b.combination,
                             py::arg("independent") = b.independent, py::arg("no_effect") = b.no_effect,
                             py::arg("regrouped") = b.regrouped);
           },

@@ -29,7 +29,8 @@ TEST(ModelReport, ApalLegsBaseParametersAreThePapersX) {
   // here as the QR's basis: -Myt, -Mxt, Jt - Js, fc1, fv1, -Mys, -Mxs, Js, fc2, fv2.
   const double expected[] = {-2.60, -5.83, 3.4545 - 0.5952, 1.5, 0.6, 0.32, -1.28, 0.5952, 0.35, 0.25};
   for (int i = 0; i < 10; ++i) EXPECT_NEAR(b["parameters"][i]["true_value"].get<double>(), expected[i], 1e-9) << i;
-  EXPECT_EQ(b["parameters"][1]["name"], "thigh.mz - 0.45 shank.m");
+  EXPECT_EQ(b["parameters"][1]["name"], "thigh.mz + 1 term");  // a short label; the combination written out
+  EXPECT_EQ(b["parameters"][1]["combination"], "thigh.mz - 0.45 shank.m");
   EXPECT_FALSE(j["model"]["left_out"].empty());  // the four-bar's cylinder and rod, named
 }
 

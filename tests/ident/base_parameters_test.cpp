@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 #include <random>
 
 namespace exoid::ident {
@@ -110,10 +111,20 @@ TEST(BaseParameters, SameSeedSameBytesAndReadableNames) {
   const BaseParameters a = baseParameters(apalChain(0.45)), b = baseParameters(apalChain(0.45));
   EXPECT_EQ(a.combination, b.combination);
   EXPECT_EQ(a.names, b.names);
-  const bool has_regrouped_name = std::any_of(a.names.begin(), a.names.end(), [](const std::string& n) {
+  EXPECT_EQ(a.combinations, b.combinations);
+  const bool has_regrouped_name = std::any_of(a.combinations.begin(), a.combinations.end(), [](const std::string& n) {
     return n.find("shank.m") != std::string::npos && n.find(" + ") != std::string::npos;
   });
-  EXPECT_TRUE(has_regrouped_name) << "the shank's mass is named inside a thigh combination";
+  EXPECT_TRUE(has_regrouped_name) << "the shank's mass is written out inside a thigh combination";
+  // Each label: the leading standard parameter and how many terms it regroups; distinct.
+  ASSERT_EQ(a.names.size(), a.combinations.size());
+  for (std::size_t i = 0; i < a.names.size(); ++i) {
+    const std::string lead = a.combinations[i].substr(0, a.combinations[i].find(' '));
+    EXPECT_EQ(a.names[i].rfind(lead, 0), 0u) << a.names[i];
+    const long others = (a.combination.row(static_cast<Eigen::Index>(i)).array() != 0.0).count() - 1;
+    EXPECT_EQ(a.names[i], others == 0 ? lead : lead + " + " + std::to_string(others) + (others == 1 ? " term" : " terms"));
+  }
+  EXPECT_EQ(std::set<std::string>(a.names.begin(), a.names.end()).size(), a.names.size());
   BaseParameterOptions bad;
   bad.samples = 0;
   EXPECT_THROW(baseParameters(apalChain(0.45), bad), std::invalid_argument);

@@ -208,3 +208,50 @@ def test_identify_is_exact_on_one_leg_of_the_tree_from_kdl_data(tmp_path):
     # The same URDF without the options: exit 1 listing the leaf links to choose a tip from.
     done = subprocess.run([binary, "identify", "--model", URDF, "--data", str(fit)], capture_output=True, text=True)
     assert done.returncode == 1 and "l_sole" in done.stderr and "r_sole" in done.stderr, done.stderr
+
+
+def arm_urdf(path, dof=7, seed=7):
+    """A random spatial arm (axes off the frame's axes, rolled joint frames) with a fixed tool."""
+    rng = np.random.default_rng(seed)
+    parts = ['<robot name="random_arm"><link name="arm_base_link"/>']
+    parent = "arm_base_link"
+    for k in range(dof):
+        link = f"arm_link_{k + 1}"
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        a, b = rng.uniform(0.005, 0.05, 2)
+        parts.append(f'<link name="{link}"><inertial><origin xyz="{rng.uniform(-.05, .05):.4f} {rng.uniform(-.05, .05):.4f} {rng.uniform(0, .15):.4f}"/>'
+                     f'<mass value="{rng.uniform(0.5, 4):.3f}"/><inertia ixx="{a:.5f}" ixy="0.001" ixz="0" iyy="{b:.5f}" iyz="0" izz="{a + b - 0.001:.5f}"/></inertial></link>')
+        parts.append(f'<joint name="arm_joint_{k + 1}" type="revolute"><parent link="{parent}"/><child link="{link}"/>'
+                     f'<origin xyz="{rng.uniform(-.1, .1):.3f} {rng.uniform(-.1, .1):.3f} {rng.uniform(.1, .3):.3f}" rpy="{rng.uniform(-1, 1):.3f} {rng.uniform(-1, 1):.3f} 0"/>'
+                     f'<axis xyz="{axis[0]:.6f} {axis[1]:.6f} {axis[2]:.6f}"/><limit lower="-3" upper="3" effort="100" velocity="5"/>'
+                     f'<dynamics damping="0.1" friction="0.2"/></joint>')
+        parent = link
+    parts.append('<link name="tool0"/><joint name="flange" type="fixed"><parent link="arm_link_7"/><child link="tool0"/><origin xyz="0 0 0.1"/></joint>')
+    parts.append("</robot>")
+    path.write_text("\n".join(parts) + "\n")
+
+
+def test_a_seven_joint_arms_identify_output_fits_a_terminal(tmp_path):
+    binary = os.environ.get("EXOID_BINARY")
+    if not binary:
+        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    urdf = tmp_path / "arm.urdf"
+    arm_urdf(urdf)
+    arm = exoid.load_chain(str(urdf))
+    chain = kdl_chain(str(urdf), "arm_base_link", "tool0")
+    gravity = np.array([0.0, 0.0, -9.81])
+    record(tmp_path / "fit.csv", arm["joints"], chain, friction_of(str(urdf)), gravity, 3)
+    record(tmp_path / "check.csv", arm["joints"], chain, friction_of(str(urdf)), gravity, 4)
+    out = tmp_path / "id.json"
+    done = subprocess.run([binary, "identify", "--model", str(urdf), "--data", str(tmp_path / "fit.csv"), "--validate", str(tmp_path / "check.csv"),
+                           "--json", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stdout + done.stderr
+    long_lines = [line for line in (done.stdout + done.stderr).splitlines() if len(line) > 120]
+    assert not long_lines, f"{len(long_lines)} lines over 120 characters, e.g. {long_lines[0]}"
+    j = json.loads(out.read_text())
+    base = j["base_parameters"]
+    # Short labels, each combination written out once in the JSON.
+    assert max(len(n) for n in base["names"]) < 40 and len(base["combinations"]) == len(base["names"])
+    assert any(" + " in c or " - " in c for c in base["combinations"])
+    assert max(joint["rms_error_Nm"] for v in j["validation"] for joint in v["joints"]) <= 1e-6

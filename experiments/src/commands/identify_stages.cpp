@@ -73,7 +73,7 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
       const std::string& file = in.files[r];
       std::optional<ident::BandChoice> band;
       records.push_back(ident::processRecord(data[s][r], loaded.robot, a.signals, rule, &band));
-      if (band) std::cout << file << ": " << band->describe() << "\n";
+      if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
     }
     out.stages.push_back({in.first_joint, ident::stackRecords(records)});
@@ -176,6 +176,7 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
     table.addRow(row);
   }
   table.print(std::cout);
+  printCombinations(std::cout, base.names, base.combinations);
 }
 
 nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
@@ -186,7 +187,7 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
   j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
   j["strategy"] = "segmental_down_the_chain";
   j["stages"] = stages_json;
-  j["base_parameters"] = {{"names", loaded.base.names}};
+  j["base_parameters"] = {{"names", loaded.base.names}, {"combinations", loaded.base.combinations}};
   for (std::size_t k = 0; k < methods.size(); ++k) {
     j["base_parameters"]["methods"][ident::toString(methods[k])] =
         std::vector<double>(results[k].theta.data(), results[k].theta.data() + results[k].theta.size());

@@ -29,6 +29,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 namespace exoid::experiments {
 
@@ -40,6 +41,11 @@ nlohmann::json namedValues(const std::vector<std::string>& names, const Eigen::V
   return j;
 }
 
+nlohmann::json namedStrings(const std::vector<std::string>& names, const std::vector<std::string>& values) {
+  nlohmann::json j = nlohmann::json::object();
+  for (std::size_t i = 0; i < names.size() && i < values.size(); ++i) j[names[i]] = values[i];
+  return j;
+}
 
 }  // namespace
 
@@ -125,10 +131,12 @@ void truthOfChain(const std::string& model_path, const std::string& json_out, co
   const Eigen::VectorXd beta = base.combination * phi;
   for (int i = 0; i < base.rank; ++i) bt.addRow({base.names[static_cast<std::size_t>(i)], fmt(beta[i], 8)});
   bt.print(std::cout);
+  printCombinations(std::cout, base.names, base.combinations);
   if (!json_out.empty()) {
     writeJsonFile(json_out, {{"tool", toolJson()},
                              {"model", {{"name", chain.name}, {"path", model_path}, {"joints", model.jointNames()}}},
-                             {"truth", {{"standard_parameters", namedValues(names, phi)}, {"base_parameters", namedValues(base.names, beta)}}}});
+                             {"truth", {{"standard_parameters", namedValues(names, phi)}, {"base_parameters", namedValues(base.names, beta)}}},
+                             {"base_parameter_combinations", namedStrings(base.names, base.combinations)}});
   }
 }
 
@@ -314,7 +322,7 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
     if (!fit.fit_signals) fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}};
     if (band) {
-      std::cout << file << ": " << band->describe() << "\n";
+      std::cout << wrapped(file + ": " + band->describe()) << "\n";
       rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
                     {"limited_by", band->limited_by}, {"reason", band->describe()}};
     }
@@ -362,7 +370,8 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   const ident::ChainModel& model = loaded.model;
   const Eigen::VectorXd predicted = v.W * est.beta;
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
-  std::cout << "validation " << file << ": torque error RMS";
+  std::ostringstream line;
+  line << "validation " << file << ": torque error RMS";
   for (int j = 0; j < model.dof(); ++j) {
     double err = 0.0, meas = 0.0;
     for (Eigen::Index k = 0; k < v.samples(); ++k) {
@@ -372,11 +381,11 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
     }
     err = std::sqrt(err / static_cast<double>(v.samples()));
     meas = std::sqrt(meas / static_cast<double>(v.samples()));
-    std::cout << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
+    line << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
               << " % of the measured)";
     vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
   }
-  std::cout << "\n";
+  std::cout << wrapped(line.str()) << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
   const Eigen::MatrixXd& Wv = v.W;
   for (const auto& [m, e] : others) {
@@ -495,9 +504,10 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
     table.addRow(row);
   }
   table.print(std::cout);
+  printCombinations(std::cout, base.names, base.combinations);
   std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
             << fmt(est.ls.residual_rms, 4) << " N m\n";
-  if (est.consistent) std::cout << "consistent estimate: " << est.consistent->message << " (" << fmt(mahalanobis, 3) << " standard errors from LS)\n";
+  if (est.consistent) std::cout << wrapped("consistent estimate: " + est.consistent->message + " (" + fmt(mahalanobis, 3) + " standard errors from LS)") << "\n";
 }
 
 nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
@@ -509,6 +519,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
   j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", model.jointNames()}};
   j["records"] = records_json;
   j["base_parameters"] = {{"names", loaded.base.names},
+                          {"combinations", loaded.base.combinations},
                           {"ls", toVector(est.beta)},
                           {"std_error", toVector(est.std_error)},
                           {"std_error_newey_west", toVector(est.errors.newey_west)},

@@ -54,6 +54,7 @@ void reportModel(const std::string& model_name, const std::string& json_out, std
   TextTable t({"#", "base parameter", "true value"});
   for (int i = 0; i < base.rank; ++i) t.addRow({std::to_string(i + 1), base.names[static_cast<std::size_t>(i)], fmt(beta[i], 6)});
   t.print(out);
+  printCombinations(out, base.names, base.combinations);
   out << "No torque shows (unidentifiable, whatever the motion): " << list(base.no_effect, names) << ".\n";
   for (const auto& [k, into] : base.regrouped) {
     out << "Regrouped: " << names[static_cast<std::size_t>(k)] << " acts only inside base parameter(s)";
@@ -79,7 +80,8 @@ void reportModel(const std::string& model_name, const std::string& json_out, std
       if (base.combination(i, k) != 0.0) terms[names[static_cast<std::size_t>(k)]] = base.combination(i, k);
     }
     j["base_parameters"]["parameters"].push_back(
-        {{"name", base.names[static_cast<std::size_t>(i)]}, {"terms", terms}, {"true_value", beta[i]}});
+        {{"name", base.names[static_cast<std::size_t>(i)]}, {"combination", base.combinations[static_cast<std::size_t>(i)]}, {"terms", terms},
+         {"true_value", beta[i]}});
   }
   for (int k : base.no_effect) j["base_parameters"]["no_effect"].push_back(names[static_cast<std::size_t>(k)]);
   writeJsonFile(json_out, j);

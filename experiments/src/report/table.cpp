@@ -7,6 +7,42 @@
 
 namespace exoid::experiments {
 
+std::string wrapped(const std::string& text, std::size_t width, std::size_t indent) {
+  std::string out, line;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string word = text.substr(start, end - start);
+    start = end + 1;
+    if (!line.empty() && line.size() + 1 + word.size() > width) {
+      out += line + '\n';
+      line = std::string(indent, ' ');
+    }
+    line += (line.empty() || line.back() == ' ' ? "" : " ") + word;
+  }
+  return out + line;
+}
+
+void printCombinations(std::ostream& out, const std::vector<std::string>& labels, const std::vector<std::string>& combinations) {
+  bool any = false;
+  for (std::size_t i = 0; i < labels.size() && i < combinations.size(); ++i) {
+    if (labels[i] == combinations[i]) continue;
+    if (!any) out << "where (each base parameter that regroups others, written out):\n";
+    any = true;
+    // Lines break between terms only: a term ("- 0.45 shank.m") keeps its sign and coefficient.
+    const char kGlue = '\x1f';
+    std::string text = labels[i] + " = " + combinations[i];
+    for (std::size_t k = 0; k < text.size(); ++k) {
+      const bool term_starts = k + 2 < text.size() && (text[k + 1] == '+' || text[k + 1] == '-' || text[k + 1] == '=') && text[k + 2] == ' ';
+      if (text[k] == ' ' && !term_starts) text[k] = kGlue;
+    }
+    std::string line = wrapped(text);
+    std::replace(line.begin(), line.end(), kGlue, ' ');
+    out << line << '\n';
+  }
+}
+
 void TextTable::print(std::ostream& out) const {
   std::vector<std::size_t> w(header_.size(), 0);
   auto widen = [&](const std::vector<std::string>& r) {

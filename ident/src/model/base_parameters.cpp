@@ -96,7 +96,13 @@ BaseParameters baseParameters(const ChainModel& model, const BaseParameterOption
     K.row(i) = K_pivot.row(from);
   }
   const std::vector<std::string> names = model.standardParameterNames();
-  for (int i = 0; i < r; ++i) out.names.push_back(describe(out.combination.row(i), out.independent[static_cast<std::size_t>(i)], names));
+  for (int i = 0; i < r; ++i) {
+    const int lead = out.independent[static_cast<std::size_t>(i)];
+    out.combinations.push_back(describe(out.combination.row(i), lead, names));
+    const Eigen::Index others = (out.combination.row(i).array() != 0.0).count() - 1;
+    out.names.push_back(names[static_cast<std::size_t>(lead)] +
+                        (others > 0 ? " + " + core::toText(static_cast<long>(others)) + (others == 1 ? " term" : " terms") : std::string()));
+  }
   const double column_scale = W.colwise().norm().maxCoeff();
   for (Eigen::Index j = 0; j < p - r; ++j) {
     const int k = perm[r + j];

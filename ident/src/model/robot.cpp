@@ -147,6 +147,7 @@ Robot twoLinkLeg(const LegConstants& c, bool knee_armature) {
   if (knee_armature) G(kKneeArmature, 24) = 1.0;
   for (int i = 0; i < p; ++i) {
     b.names.emplace_back(paramName(i));
+    b.combinations.emplace_back(paramName(i));
     r.units.emplace_back(i == kKneeArmature ? kneeArmatureInfo().unit : paramInfo()[static_cast<std::size_t>(i)].unit);
   }
   r.coulomb = {kFc1, kFc2};

@@ -20,6 +20,13 @@ class TextTable {
 };
 
 /// printf-style "%.*g" of a double.
+/// `text` broken at spaces into lines of at most `width` characters (a longer word stands alone),
+/// the later lines indented by `indent` spaces; lines joined by '\n', no trailing newline.
+std::string wrapped(const std::string& text, std::size_t width = 120, std::size_t indent = 4);
+/// Below a table of base parameters by label: each label that stands for a combination of
+/// standard parameters, written out once ("label = combination"), wrapped at 120 characters.
+void printCombinations(std::ostream& out, const std::vector<std::string>& labels, const std::vector<std::string>& combinations);
+
 std::string fmt(double v, int significant = 5);
 /// Fixed decimals, "%.*f".
 std::string fixed(double v, int decimals = 4);

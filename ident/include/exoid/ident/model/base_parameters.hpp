@@ -40,8 +40,11 @@ struct BaseParameters {
   std::vector<int> independent;
   /// rank x standardParameterCount(): beta = combination * phi.
   Eigen::MatrixXd combination;
-  /// "shank.Iyy", "thigh.Iyy + 0.2025 shank.m", ...: each row of `combination` in words.
+  /// Each base parameter's short, stable label: its leading standard parameter, and "+ N terms"
+  /// when others are regrouped into it ("shank.Iyy", "thigh.Iyy + 1 term"). Distinct (the leads are).
   std::vector<std::string> names;
+  /// Each row of `combination` in words, the label's full meaning ("thigh.Iyy + 0.2025 shank.m").
+  std::vector<std::string> combinations;
   /// Standard parameters that move no joint torque at all (a zero column): nothing identifies them.
   std::vector<int> no_effect;
   /// Standard parameters that act only through others (dependent columns with a nonzero K):
