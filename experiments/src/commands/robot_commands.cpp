@@ -365,8 +365,18 @@ MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& load
 
 // One validation record: the LS estimate's torque error per joint (printed), every other
 // method's RMS error per joint.
+// The RMS of each joint's torque error (measured - predicted), N m.
+std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& residual, int dof) {
+  std::vector<double> rms(static_cast<std::size_t>(dof), 0.0);
+  for (Eigen::Index k = 0; k < v.samples(); ++k) {
+    for (int j = 0; j < dof; ++j) rms[static_cast<std::size_t>(j)] += residual[k * dof + j] * residual[k * dof + j];
+  }
+  for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
+  return rms;
+}
+
 nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded,
-                              const ident::ChainEstimate& est, const MethodEstimates& others) {
+                              const ident::ChainEstimate& est, const MethodEstimates& others, const Eigen::VectorXd& cad) {
   const ident::ChainModel& model = loaded.model;
   const Eigen::VectorXd predicted = v.W * est.beta;
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
@@ -386,17 +396,18 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
     vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
   }
   std::cout << wrapped(line.str()) << "\n";
+  // The model file's own parameters (the CAD's) on the same record: how much the identification gained.
+  const std::vector<double> cad_rms = jointRms(v, v.y - v.W * cad, model.dof());
+  std::ostringstream cad_line;
+  cad_line << "validation " << file << ": the model file's own parameters (CAD): torque error RMS";
+  for (int j = 0; j < model.dof(); ++j) {
+    cad_line << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(cad_rms[static_cast<std::size_t>(j)], 4) << " N m";
+    vj["joints"][static_cast<std::size_t>(j)]["cad_rms_error_Nm"] = cad_rms[static_cast<std::size_t>(j)];
+  }
+  std::cout << wrapped(cad_line.str()) << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
   const Eigen::MatrixXd& Wv = v.W;
-  for (const auto& [m, e] : others) {
-    const Eigen::VectorXd r = v.y - Wv * e.x;
-    std::vector<double> rms(static_cast<std::size_t>(model.dof()), 0.0);
-    for (Eigen::Index k = 0; k < v.samples(); ++k) {
-      for (int j = 0; j < model.dof(); ++j) rms[static_cast<std::size_t>(j)] += r[k * model.dof() + j] * r[k * model.dof() + j];
-    }
-    for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
-    vj["methods_rms_error_Nm"][ident::toString(m)] = rms;
-  }
+  for (const auto& [m, e] : others) vj["methods_rms_error_Nm"][ident::toString(m)] = jointRms(v, v.y - Wv * e.x, model.dof());
   return vj;
 }
 
@@ -407,11 +418,12 @@ struct ChainValidation {
 };
 
 ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log,
-                              const ident::SignalOptions& fit_signals, const ident::ChainEstimate& est, const MethodEstimates& others) {
+                              const ident::SignalOptions& fit_signals, const ident::ChainEstimate& est, const MethodEstimates& others,
+                              const Eigen::VectorXd& cad) {
   ChainValidation out;
   for (const std::string& file : a.validate) {
     ident::RecordRows v = ident::processRecord(readLog(file, log), loaded.robot, fit_signals);
-    out.json.push_back(validationJson(file, v, loaded, est, others));
+    out.json.push_back(validationJson(file, v, loaded, est, others, cad));
     if (!out.first) out.first = std::move(v);
   }
   return out;
@@ -485,16 +497,19 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
 }
 
 void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others,
-                         const std::optional<Eigen::VectorXd>& truth, double mahalanobis) {
+                         const std::optional<Eigen::VectorXd>& truth, double mahalanobis, const Eigen::VectorXd& cad) {
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
   if (est.consistent) header.push_back("consistent");
   for (const auto& [m, e] : others) header.push_back(ident::toString(m));
+  header.insert(header.end(), {"CAD", "ls-CAD / se"});
   if (truth) header.insert(header.end(), {"truth", "ls err %", "err / std"});
   TextTable table(header);
   for (int i = 0; i < base.rank; ++i) {
     std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], fmt(est.beta[i], 6), fmt(est.std_error[i], 3)};
     if (est.consistent) row.push_back(fmt(est.consistent->beta[i], 6));
     for (const auto& [m, e] : others) row.push_back(fmt(e.x[i], 6));
+    row.push_back(fmt(cad[i], 6));
+    row.push_back(est.std_error[i] > 0.0 ? fmt((est.beta[i] - cad[i]) / est.std_error[i], 3) : "-");
     if (truth) {
       const double err = est.beta[i] - (*truth)[i];
       row.push_back(fmt((*truth)[i], 6));
@@ -505,6 +520,7 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
   }
   table.print(std::cout);
   printCombinations(std::cout, base.names, base.combinations);
+  std::cout << "CAD: the model file's own parameters; ls-CAD / se: their distance in standard errors\n";
   std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
             << fmt(est.ls.residual_rms, 4) << " N m\n";
   if (est.consistent) std::cout << wrapped("consistent estimate: " + est.consistent->message + " (" + fmt(mahalanobis, 3) + " standard errors from LS)") << "\n";
@@ -512,7 +528,7 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
 
 nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
                                  const MethodEstimates& others, const std::optional<Eigen::VectorXd>& truth,
-                                 const nlohmann::json& validation, const ChainVerdict& verdict) {
+                                 const nlohmann::json& validation, const ChainVerdict& verdict, const Eigen::VectorXd& cad) {
   const ident::ChainModel& model = loaded.model;
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -528,7 +544,10 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
                           {"std_error_are", kReportedErrorsAre},
                           {"condition_number", est.ls.condition_number},
                           {"residual_rms_Nm", est.ls.residual_rms},
-                          {"rows", est.rows}};
+                          {"rows", est.rows},
+                          {"cad", toVector(cad)},
+                          {"cad_is", "the model file's own parameters (its CAD) in the same base parameters"},
+                          {"ls_minus_cad_std_errors", toVector(((est.beta - cad).array() / est.std_error.array()).matrix())}};
   if (est.consistent) {
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
     j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
@@ -577,7 +596,8 @@ int identifyChain(const ChainIdentifyArgs& a) {
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
-  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others);
+  const Eigen::VectorXd cad = base.combination * loaded.phi;
+  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others, cad);
   if (!a.plot.empty()) plotChainFit(a, loaded, est, validation.first ? *validation.first : fit.records.front());
 
   std::optional<Eigen::VectorXd> truth;
@@ -587,9 +607,9 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   }
-  printChainEstimates(base, est, others, truth, verdict.mahalanobis);
+  printChainEstimates(base, est, others, truth, verdict.mahalanobis, cad);
   if (!a.json_out.empty()) {
-    nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict);
+    nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict, cad);
     j["determination"] = determinationJson(loaded.robot, determination);
     writeJsonFile(a.json_out, j);
   }

@@ -7,7 +7,10 @@
 
 namespace exoid::experiments {
 
-std::string wrapped(const std::string& text, std::size_t width, std::size_t indent) {
+std::string wrapped(const std::string& original, std::size_t width, std::size_t indent) {
+  // Never between "N" and "m": the unit is one word (kNoBreak, a space after wrapping).
+  std::string text = original;
+  for (std::size_t at = text.find(" N m"); at != std::string::npos; at = text.find(" N m", at + 1)) text[at + 2] = kNoBreak;
   std::string out, line;
   std::size_t start = 0;
   while (start < text.size()) {
@@ -15,13 +18,16 @@ std::string wrapped(const std::string& text, std::size_t width, std::size_t inde
     if (end == std::string::npos) end = text.size();
     const std::string word = text.substr(start, end - start);
     start = end + 1;
-    if (!line.empty() && line.size() + 1 + word.size() > width) {
+    // A word of one or two characters ("m", "%)") stays with the one before it (units, not orphans).
+    if (!line.empty() && line.size() + 1 + word.size() > width && (word.size() > 2 || line.size() >= width)) {
       out += line + '\n';
       line = std::string(indent, ' ');
     }
     line += (line.empty() || line.back() == ' ' ? "" : " ") + word;
   }
-  return out + line;
+  out += line;
+  std::replace(out.begin(), out.end(), kNoBreak, ' ');
+  return out;
 }
 
 void printCombinations(std::ostream& out, const std::vector<std::string>& labels, const std::vector<std::string>& combinations) {
@@ -31,15 +37,13 @@ void printCombinations(std::ostream& out, const std::vector<std::string>& labels
     if (!any) out << "where (each base parameter that regroups others, written out):\n";
     any = true;
     // Lines break between terms only: a term ("- 0.45 shank.m") keeps its sign and coefficient.
-    const char kGlue = '\x1f';
+    const char kGlue = kNoBreak;
     std::string text = labels[i] + " = " + combinations[i];
     for (std::size_t k = 0; k < text.size(); ++k) {
       const bool term_starts = k + 2 < text.size() && (text[k + 1] == '+' || text[k + 1] == '-' || text[k + 1] == '=') && text[k + 2] == ' ';
       if (text[k] == ' ' && !term_starts) text[k] = kGlue;
     }
-    std::string line = wrapped(text);
-    std::replace(line.begin(), line.end(), kGlue, ' ');
-    out << line << '\n';
+    out << wrapped(text) << '\n';
   }
 }
 

@@ -20,9 +20,14 @@ class TextTable {
 };
 
 /// printf-style "%.*g" of a double.
-/// `text` broken at spaces into lines of at most `width` characters (a longer word stands alone),
-/// the later lines indented by `indent` spaces; lines joined by '\n', no trailing newline.
-std::string wrapped(const std::string& text, std::size_t width = 120, std::size_t indent = 4);
+/// A space that wrapped() never breaks at (written as a space): "0.45\x1fshank.m".
+inline constexpr char kNoBreak = '\x1f';
+/// `text` broken at spaces into lines of at most `width` characters (a longer word stands alone; a
+/// word of one or two characters, a unit, stays on its predecessor's line: up to width + 3), the
+/// later lines indented by `indent` spaces; lines joined by '\n', no trailing newline; never inside
+/// "N m" nor at a kNoBreak. The
+/// default keeps every line within a 120-column terminal.
+std::string wrapped(const std::string& text, std::size_t width = 117, std::size_t indent = 4);
 /// Below a table of base parameters by label: each label that stands for a combination of
 /// standard parameters, written out once ("label = combination"), wrapped at 120 characters.
 void printCombinations(std::ostream& out, const std::vector<std::string>& labels, const std::vector<std::string>& combinations);
