@@ -1,8 +1,13 @@
 #include "exoid/sim/serial_chain.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <map>
+#include <regex>
+#include <sstream>
 #include <stdexcept>
 
 namespace exoid::sim {
@@ -82,6 +87,13 @@ void lumpBodies(const mjModel* m, const mjData* d, const std::vector<int>& bodie
   Eigen::Matrix3d I_origin = Eigen::Matrix3d::Zero();
   for (int b : bodies) {
     const double mb = m->body_mass[b];
+    const Eigen::Vector3d principal = Eigen::Map<const Eigen::Vector3d>(m->body_inertia + 3 * b);
+    // MuJoCo 2.2.2 compiles a negative mass; the chain takes no body that is not physical.
+    if (!std::isfinite(mb) || mb < 0.0 || !principal.allFinite() || principal.minCoeff() < 0.0) {
+      throw std::invalid_argument("body '" + nameOf(m, mjOBJ_BODY, b) + "': mass " + std::to_string(mb) + " kg, principal inertia " +
+                                  std::to_string(principal.x()) + " " + std::to_string(principal.y()) + " " + std::to_string(principal.z()) +
+                                  " kg m^2 (expected finite, mass >= 0, inertia positive semi-definite)");
+    }
     const Eigen::Vector3d c = R.transpose() * (Eigen::Map<const Eigen::Vector3d>(d->xipos + 3 * b) - o);
     const Eigen::Matrix3d A = R.transpose() * Eigen::Map<const Matrix3r>(d->ximat + 9 * b);
     const Eigen::Matrix3d I_com = A * Eigen::Map<const Eigen::Vector3d>(m->body_inertia + 3 * b).asDiagonal() * A.transpose();
@@ -93,6 +105,33 @@ void lumpBodies(const mjModel* m, const mjData* d, const std::vector<int>& bodie
   link.com_m = mass > 0.0 ? Eigen::Vector3d(first / mass) : Eigen::Vector3d::Zero();
   const Eigen::Vector3d& c = link.com_m;
   link.inertia_com_kgm2 = I_origin - mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+}
+
+// What MuJoCo 2.2.2 compiles without a word: a non-finite number (it reads "nan"), a negative
+// mass (set to 0) or principal inertia. Refused by file, line and attribute.
+void checkMjcfText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  static const std::regex attribute(R"re(([A-Za-z_]+)\s*=\s*"([^"]*)")re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), attribute); it != std::sregex_iterator(); ++it) {
+    const std::string name = (*it)[1], value = (*it)[2];
+    const auto where = [&] {
+      const long line = 1 + std::count(text.begin(), text.begin() + it->position(), '\n');
+      return "'" + path + "', line " + std::to_string(line) + ": " + name + "=\"" + value + "\"";
+    };
+    std::istringstream tokens(value);
+    for (std::string token; tokens >> token;) {
+      std::string lower = token;
+      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      if (!lower.empty() && (lower[0] == '+' || lower[0] == '-')) lower.erase(0, 1);
+      if (lower == "nan" || lower == "inf" || lower == "infinity") throw std::invalid_argument(where() + ": a non-finite number");
+      if ((name == "mass" || name == "diaginertia") && std::strtod(token.c_str(), nullptr) < 0.0) {
+        throw std::invalid_argument(where() + ": negative (a mass and principal inertias are >= 0)");
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -144,7 +183,11 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
     link.parent_R_joint = R_parent.transpose() * R;
     link.parent_p_joint_m = R_parent.transpose() * (o - o_parent);
     link.axis = Eigen::Map<const Eigen::Vector3d>(m->jnt_axis + 3 * j).normalized();
-    lumpBodies(m, d.get(), weldedTo(m, b, locked), R, o, link);
+    try {
+      lumpBodies(m, d.get(), weldedTo(m, b, locked), R, o, link);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("'" + source + "', " + e.what());
+    }
     const int dof = m->jnt_dofadr[j];
     link.coulomb_Nm = coulomb_Nm[i];
     link.damping_Nms = m->dof_damping[dof];
@@ -160,6 +203,10 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
         link.tau_max_Nm = gear * std::max(std::abs(m->actuator_forcerange[2 * a]), std::abs(m->actuator_forcerange[2 * a + 1]));
       } else if (m->actuator_ctrllimited[a]) {
         link.tau_max_Nm = gear * std::max(std::abs(m->actuator_ctrlrange[2 * a]), std::abs(m->actuator_ctrlrange[2 * a + 1]));
+      }
+      if (!(link.tau_max_Nm > 0.0)) {
+        throw std::invalid_argument(at + ": actuator '" + nameOf(m, mjOBJ_ACTUATOR, a) + "' limits the torque to " + std::to_string(link.tau_max_Nm) +
+                                    " N m (expected > 0)");
       }
     }
     collectLeftOut(m, b, bodies, chain.left_out);
@@ -192,6 +239,7 @@ std::vector<int> drivenHinges(const mjModel* m, const std::string& path) {
 
 SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelection& selection) {
   const ModelPtr model = loadMjcfFile(path);
+  checkMjcfText(path);
   const mjModel* m = model.get();
   std::map<int, double> locked;
   for (const auto& [name, value] : selection.locks) {
