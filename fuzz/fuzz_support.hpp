@@ -11,7 +11,8 @@
 namespace exoid::fuzz {
 
 inline std::string asFile(const std::uint8_t* data, std::size_t size, const char* suffix) {
-  static const std::string path = "/tmp/exoid-fuzz-" + std::to_string(::getpid()) + suffix;
+  static const std::string stem = "/tmp/exoid-fuzz-" + std::to_string(::getpid());
+  const std::string path = stem + suffix;  // a target may write several kinds (model_fuzz: .urdf, .xml)
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (f == nullptr) __builtin_trap();
   if (size > 0 && std::fwrite(data, 1, size, f) != size) __builtin_trap();

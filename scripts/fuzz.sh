@@ -6,6 +6,7 @@
 # when missing (scripts/deps.sh --with-fuzz). A crash fails the run, with the reproducer in the
 # build folder and a non-zero exit.
 #   scripts/fuzz.sh [SECONDS]
+# FUZZ_SEED (default 1): libFuzzer's seed, so that a run's first inputs are the same every time.
 # FUZZ_BUILD_DIR (default build-fuzz): a folder already configured with -DEXOID_FUZZ=ON is reused as
 # it is; any other is configured for fuzzing alone (no tests or benchmarks; the heavy
 # headers precompiled: a fuzzing tree is throwaway).
@@ -29,7 +30,7 @@ pids=()
 for target in "${targets[@]}"; do
   name=${target%_fuzz}
   mkdir -p "$dir/corpus/$name"
-  (cd "$dir" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "./fuzz/$target" -max_total_time="$seconds" \
+  (cd "$dir" && UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 "./fuzz/$target" -max_total_time="$seconds" -seed="${FUZZ_SEED:-1}" \
     -max_len=65536 -print_final_stats=1 "corpus/$name" "$root/fuzz/corpus/$name" > "$dir/$target.log" 2>&1) &
   pids+=($!)
 done
