@@ -7,12 +7,13 @@ seeds for every candidate, and scores each run by its median |relative parameter
 the simulation's truth (runs.csv's median_abs_rel_err). A candidate is compared with the current
 rule run by run: the log of the error ratio, averaged per rig.
 
-The criterion, fixed before any candidate was run: a candidate replaces the current constants
-only if its mean log ratio is below 0 on each rig and the upper end of the two rigs' pooled
-(equal-weight) 95 % interval, Bonferroni-corrected over the candidates, is below 0; among such
-candidates the lowest pooled mean wins. Otherwise the current rule stays.
+The criterion, fixed before any candidate was run: a candidate replaces the centre (at first the
+rule as it was) only if its mean log ratio is below 0 on each rig and the upper end of the two
+rigs' pooled (equal-weight) 95 % interval, Bonferroni-corrected over the candidates, is below 0;
+among such candidates the lowest pooled mean wins. A round's winner is the next round's centre
+(--centre), until no candidate passes.
 
-Usage: scripts/band_study.py EXOID OUT_DIR [--seeds N]
+Usage: scripts/band_study.py EXOID OUT_DIR [--seeds N] [--centre KEY=VALUE ...]
 Writes OUT_DIR/<rig>/<candidate>/ (each a sweep folder) and OUT_DIR/study.md, study.csv.
 """
 import argparse
@@ -28,14 +29,19 @@ import numpy as np
 CONFIGS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "experiments", "configs")
 RIGS = {"apal": "band_study_apal.toml", "leg3": "band_study_leg3.toml"}
 CURRENT = {"inconsistency_ratio": 2.0, "pilot_factor": 1.5, "max_factor": 5.0, "scan_hz": 1.0}
-# One constant at a time around the current rule: the threshold, each cutoff factor x0.8 / x1.25,
-# the scan's step halved / doubled.
-CANDIDATES = [("current", {})] + [
-    (f"{key}={value:g}", {key: value})
-    for key, values in [("inconsistency_ratio", [1.5, 3.0]), ("pilot_factor", [1.2, 1.875]),
-                        ("max_factor", [4.0, 6.25]), ("scan_hz", [0.5, 2.0])]
-    for value in values
-]
+# One constant at a time around the centre: the threshold x0.75 / x1.5, each cutoff factor x0.8 /
+# x1.25, the scan's step halved / doubled.
+STEPS = {"inconsistency_ratio": (0.75, 1.5), "pilot_factor": (0.8, 1.25), "max_factor": (0.8, 1.25), "scan_hz": (0.5, 2.0)}
+
+
+def candidates(centre):
+    out = [("current", dict(centre))]
+    for key, factors in STEPS.items():
+        for f in factors:
+            c = dict(centre)
+            c[key] = round(centre[key] * f, 6)
+            out.append((f"{key}={c[key]:g}", c))
+    return out
 
 
 def run_sweep(exoid, rig, name, overrides, out_dir, seeds):
@@ -46,7 +52,7 @@ def run_sweep(exoid, rig, name, overrides, out_dir, seeds):
     config = os.path.join(out_dir, rig, name + ".toml")
     with open(os.path.join(CONFIGS, RIGS[rig])) as f:
         text = f.read().replace("seeds = 5\n", f"seeds = {seeds}\n", 1)
-    text += "".join(f"band_{k} = {v!r}\n" for k, v in overrides.items())
+    text += "".join(f"band_{k} = {float(v)!r}\n" for k, v in overrides.items())
     with open(config, "w") as f:
         f.write(text)
     for design in ("excitation_knee.json", "excitation_both.json"):
@@ -70,11 +76,18 @@ def main():
     p.add_argument("exoid")
     p.add_argument("out")
     p.add_argument("--seeds", type=int, default=5)
+    p.add_argument("--centre", action="append", default=[], metavar="KEY=VALUE",
+                   help="the rule to start from (a previous round's winner), e.g. --centre max_factor=4")
     a = p.parse_args()
+    centre = dict(CURRENT)
+    for kv in a.centre:
+        key, value = kv.split("=")
+        centre[key] = float(value)
+    CANDIDATES = candidates(centre)
     z = 1.959963984540054
     # Bonferroni over the candidates: the normal quantile at 1 - 0.025 / k (k = 8).
     k = len(CANDIDATES) - 1
-    z_bonf = {8: 2.7344}.get(k, z)
+    z_bonf = {8: 2.7344}[k]
     results = {}
     for rig in RIGS:
         for name, overrides in CANDIDATES:
@@ -119,7 +132,8 @@ def main():
                           str(failed), f"{100 * med:.2f}"]
             f.write(f"| {name} | " + " | ".join(cells) + f" | {math.exp(pooled):.3f} [{math.exp(pooled - z_bonf * pooled_se):.3f}, "
                     f"{math.exp(pooled + z_bonf * pooled_se):.3f}] | {'yes' if name == chosen and name != 'current' else '-'} |\n")
-        f.write(f"\nChosen: {chosen}.\n")
+        f.write(f"\nCentre: {centre}. Chosen: {chosen}" + (" (a next round starts from it)" if chosen != "current" else
+                " (no candidate passes: the centre stays)") + ".\n")
     print(open(os.path.join(a.out, "study.md")).read())
 
 
