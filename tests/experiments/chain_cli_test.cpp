@@ -340,6 +340,37 @@ TEST(ChainCli, TheMotorRigTakesThePidsIntegral) {
   EXPECT_NE(stderrOf({"simulate", "--integral-hz", "1", "--out", dir + "/apal.csv"}, 105).find("--integral-hz"), std::string::npos);
 }
 
+// A URDF has no armature; a rig whose knee motor reflects 3 kg m^2 is fitted by no physical body
+// without it. The failure says which optional term explains it and names the option; with it, the
+// fit is consistent and usable.
+TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
+  const std::string dir = ::testing::TempDir();
+  std::ifstream in(std::string(EXOID_SOURCE_DIR) + "/models/leg3.xml");
+  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "damping=\"0.3\" armature=\"0.05\"";
+  ASSERT_NE(xml.find(from), std::string::npos);
+  xml.replace(xml.find(from), from.size(), "damping=\"0.3\" armature=\"3\"");
+  std::ofstream(dir + "/leg3_heavy_rotor.xml") << xml;
+  const std::string design = dir + "/arm_design.json", csv = dir + "/arm.csv", out = dir + "/arm.json";
+  const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"excite", "--model", "leg3", "--restarts", "2", "--out", design}), 0);
+  ASSERT_EQ(runExoid({"simulate", "--model", dir + "/leg3_heavy_rotor.xml", "--excitation", design, "--duration", "20", "--noise-tau", "0.3",
+                      "--seed", "1", "--out", csv}),
+            0);
+  testing::internal::GetCapturedStdout();
+  const std::string why = stderrOf({"identify", "--model", urdf, "--data", csv, "--json", out}, 3);
+  EXPECT_NE(why.find("no physically consistent body"), std::string::npos) << why;
+  EXPECT_NE(why.find("rerun with --armature knee"), std::string::npos) << why;
+  const nlohmann::json knee = readJson(out)["optional_terms"]["armature"]["knee"];
+  EXPECT_TRUE(knee["significant"].get<bool>());
+  // Within 4 of its reported standard errors of the rig's 3 kg m^2.
+  EXPECT_NEAR(knee["value_kgm2"].get<double>(), 3.0, 4.0 * knee["std_error_kgm2"].get<double>());
+  testing::internal::CaptureStdout();
+  EXPECT_EQ(runExoid({"identify", "--model", urdf, "--data", csv, "--armature", "knee,ankle"}), 0);
+  testing::internal::GetCapturedStdout();
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);

@@ -293,6 +293,7 @@ struct ChainFitRecords {
   std::vector<ident::RecordRows> records;
   nlohmann::json json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
+  std::vector<ident::SignalOptions> signals;         ///< each record's, its band chosen
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
   std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
@@ -307,6 +308,7 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
     std::optional<ident::BandChoice> band;
     fit.records.push_back(ident::processRecord(d, loaded.robot, a.signals, {}, &band));
     const ident::SignalOptions used = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, loaded.robot, a.signals);
+    fit.signals.push_back(used);
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
@@ -496,6 +498,56 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
   return v;
 }
 
+// An optional term the records may need: when no physically consistent body explains the fit, the
+// same records (each in its band) fitted with an armature on every joint the model gives none. Each
+// armature that is a base parameter of its own and lies more than --significance reported standard
+// errors above 0 (a rotor inertia is positive) is named, with the option that adds it.
+struct ArmatureTest {
+  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value, std_error, significant
+  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
+  std::string hint() const {
+    if (joints.empty()) return "";
+    std::string s, list;
+    for (std::size_t k = 0; k < joints.size(); ++k) {
+      s += (k ? ", " : "") + shown[k];
+      list += (k ? "," : "") + joints[k];
+    }
+    return "the records show a joint armature the model leaves out (" + s + "): rerun with --armature " + list;
+  }
+};
+
+ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ChainFitRecords& fit) {
+  ArmatureTest t;
+  std::vector<std::string> missing;
+  for (const ident::ChainJoint& j : loaded.model.joints) {
+    if (!j.armature) missing.push_back(j.name);
+  }
+  if (missing.empty()) return t;
+  const ident::ChainModel with = withArmature(loaded.model, missing);
+  ident::BaseParameterOptions bo;
+  bo.planar_base_motion = a.moving_base_parameters;
+  const ident::Robot robot = ident::chainRobot(with, bo);
+  std::vector<ident::RecordRows> rows;
+  for (std::size_t r = 0; r < a.data.size(); ++r) rows.push_back(ident::processRecord(readLog(a.data[r], log), robot, fit.signals[r]));
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = a.max_condition;
+  eo.consistent = false;
+  const ident::ChainEstimate e = ident::estimateChain(robot, ident::stackRecords(rows), Eigen::VectorXd::Zero(with.standardParameterCount()), eo);
+  if (e.ls.rank < robot.basis.rank) return t;
+  for (const std::string& joint : missing) {
+    const auto it = std::find(robot.basis.names.begin(), robot.basis.names.end(), joint + ".Ia");
+    if (it == robot.basis.names.end()) continue;  // regrouped with a link's inertia: no record separates it
+    const Eigen::Index i = it - robot.basis.names.begin();
+    const double value = e.beta[i], se = e.std_error[i];
+    const bool significant = se > 0.0 && value > a.significance_sigmas * se;
+    t.json[joint] = {{"value_kgm2", value}, {"std_error_kgm2", se}, {"significant", significant}};
+    if (!significant) continue;
+    t.joints.push_back(joint);
+    t.shown.push_back(joint + ".Ia = " + fmt(value, 4) + " +- " + fmt(se, 2) + " kg m^2, " + fmt(value / se, 3) + " standard errors above 0");
+  }
+  return t;
+}
+
 void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others,
                          const std::optional<Eigen::VectorXd>& truth, double mahalanobis, const Eigen::VectorXd& cad) {
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
@@ -603,6 +655,15 @@ int identifyChain(const ChainIdentifyArgs& a) {
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
   ChainVerdict verdict = verdictOf(a, base, est, others);
+  // A consistency failure an optional term explains says so, and names the option.
+  std::optional<ArmatureTest> armature;
+  if (verdict.mahalanobis > a.significance_sigmas) {
+    armature = armatureTest(a, loaded, log, fit);
+    for (std::string& p : verdict.problems) {
+      if (!armature->joints.empty() && p.rfind("no physically consistent body", 0) == 0) p += "; " + armature->hint();
+    }
+    if (!armature->joints.empty()) std::cout << wrapped("implausible: " + armature->hint()) << "\n";
+  }
   if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) verdict.problems.insert(verdict.problems.begin(), p);
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
@@ -611,6 +672,7 @@ int identifyChain(const ChainIdentifyArgs& a) {
   if (!a.json_out.empty()) {
     nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict, cad);
     j["determination"] = determinationJson(loaded.robot, determination);
+    if (armature) j["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
     writeJsonFile(a.json_out, j);
   }
   throwIfUnusable(verdict.problems);
