@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <regex>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -67,14 +67,15 @@ std::string leavesBelow(const mjModel* m, int from) {
 }
 
 // Bodies below `root` that move by a joint of their own not in the chain.
-void collectLeftOut(const mjModel* m, int root, const std::vector<int>& chain_bodies, std::vector<std::string>& out) {
+void collectLeftOut(const mjModel* m, int root, const std::vector<int>& chain_bodies, const std::map<int, double>& locked,
+                    std::vector<std::string>& out) {
   for (int b = root + 1; b < m->nbody; ++b) {
-    if (m->body_jntnum[b] == 0) continue;
+    if (heldBody(m, b, locked)) continue;
     bool in_chain = false;
     for (int c : chain_bodies) in_chain = in_chain || c == b;
     if (in_chain) continue;
     int p = m->body_parentid[b];
-    while (p > root && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+    while (p > root && heldBody(m, p, locked)) p = m->body_parentid[p];
     if (p == root) out.push_back(nameOf(m, mjOBJ_BODY, b));
   }
 }
@@ -108,28 +109,56 @@ void lumpBodies(const mjModel* m, const mjData* d, const std::vector<int>& bodie
 }
 
 // What MuJoCo 2.2.2 compiles without a word: a non-finite number (it reads "nan"), a negative
-// mass (set to 0) or principal inertia. Refused by file, line and attribute.
+// mass (set to 0) or principal inertia. Refused by file, line and attribute. A plain scan of the
+// file's attributes (comments skipped; not the files it <include>s): a value is numeric when every
+// token of it reads as a number and it has a digit or a numeric attribute's name (name="Inf" is a name).
 void checkMjcfText(const std::string& path) {
   std::ifstream in(path);
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
-  static const std::regex attribute(R"re(([A-Za-z_]+)\s*=\s*"([^"]*)")re");
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), attribute); it != std::sregex_iterator(); ++it) {
-    const std::string name = (*it)[1], value = (*it)[2];
+  static const std::set<std::string> kNumeric = {"mass", "diaginertia", "fullinertia", "pos", "quat", "axis", "range", "damping", "armature",
+                                                 "frictionloss", "gear", "forcerange", "ctrlrange", "size", "density", "euler", "fromto"};
+  std::size_t at = 0;
+  while ((at = text.find_first_of("=<", at)) != std::string::npos) {
+    if (text.compare(at, 4, "<!--") == 0) {
+      at = text.find("-->", at);
+      if (at == std::string::npos) return;
+      continue;
+    }
+    if (text[at] == '<') {
+      ++at;
+      continue;
+    }
+    std::size_t name_end = at;
+    while (name_end > 0 && std::isspace(static_cast<unsigned char>(text[name_end - 1]))) --name_end;
+    std::size_t name_start = name_end;
+    while (name_start > 0 && (std::isalnum(static_cast<unsigned char>(text[name_start - 1])) || text[name_start - 1] == '_')) --name_start;
+    std::size_t open = text.find_first_not_of(" \t\r\n", at + 1);
+    if (open == std::string::npos || (text[open] != '"' && text[open] != '\'')) {
+      ++at;
+      continue;
+    }
+    const std::size_t close = text.find(text[open], open + 1);
+    if (close == std::string::npos) return;  // MuJoCo's parser has refused the file already
+    const std::string name = text.substr(name_start, name_end - name_start), value = text.substr(open + 1, close - open - 1);
+    at = close + 1;
+    std::istringstream tokens(value);
+    std::vector<double> numbers;
+    bool numeric = true;
+    for (std::string token; numeric && tokens >> token;) {
+      char* end = nullptr;
+      numbers.push_back(std::strtod(token.c_str(), &end));
+      numeric = end != token.c_str() && *end == '\0';
+    }
+    if (!numeric || numbers.empty() || (value.find_first_of("0123456789") == std::string::npos && !kNumeric.count(name))) continue;
     const auto where = [&] {
-      const long line = 1 + std::count(text.begin(), text.begin() + it->position(), '\n');
+      const long line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(open), '\n');
       return "'" + path + "', line " + std::to_string(line) + ": " + name + "=\"" + value + "\"";
     };
-    std::istringstream tokens(value);
-    for (std::string token; tokens >> token;) {
-      std::string lower = token;
-      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      if (!lower.empty() && (lower[0] == '+' || lower[0] == '-')) lower.erase(0, 1);
-      if (lower == "nan" || lower == "inf" || lower == "infinity") throw std::invalid_argument(where() + ": a non-finite number");
-      if ((name == "mass" || name == "diaginertia") && std::strtod(token.c_str(), nullptr) < 0.0) {
-        throw std::invalid_argument(where() + ": negative (a mass and principal inertias are >= 0)");
-      }
+    for (double v : numbers) {
+      if (!std::isfinite(v)) throw std::invalid_argument(where() + ": a non-finite number");
+      if ((name == "mass" || name == "diaginertia") && v < 0.0) throw std::invalid_argument(where() + ": negative (a mass and principal inertias are >= 0)");
     }
   }
 }
@@ -172,7 +201,7 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
     if (m->body_jntnum[b] != 1) throw std::invalid_argument(at + ": its body has " + std::to_string(m->body_jntnum[b]) + " joints (one expected)");
     if (i > 0) {  // directly below the previous link, through welded bodies only
       int p = m->body_parentid[b];
-      while (p != bodies[i - 1] && p > 0 && m->body_jntnum[p] == 0) p = m->body_parentid[p];
+      while (p != bodies[i - 1] && p > 0 && heldBody(m, p, locked)) p = m->body_parentid[p];
       if (p != bodies[i - 1]) throw std::invalid_argument(at + ": not below joint '" + nameOf(m, mjOBJ_JOINT, joints[i - 1]) + "' (not a serial chain)");
     }
     ChainLinkBody link;
@@ -209,7 +238,7 @@ SerialChain serialChainFromMjcf(const mjModel* m, const std::vector<int>& joints
                                     " N m (expected > 0)");
       }
     }
-    collectLeftOut(m, b, bodies, chain.left_out);
+    collectLeftOut(m, b, bodies, locked, chain.left_out);
     chain.links.push_back(link);
     R_parent = R;
     o_parent = o;
@@ -245,6 +274,7 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
   for (const auto& [name, value] : selection.locks) {
     const int j = mj_name2id(m, mjOBJ_JOINT, name.c_str());
     if (j < 0) throw std::invalid_argument("'" + path + "': --lock " + name + ": the model has no joint of that name");
+    if (!std::isfinite(value)) throw std::invalid_argument("'" + path + "': --lock " + name + ": the value is not a finite number");
     locked[j] = value;
   }
   const int base = selection.base.empty() ? 0 : bodyNamed(m, path, selection.base, "--base");
@@ -281,6 +311,18 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
     coulomb.push_back(id >= 0 ? m->numeric_data[m->numeric_adr[id]] : 0.0);
   }
   SerialChain chain = serialChainFromMjcf(m, chain_joints, coulomb, path, locked);
+  // Driven branches hanging from the base: left out, named.
+  for (int j : off_chain) chain.left_out.push_back(nameOf(m, mjOBJ_BODY, m->jnt_bodyid[j]));
+  // A lock is used on the path (holding a joint of it) or below the chain's first link (a branch
+  // lumped into a link); one anywhere else would be silently unused.
+  const int first = m->jnt_bodyid[chain_joints.front()];
+  for (const auto& [j, value] : locked) {
+    const int b = m->jnt_bodyid[j];
+    const bool on_path = isBelow(m, b, base) && b != base && (tip < 0 || isBelow(m, tip, b)) && isBelow(m, first, b);
+    if (!on_path && !isBelow(m, b, first)) {
+      throw std::invalid_argument("'" + path + "': --lock " + nameOf(m, mjOBJ_JOINT, j) + ": the joint is neither on the chain nor on a branch off it");
+    }
+  }
   chain.name = m->nnames > 0 && m->names[0] ? m->names : path;  // MuJoCo keeps <mujoco model=...> first
   return chain;
 }

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -133,6 +134,9 @@ SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& s
   for (const auto& [joint, value] : selection.locks) {
     if (!model->getJoint(joint)) throw std::invalid_argument("'" + path + "': --lock " + joint + ": the URDF has no joint of that name");
   }
+  for (const auto& [joint, value] : selection.locks) {
+    if (!std::isfinite(value)) throw std::invalid_argument("'" + path + "': --lock " + joint + ": the value is not a finite number");
+  }
   Walk walk{path, *model, selection, {}};
   const urdf::LinkConstSharedPtr base = selection.base.empty() ? model->getRoot() : linkNamed(path, *model, selection.base, "--base");
   std::optional<std::set<std::string>> on_path;
@@ -178,7 +182,7 @@ SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& s
     if (!revolute(j)) {
       throw std::invalid_argument("'" + path + "': joint '" + j.name + "' is " + typeName(j.type) +
                                   " (on the chain): exoid identifies serial chains of revolute joints only (a floating base is not taken either: "
-                                  "choose --base below it, or hold the joint with --lock)");
+                                  "choose --base below it" + (j.type == urdf::Joint::PRISMATIC ? std::string(", or hold the joint with --lock") : std::string()) + ")");
     }
     checkChainJoint(path, j);
     ChainLinkBody link;

@@ -53,6 +53,10 @@ void checkNumbers(const std::string& path, const urdf::ModelInterface& model) {
     const std::string what = "joint '" + name + "'";
     requireFinite(path, what + " <origin>", joint->parent_to_joint_origin_transform);
     requireFinite(path, what + " <axis>", {joint->axis.x, joint->axis.y, joint->axis.z});
+    const double axis_norm = std::sqrt(joint->axis.x * joint->axis.x + joint->axis.y * joint->axis.y + joint->axis.z * joint->axis.z);
+    if (joint->type != urdf::Joint::FIXED && joint->type != urdf::Joint::FLOATING && joint->type != urdf::Joint::PLANAR && !(axis_norm > 0.0)) {
+      throw std::invalid_argument("'" + path + "': " + what + " <axis>: the zero vector (the joint would move nothing)");
+    }
     if (joint->limits) {
       const urdf::JointLimits& l = *joint->limits;
       requireFinite(path, what + " <limit>", {l.lower, l.upper, l.effort, l.velocity});
@@ -72,14 +76,19 @@ urdf::ModelInterfaceSharedPtr readUrdf(const std::string& path) {
   urdf::ModelInterfaceSharedPtr model;
   {
     const std::lock_guard<std::mutex> lock(parseMutex());
+    // Whatever level the process set (urdfdom is often silenced), its errors reach the collector.
+    const console_bridge::LogLevel level = console_bridge::getLogLevel();
+    console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_ERROR);
     console_bridge::useOutputHandler(&collector);
     try {
       model = urdf::parseURDFFile(path);
     } catch (...) {
       console_bridge::restorePreviousOutputHandler();
+      console_bridge::setLogLevel(level);
       throw;
     }
     console_bridge::restorePreviousOutputHandler();
+    console_bridge::setLogLevel(level);
   }
   if (!collector.errors.empty()) {
     throw std::invalid_argument("'" + path + "': urdfdom could not read the URDF: " + collector.errors +
@@ -98,8 +107,8 @@ void checkUsedLink(const std::string& path, const urdf::Link& link) {
   Eigen::Matrix3d I;
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  // Round-off of a principal inertia given to a few digits, not a physical negative moment.
-  const double tol = 1e-9 * std::max(1.0, I.cwiseAbs().maxCoeff());
+  // Round-off of an inertia written to six digits, not a physical negative moment.
+  const double tol = 1e-6 * I.cwiseAbs().maxCoeff();
   if (eig.minCoeff() < -tol) {
     throw std::invalid_argument(at + ": the inertia (ixx " + number(in.ixx) + ", iyy " + number(in.iyy) + ", izz " + number(in.izz) + ", ixy " +
                                 number(in.ixy) + ", ixz " + number(in.ixz) + ", iyz " + number(in.iyz) +

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <regex>
 #include <sstream>
@@ -163,6 +164,40 @@ TEST_F(MjcfTree, ChainsOutOfAnMjcfTree) {
   const SerialChain c = serialChainFromFile(xml, {"torso", "l_fore", {{"l_wr", 0.4}}});
   EXPECT_EQ(jointsOf(c), (std::vector<std::string>{"l_sh", "l_el"}));
   EXPECT_NEAR(c.links[1].mass_kg, 1.5, 1e-12);  // the hand, locked, rides with the forearm
+  // Left out: the right arm, hanging from the base; not the locked hand, which rides with the forearm.
+  EXPECT_NE(std::find(c.left_out.begin(), c.left_out.end(), "r_upper"), c.left_out.end());
+  EXPECT_EQ(std::find(c.left_out.begin(), c.left_out.end(), "l_hand"), c.left_out.end());
+  // A lock on the chain's own path holds that joint: the chain goes on through it.
+  const SerialChain held = serialChainFromFile(xml, {"torso", "l_hand", {{"l_el", 0.4}}});
+  EXPECT_EQ(jointsOf(held), (std::vector<std::string>{"l_sh", "l_wr"}));
+  EXPECT_NEAR(held.links[0].mass_kg, 3.0, 1e-12);  // upper arm and forearm
+  // A lock that nothing uses, and one that is not a number, are refused.
+  EXPECT_NE(refusal(xml, {"torso", "l_fore", {{"l_wr", 0.4}, {"r_sh", 0.1}}}).find("--lock r_sh"), std::string::npos);
+  EXPECT_NE(refusal(xml, {"torso", "l_fore", {{"l_wr", std::nan("")}}}).find("not a finite number"), std::string::npos);
+}
+
+// MJCF's strict reading looks at numbers only: a body named "Inf", a comment, a long list are fine.
+TEST_F(MjcfTree, StrictReadingLooksAtNumbersOnly) {
+  std::string vertices;
+  for (int i = 0; i < 20000; ++i) vertices += "ab ";
+  const std::string xml = writeTemp("names.xml", R"(<mujoco model="m"><!-- mass="-1" pos="nan 0 0" --><custom><text name="big" data=")" +
+                                                     vertices + R"("/></custom><worldbody><body name="Inf" pos="0 0 1">
+      <joint name="j" axis="0 1 0"/><geom size="0.1" mass='2'/></body></worldbody><actuator><motor joint="j"/></actuator></mujoco>)");
+  EXPECT_EQ(refusal(xml), "(accepted)");
+}
+
+// MuJoCo warns of the NaN it reads (hence no warning-free fixture); exoid refuses the file.
+TEST(MjcfStrict, ANonFiniteMassIsRefusedByLineAndAttribute) {
+  const std::string bad = writeTemp("bad.xml", R"(<mujoco><worldbody><body pos="0 0 1"><joint name="j" axis="0 1 0"/>
+      <geom size="0.1" mass='nan'/></body></worldbody><actuator><motor joint="j"/></actuator></mujoco>)");
+  EXPECT_NE(refusal(bad).find("mass=\"nan\": a non-finite number"), std::string::npos) << refusal(bad);
+}
+
+TEST(StrictUrdf, AZeroAxisIsRefused) {
+  std::string text = readText(kLeg3);
+  const std::string from = "<axis xyz=\"0 1 0\"/>";
+  text.replace(text.find(from), from.size(), "<axis xyz=\"0 0 0\"/>");
+  EXPECT_NE(refusal(writeTemp("zero_axis.urdf", text)).find("the zero vector"), std::string::npos);
 }
 
 }  // namespace

@@ -115,7 +115,10 @@ Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChai
   } catch (const nlohmann::json::exception& e) {
     throw std::invalid_argument("--ident '" + json_path + "': base_parameters.names must be strings and .ls numbers (" + e.what() + ")");
   }
-  if (names != loaded.base.names || ls.size() != names.size()) {
+  // Labels are short: the combinations behind them must match too (another lock posture or geometry).
+  const bool same_combinations = !j["base_parameters"].contains("combinations") ||
+                                 j["base_parameters"]["combinations"] == nlohmann::json(loaded.base.combinations);
+  if (names != loaded.base.names || ls.size() != names.size() || !same_combinations) {
     throw std::invalid_argument("--ident '" + json_path + "': its base parameters are not those of " + loaded.path + " (" +
                                 core::toText(loaded.base.rank) + " base parameters; identified with another model or --armature?)");
   }

@@ -498,6 +498,13 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
   return v;
 }
 
+// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
+nlohmann::json cadDistances(const ident::ChainEstimate& est, const Eigen::VectorXd& cad) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < cad.size(); ++i) out.push_back(est.std_error[i] > 0.0 ? nlohmann::json((est.beta[i] - cad[i]) / est.std_error[i]) : nlohmann::json());
+  return out;
+}
+
 // An optional term the records may need: when no physically consistent body explains the fit, the
 // same records (each in its band) fitted with an armature on every joint the model gives none. Each
 // armature that is a base parameter of its own and lies more than --significance reported standard
@@ -584,7 +591,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
   const ident::ChainModel& model = loaded.model;
   nlohmann::json j;
   j["tool"] = toolJson();
-  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", model.jointNames()}};
+  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", model.jointNames()}, {"left_out", loaded.chain.left_out}};
   j["records"] = records_json;
   j["base_parameters"] = {{"names", loaded.base.names},
                           {"combinations", loaded.base.combinations},
@@ -599,7 +606,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
                           {"rows", est.rows},
                           {"cad", toVector(cad)},
                           {"cad_is", "the model file's own parameters (its CAD) in the same base parameters"},
-                          {"ls_minus_cad_std_errors", toVector(((est.beta - cad).array() / est.std_error.array()).matrix())}};
+                          {"ls_minus_cad_std_errors", cadDistances(est, cad)}};
   if (est.consistent) {
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
     j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},

@@ -8,9 +8,9 @@
 namespace exoid::experiments {
 
 std::string wrapped(const std::string& original, std::size_t width, std::size_t indent) {
-  // Never between "N" and "m": the unit is one word (kNoBreak, a space after wrapping).
+  // Never inside "12 N m": the number and its unit are one word (kNoBreak, a space after wrapping).
   std::string text = original;
-  for (std::size_t at = text.find(" N m"); at != std::string::npos; at = text.find(" N m", at + 1)) text[at + 2] = kNoBreak;
+  for (std::size_t at = text.find(" N m"); at != std::string::npos; at = text.find(" N m", at + 1)) text[at] = text[at + 2] = kNoBreak;
   std::string out, line;
   std::size_t start = 0;
   while (start < text.size()) {
