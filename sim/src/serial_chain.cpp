@@ -302,7 +302,7 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
   for (int j : off_chain) {
     if (isBelow(m, m->jnt_bodyid[j], m->jnt_bodyid[chain_joints.front()])) {
       throw std::invalid_argument("'" + path + "': driven joint '" + nameOf(m, mjOBJ_JOINT, j) + "' moves a branch off the chain: hold it with --lock " +
-                                  nameOf(m, mjOBJ_JOINT, j) + "=VALUE (rad; lumped at that posture), or choose another --base/--tip");
+                                  nameOf(m, mjOBJ_JOINT, j) + "=VALUE (rad, or m for a prismatic joint; lumped at that posture), or choose another --base/--tip");
     }
   }
   std::vector<double> coulomb;

@@ -168,7 +168,7 @@ SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& s
                                     "(and --base LINK, default '" + base->name + "'); the leaf links below '" + base->name + "': " + joined(leaves));
       } else {
         throw std::invalid_argument("'" + path + "': joint '" + s.first->name + "' (" + typeName(s.first->type) + ") moves a branch off chain link '" +
-                                    below + "': hold it with --lock " + s.first->name + "=VALUE (rad; lumped at that posture), or choose " +
+                                    below + "': hold it with --lock " + s.first->name + "=VALUE (rad, or m for a prismatic joint; lumped at that posture), or choose " +
                                     "another --base/--tip");
       }
     }
