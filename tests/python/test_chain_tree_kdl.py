@@ -14,6 +14,8 @@ import pytest
 import exoid
 
 PyKDL = pytest.importorskip("PyKDL")
+if not exoid.has_simulator:
+    pytest.skip("built without MuJoCo and urdfdom, which read robot models", allow_module_level=True)
 
 SOURCE = os.environ.get("EXOID_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 URDF = os.path.join(SOURCE, "tests", "data", "two_leg_exo.urdf")
