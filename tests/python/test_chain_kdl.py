@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 import exoid
-
-PyKDL = pytest.importorskip("PyKDL")
+from kdl_support import PyKDL, kdl_frame, kdl_torques, kdl_vector
 
 # Both sides sum O(10^2) products of O(1..100) factors: roundoff is ~1e-14 relative; 1e-12 is
 # the bar.
@@ -27,14 +26,6 @@ def random_inertia(rng):
     c = rng.uniform(abs(a - b) + 1e-3, a + b)
     R = random_rotation(rng)
     return R @ np.diag([a, b, c]) @ R.T
-
-
-def kdl_vector(v):
-    return PyKDL.Vector(*map(float, v))
-
-
-def kdl_rotation(R):
-    return PyKDL.Rotation(*map(float, R.reshape(-1)))
 
 
 def random_chain(rng, dof, armature):
@@ -59,27 +50,12 @@ def kdl_chain(joints, bodies):
         armature = b["Ia"] if j["armature"] else 0.0
         joint = PyKDL.Joint(j["name"], kdl_vector(origin), kdl_vector(R @ j["axis"]), PyKDL.Joint.RotAxis,
                             1.0, 0.0, armature, 0.0, 0.0)
-        tip = PyKDL.Frame(kdl_rotation(R), kdl_vector(origin))
+        tip = kdl_frame(origin, R)
         I = b["Ic"]
         inertia = PyKDL.RigidBodyInertia(b["m"], kdl_vector(b["c"]),
                                          PyKDL.RotationalInertia(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
         chain.addSegment(PyKDL.Segment(j["link"], joint, tip, inertia))
     return chain
-
-
-def kdl_torques(chain, gravity, q, qd, qdd):
-    n = chain.getNrOfJoints()
-    arrays = []
-    for v in (q, qd, qdd):
-        a = PyKDL.JntArray(n)
-        for k in range(n):
-            a[k] = float(v[k])
-        arrays.append(a)
-    tau = PyKDL.JntArray(n)
-    wrenches = [PyKDL.Wrench() for _ in range(chain.getNrOfSegments())]
-    solver = PyKDL.ChainIdSolver_RNE(chain, kdl_vector(gravity))
-    assert solver.CartToJnt(arrays[0], arrays[1], arrays[2], wrenches, tau) >= 0
-    return np.array([tau[k] for k in range(n)])
 
 
 @pytest.mark.parametrize("armature", [False, True])

@@ -12,8 +12,7 @@ import numpy as np
 import pytest
 
 import exoid
-
-PyKDL = pytest.importorskip("PyKDL")
+from kdl_support import PyKDL, kdl_frame, kdl_torques, kdl_vector
 if not exoid.has_simulator:
     pytest.skip("built without MuJoCo and urdfdom, which read robot models", allow_module_level=True)
 
@@ -35,10 +34,6 @@ def origin_of(element):
     xyz = np.array([float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()])
     rpy = [float(v) for v in (o.get("rpy", "0 0 0") if o is not None else "0 0 0").split()]
     return xyz, rpy_matrix(*rpy)
-
-
-def kdl_frame(p, R):
-    return PyKDL.Frame(PyKDL.Rotation(*map(float, R.reshape(-1))), PyKDL.Vector(*map(float, p)))
 
 
 def body_of(link):
@@ -97,9 +92,9 @@ def kdl_tree(path):
     tree = PyKDL.Tree(root)
     for child, parent, j, p, R, axis in segments:
         kind = PyKDL.Joint.TransAxis if j.get("type") == "prismatic" else PyKDL.Joint.RotAxis
-        joint = PyKDL.Joint(j.get("name"), PyKDL.Vector(*map(float, p)), PyKDL.Vector(*map(float, R @ axis)), kind)
+        joint = PyKDL.Joint(j.get("name"), kdl_vector(p), kdl_vector(R @ axis), kind)
         m, c, I = body[child]
-        inertia = PyKDL.RigidBodyInertia(m, PyKDL.Vector(*map(float, c)),
+        inertia = PyKDL.RigidBodyInertia(m, kdl_vector(c),
                                          PyKDL.RotationalInertia(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
         assert tree.addSegment(PyKDL.Segment(child, joint, kdl_frame(p, R), inertia), parent)
     return tree, owner
@@ -117,20 +112,6 @@ def friction_of(path):
         d = j.find("dynamics")
         out[j.get("name")] = (float(d.get("friction", 0)), float(d.get("damping", 0))) if d is not None else (0.0, 0.0)
     return out
-
-
-def kdl_torques(chain, gravity, q, qd, qdd):
-    n = chain.getNrOfJoints()
-    arrays = []
-    for v in (q, qd, qdd):
-        a = PyKDL.JntArray(n)
-        for k in range(n):
-            a[k] = float(v[k])
-        arrays.append(a)
-    tau = PyKDL.JntArray(n)
-    wrenches = [PyKDL.Wrench() for _ in range(chain.getNrOfSegments())]
-    assert PyKDL.ChainIdSolver_RNE(chain, PyKDL.Vector(*map(float, gravity))).CartToJnt(*arrays, wrenches, tau) >= 0
-    return np.array([tau[k] for k in range(n)])
 
 
 def without_friction(leg):
@@ -190,16 +171,23 @@ def record(path, joints, chain, friction, gravity, seed, duration_s=20.0, dt_s=0
     np.savetxt(path, np.column_stack([t, q, qd, qdd, tau]), delimiter=",", header=",".join(header), comments="", fmt="%.17g")
 
 
+def left_leg_records(folder, fit_seed, check_seed):
+    """A fit and a validation record of the exoskeleton's left leg (CASES[0]), exact (KDL's torques)."""
+    base, tip, gravity = CASES[0]
+    joints = exoid.load_chain(URDF, base=base, tip=tip)["joints"]
+    chain = kdl_chain(URDF, base, tip)
+    paths = (folder / f"fit_{fit_seed}.csv", folder / f"check_{check_seed}.csv")
+    for path, seed in zip(paths, (fit_seed, check_seed)):
+        record(path, joints, chain, friction_of(URDF), gravity, seed)
+    return paths
+
+
 def test_identify_is_exact_on_one_leg_of_the_tree_from_kdl_data(tmp_path):
     binary = os.environ.get("EXOID_BINARY")
     if not binary:
         pytest.skip("EXOID_BINARY not set (ctest sets it)")
-    base, tip, gravity = CASES[0]
-    leg = exoid.load_chain(URDF, base=base, tip=tip)
-    chain = kdl_chain(URDF, base, tip)
-    fit, check = tmp_path / "fit.csv", tmp_path / "check.csv"
-    record(fit, leg["joints"], chain, friction_of(URDF), gravity, 1)
-    record(check, leg["joints"], chain, friction_of(URDF), gravity, 2)
+    base, tip, _ = CASES[0]
+    fit, check = left_leg_records(tmp_path, 1, 2)
     out = tmp_path / "id.json"
     done = subprocess.run([binary, "identify", "--model", URDF, "--base", base, "--tip", tip, "--data", str(fit), "--validate", str(check),
                            "--json", str(out)], capture_output=True, text=True)
@@ -265,12 +253,8 @@ def test_the_cad_beside_the_estimate(tmp_path):
     binary = os.environ.get("EXOID_BINARY")
     if not binary:
         pytest.skip("EXOID_BINARY not set (ctest sets it)")
-    base, tip, gravity = CASES[0]
-    leg = exoid.load_chain(URDF, base=base, tip=tip)
-    chain = kdl_chain(URDF, base, tip)
-    fit, check = tmp_path / "fit.csv", tmp_path / "check.csv"
-    record(fit, leg["joints"], chain, friction_of(URDF), gravity, 5)
-    record(check, leg["joints"], chain, friction_of(URDF), gravity, 6)
+    base, tip, _ = CASES[0]
+    fit, check = left_leg_records(tmp_path, 5, 6)
     import re
     heavier = tmp_path / "heavier.urdf"
     heavier.write_text(re.sub(r'<mass value="([0-9.]+)"/>', lambda m: f'<mass value="{1.2 * float(m.group(1)):.6g}"/>', open(URDF).read()))

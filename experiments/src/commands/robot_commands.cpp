@@ -365,9 +365,7 @@ MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& load
   return others;
 }
 
-// One validation record: the LS estimate's torque error per joint (printed), every other
-// method's RMS error per joint.
-// The RMS of each joint's torque error (measured - predicted), N m.
+// The RMS of each joint's entries of a sample-major residual (or torque) over the record, N m.
 std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& residual, int dof) {
   std::vector<double> rms(static_cast<std::size_t>(dof), 0.0);
   for (Eigen::Index k = 0; k < v.samples(); ++k) {
@@ -377,22 +375,17 @@ std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& 
   return rms;
 }
 
+// One validation record: the LS estimate's torque error per joint (printed), the model file's
+// own (CAD) model's, every other method's RMS error per joint.
 nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded,
                               const ident::ChainEstimate& est, const MethodEstimates& others, const Eigen::VectorXd& cad) {
   const ident::ChainModel& model = loaded.model;
-  const Eigen::VectorXd predicted = v.W * est.beta;
+  const std::vector<double> error = jointRms(v, v.y - v.W * est.beta, model.dof()), measured = jointRms(v, v.y, model.dof());
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
   std::ostringstream line;
   line << "validation " << file << ": torque error RMS";
   for (int j = 0; j < model.dof(); ++j) {
-    double err = 0.0, meas = 0.0;
-    for (Eigen::Index k = 0; k < v.samples(); ++k) {
-      const Eigen::Index row = k * model.dof() + j;
-      err += (v.y[row] - predicted[row]) * (v.y[row] - predicted[row]);
-      meas += v.y[row] * v.y[row];
-    }
-    err = std::sqrt(err / static_cast<double>(v.samples()));
-    meas = std::sqrt(meas / static_cast<double>(v.samples()));
+    const double err = error[static_cast<std::size_t>(j)], meas = measured[static_cast<std::size_t>(j)];
     line << (j ? ", " : " ") << model.joints[static_cast<std::size_t>(j)].name << " " << fmt(err, 4) << " N m (" << fmt(100.0 * err / meas, 3)
               << " % of the measured)";
     vj["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(j)].name}, {"rms_error_Nm", err}, {"rms_measured_Nm", meas}});
@@ -408,8 +401,7 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   }
   std::cout << wrapped(cad_line.str()) << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
-  const Eigen::MatrixXd& Wv = v.W;
-  for (const auto& [m, e] : others) vj["methods_rms_error_Nm"][ident::toString(m)] = jointRms(v, v.y - Wv * e.x, model.dof());
+  for (const auto& [m, e] : others) vj["methods_rms_error_Nm"][ident::toString(m)] = jointRms(v, v.y - v.W * e.x, model.dof());
   return vj;
 }
 
