@@ -386,17 +386,21 @@ void printSensitivity(const BandSensitivity& s) {
   }
 }
 
+void printErrors(ident::Method m, const ident::ReportedErrors& e, const char* how) {
+  std::cout << ident::toString(m) << ": standard errors (the larger of Newey-West from the residuals and a jackknife "
+            << "over blocks of the records and, from 3 records, over whole records" << how << "; * the jackknife's):";
+  for (Eigen::Index i = 0; i < e.reported.size(); ++i) {
+    std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(e.reported[i], 3) << (e.from_jackknife[static_cast<std::size_t>(i)] ? "*" : "");
+  }
+  std::cout << '\n';
+}
+
 void printConsistency(const std::vector<MethodOutcome>& outcomes) {
   for (const MethodOutcome& m : outcomes) {
+    if (m.segmental_errors) printErrors(m.method, *m.segmental_errors, ", stage by stage with what the knee stage carries into the hip's");
     if (!m.consistency) continue;
     const ConsistencyStep& cs = *m.consistency;
-    std::cout << ident::toString(m.method) << ": standard errors (the larger of Newey-West from the residuals and a jackknife "
-              << "over blocks of the records and, from 3 records, over whole records; * the jackknife's):";
-    for (Eigen::Index i = 0; i < cs.std_err.size(); ++i) {
-      std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.std_err[i], 3)
-                << (cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "*" : "");
-    }
-    std::cout << '\n';
+    printErrors(m.method, cs.errors, "");
     if (!cs.fit.constrained) {
       std::cout << ident::toString(m.method) << ": physically consistent (friction >= 0, Js >= 0, Jt >= Js, "
                 << "(Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2))\n";

@@ -1,4 +1,6 @@
 #include "exoid/experiments/protocol/identification.hpp"
+
+#include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/experiments/report/cells.hpp"
 
 #include "exoid/core/format.hpp"
@@ -9,6 +11,7 @@
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numeric>
@@ -161,6 +164,9 @@ const char* const kReportedErrorsAre =
     "over contiguous blocks of the records (10 in all, at least 2 per record; the fit repeated without each block), which "
     "sees model error as slow as the motion, and with 3 records or more over whole records, which sees a bias that differs "
     "between records";
+const char* const kSegmentalErrorsAre =
+    "the same rule stage by stage (ident/estimators/segmental_errors.hpp): each stage's Newey-West and jackknives over its "
+    "records, with what the earlier stages' errors carry into it through the torque it subtracts";
 
 void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options) {
@@ -188,7 +194,12 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident:
 
 MethodOutcome identifySegmented(const ident::Robot& robot, ident::Method m, const ident::RecordRows& knee_record,
                                 const ident::RecordRows& both_record, const ident::MethodOptions& o) {
-  return segmentalOutcome(robot, m, ident::identifySegmental(robot, {{1, knee_record}, {0, both_record}}, m, o));
+  const std::vector<ident::SegmentalStage> stages = {{1, knee_record}, {0, both_record}};
+  const ident::SegmentalResult r = ident::identifySegmental(robot, stages, m, o);
+  MethodOutcome out = segmentalOutcome(robot, m, r);
+  const bool full_rank = std::all_of(r.stages.begin(), r.stages.end(), [](const ident::StageResult& st) { return ident::usable(st.estimate.summary.status); });
+  if (m == ident::Method::kLs && full_rank) out.segmental_errors = ident::segmentalReportedErrors(robot, stages, r);
+  return out;
 }
 
 MethodOutcome identifySegmentedIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& knee_record,
@@ -281,6 +292,21 @@ nlohmann::json toJson(const Stage& s, bool with_history) {
   return j;
 }
 
+nlohmann::json errorsJson(const ident::ReportedErrors& e, const char* are) {
+  nlohmann::json se = nlohmann::json::object(), nw = nlohmann::json::object(), jk = nlohmann::json::object(), rj = nlohmann::json::object(),
+                 from = nlohmann::json::object();
+  for (Eigen::Index i = 0; i < e.reported.size(); ++i) {
+    const std::string name(ident::paramName(static_cast<int>(i)));
+    se[name] = jsonNumber(e.reported[i]);
+    nw[name] = jsonNumber(e.newey_west[i]);
+    jk[name] = jsonNumber(e.jackknife[i]);
+    rj[name] = jsonNumber(e.record_jackknife[i]);
+    from[name] = e.from_jackknife[static_cast<std::size_t>(i)] ? "jackknife" : "newey_west";
+  }
+  return {{"standard_errors", se},          {"standard_errors_newey_west", nw}, {"standard_errors_jackknife", jk},
+          {"standard_errors_record_jackknife", rj}, {"standard_errors_from", from}, {"standard_errors_are", are}};
+}
+
 nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
   nlohmann::json stages = nlohmann::json::array();
   for (const Stage& s : m.stages) stages.push_back(toJson(s, with_history));
@@ -292,6 +318,7 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
                       {"wall_time_s", m.wallTime_s()},
                       {"stages", stages}};
   if (m.knee_armature) j["knee_armature"] = {{"Ia2", *m.knee_armature}, {"unit", "kg m^2"}};
+  if (m.segmental_errors) j["segmental_errors"] = errorsJson(*m.segmental_errors, kSegmentalErrorsAre);
   if (m.consistency) {
     const ConsistencyStep& cs = *m.consistency;
     nlohmann::json checks = nlohmann::json::array();
@@ -300,24 +327,11 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
                         {"standard_error", jsonNumber(k.standard_error)},
                         {"violated", k.violated()}, {"significant", k.significant(cs.significance_sigmas)}, {"active", k.active}});
     }
-    nlohmann::json se = nlohmann::json::object(), un = nlohmann::json::object(), nw = nlohmann::json::object(),
-                   jk = nlohmann::json::object(), rj = nlohmann::json::object(), from = nlohmann::json::object();
-    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
-      const std::string name(ident::paramName(static_cast<int>(i)));
-      un[name] = cs.unconstrained[i];
-      se[name] = jsonNumber(cs.std_err[i]);
-      nw[name] = jsonNumber(cs.errors.newey_west[i]);
-      jk[name] = jsonNumber(cs.errors.jackknife[i]);
-      rj[name] = jsonNumber(cs.errors.record_jackknife[i]);
-      from[name] = cs.errors.from_jackknife[static_cast<std::size_t>(i)] ? "jackknife" : "newey_west";
-    }
-    j["consistency"] = {{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
-                        {"unconstrained_parameters", un}, {"standard_errors", se},
-                        {"standard_errors_newey_west", nw}, {"standard_errors_jackknife", jk},
-                        {"standard_errors_record_jackknife", rj},
-                        {"standard_errors_from", from},
-                        {"standard_errors_are", kReportedErrorsAre},
-                        {"checks", checks}};
+    nlohmann::json un = nlohmann::json::object();
+    for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) un[std::string(ident::paramName(static_cast<int>(i)))] = cs.unconstrained[i];
+    j["consistency"] = errorsJson(cs.errors, kReportedErrorsAre);
+    j["consistency"].update({{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
+                             {"unconstrained_parameters", un}, {"checks", checks}});
   }
   return j;
 }

@@ -47,6 +47,7 @@ nlohmann::json apalSweepRun(const SweepConfig& config, const SweepCondition& con
                             {"knee_validation", errorStats(s.knee_validation)},
                             {"hip_validation", errorStats(s.hip_validation)},
                             {"wall_time_s", s.outcome.wallTime_s()}});
+    if (s.outcome.segmental_errors) j["methods"].back()["std_error"] = vec(s.outcome.segmental_errors->reported);
   }
   return j;
 }

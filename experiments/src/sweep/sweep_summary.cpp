@@ -81,6 +81,7 @@ struct Row {
   Eigen::VectorXd abs_best_fit = Eigen::VectorXd::Constant(kNumParams, kNaN);
   Eigen::VectorXd crb = Eigen::VectorXd::Constant(kNumParams, kNaN);  // this method's noise std
   Eigen::VectorXd z = Eigen::VectorXd::Constant(kNumParams, kNaN);    // abs_best_fit / crb
+  Eigen::VectorXd reported = Eigen::VectorXd::Constant(kNumParams, kNaN);  // the method's own standard errors, if any
   double ts_hip = kNaN, ts_knee = kNaN;                                // torque-space vs best fit
   double gap_box = kNaN, gap_free = kNaN;                              // worst stage
   double median_abs_rel = kNaN, max_abs_rel = kNaN;
@@ -99,6 +100,7 @@ Eigen::VectorXd vec(const nlohmann::json& j) {
 // The per-method scores of a job record: CRB, torque-space errors, optimality gaps.
 void readScores(const nlohmann::json& m, Row& r) {
   r.crb = vec(m.at("crb_std"));
+  if (m.contains("std_error")) r.reported = vec(m.at("std_error"));
   r.plausible = m.at("implausible").empty() ? 1.0 : 0.0;
   for (int i = 0; i < kNumParams; ++i) r.z[i] = r.crb[i] > 0.0 ? r.abs_best_fit[i] / r.crb[i] : kNaN;
   r.ts_hip = m.at("torque_space").at("best_fit").at("hip").get<double>();
@@ -294,12 +296,13 @@ stats::ConfidenceInterval metricCi(const Replicates& reps, SweepMetric m) {
 // Parameter i over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
 // mean noise std (CRB) and RMS of error / CRB.
 ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
-  std::vector<double> rel, abs_rel, crb, errors, sigmas;
+  std::vector<double> rel, abs_rel, crb, errors, sigmas, reported;
   double z2 = 0.0;
   int zn = 0;
   for (const auto& [rep, row] : reps) {
     errors.push_back(row->abs_best_fit[i]);
     sigmas.push_back(row->crb[i]);
+    reported.push_back(row->reported[i]);
     rel.push_back(row->rel_best_fit[i]);
     abs_rel.push_back(std::abs(row->rel_best_fit[i]));
     if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
@@ -315,6 +318,7 @@ ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
   p.crb_std = stats::mean(crb);
   p.rms_error_over_crb = zn ? std::sqrt(z2 / zn) : kNaN;
   p.coverage = stats::coverageOf(errors, sigmas);
+  p.coverage_reported = stats::coverageOf(errors, reported);
   return p;
 }
 
@@ -468,6 +472,8 @@ nlohmann::json statisticsJson() {
       {"coverage95", "share of seeds whose estimate -+ 1.96 crb_std (that seed's) held the best fit truth, with its Wilson 95 % "
                      "interval; mean_error_over_sigma: mean of (estimate - truth) / crb_std (the bias in those stds); "
                      "sd_over_mean_sigma: sample std of the errors / mean crb_std (1 when crb_std is the scatter)"},
+      {"coverage95_reported", "the same with the standard errors the method reports (that seed's; segmental LS: identify's rule "
+                              "stage by stage, ident/estimators/segmental_errors.hpp); n = 0 for a method that reports none"},
       {"norm_err_*_mxt_dominated", "||x - x*|| / ||x*||: dominated by Mxt and Myt, kept for comparison only"}};
 }
 
@@ -493,7 +499,8 @@ nlohmann::json summaryJson(const ParameterStatistics& p) {
           {"abs_rel_err_max", jsonNumber(p.abs_rel_err_max)},
           {"crb_std", jsonNumber(p.crb_std)},
           {"rms_error_over_crb", jsonNumber(p.rms_error_over_crb)},
-          {"coverage95", coverageJson(p.coverage)}};
+          {"coverage95", coverageJson(p.coverage)},
+          {"coverage95_reported", coverageJson(p.coverage_reported)}};
 }
 
 // An object of each parameter's entry, keyed by its name.
@@ -734,32 +741,44 @@ void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, c
   }
 }
 
-// Per cell: how often each method's nominal 95 % intervals (-+ 1.96 CRB std) held the truth, per
-// parameter, and the verdict naming every parameter short of kCoverageShortfall.
-void writeCoverageTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+// Per cell: how often each method's nominal 95 % intervals held the truth, per parameter, and the
+// verdict naming every parameter short of kCoverageShortfall: with -+ 1.96 CRB std (every method),
+// then with -+ 1.96 of the standard errors a method reports (those that report them).
+void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, const CellSummary& c, stats::Coverage ParameterStatistics::*which,
+                        const std::string& sigma, const std::string& unit) {
   std::vector<std::string> names, header{"method"};
   for (int i = 0; i < kNumParams; ++i) names.emplace_back(ident::paramName(i));
   header.insert(header.end(), names.begin(), names.end());
-  for (const CellSummary* c : cs) {
-    md << "\nCoverage: seeds (%) whose estimate -+ 1.96 CRB std held the truth, torque noise " << fmt(c->condition.torque_noise_Nm, 4)
-       << " N m (nominal 95 %)\n\n";
-    TextTable t(header);
-    std::string verdict;
-    for (Variant v : methods) {
-      const MethodSummary& m = c->method(v);
-      std::vector<std::string> row{toString(v)};
-      std::vector<stats::Coverage> coverage;
-      for (const ParameterStatistics& p : m.parameters) {
-        row.push_back(p.coverage.n ? fixed(100.0 * p.coverage.share, 0) : "-");
-        coverage.push_back(p.coverage);
-      }
-      t.addRow(row);
-      if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += std::string("- ") + toString(v) + ": " + short_of + "\n";
+  TextTable t(header);
+  std::string verdict;
+  int shown = 0;
+  for (Variant v : methods) {
+    const MethodSummary& m = c.method(v);
+    std::vector<std::string> row{toString(v)};
+    std::vector<stats::Coverage> coverage;
+    for (const ParameterStatistics& p : m.parameters) {
+      const stats::Coverage& k = p.*which;
+      row.push_back(k.n ? fixed(100.0 * k.share, 0) : "-");
+      coverage.push_back(k);
     }
-    t.printMarkdown(md);
-    md << "\n" << (verdict.empty() ? "Every method covers every parameter in at least " + fixed(100.0 * kCoverageShortfall, 0) + " % of the seeds.\n"
-                                    : "Short of " + fixed(100.0 * kCoverageShortfall, 0) + " % (share [Wilson 95 %], the mean error and the scatter "
-                                      "in CRB stds):\n" + verdict);
+    if (std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; }) && which != &ParameterStatistics::coverage) continue;
+    t.addRow(row);
+    ++shown;
+    if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += std::string("- ") + toString(v) + ": " + short_of + "\n";
+  }
+  if (shown == 0) return;
+  md << "\nCoverage: seeds (%) whose estimate -+ 1.96 " << sigma << " held the truth, torque noise " << fmt(c.condition.torque_noise_Nm, 4)
+     << " N m (nominal 95 %)\n\n";
+  t.printMarkdown(md);
+  md << "\n" << (verdict.empty() ? "Every method covers every parameter in at least " + fixed(100.0 * kCoverageShortfall, 0) + " % of the seeds.\n"
+                                  : "Short of " + fixed(100.0 * kCoverageShortfall, 0) + " % (share [Wilson 95 %], the mean error and the scatter "
+                                    "in " + unit + "):\n" + verdict);
+}
+
+void writeCoverageTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+  for (const CellSummary* c : cs) {
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, "CRB std", "CRB stds");
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, "reported standard errors", "reported standard errors");
   }
 }
 

@@ -127,35 +127,40 @@ Eigen::MatrixXd blockJackknifeCovariance(const Eigen::MatrixXd& H, const Eigen::
   return scale.cwiseInverse().asDiagonal() * V * scale.cwiseInverse().asDiagonal();
 }
 
-ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
-                              int rows_per_step, const std::vector<RowBlock>& blocks, const std::vector<RowBlock>& records) {
+ReportedErrors combineReportedErrors(const Eigen::MatrixXd& newey_west, const Eigen::MatrixXd& block_jackknife,
+                                     const std::optional<Eigen::MatrixXd>& record_jackknife) {
+  const Eigen::Index p = newey_west.rows();
   ReportedErrors out;
-  const Eigen::MatrixXd nw = residualCovariance(H, y - H * x, channels, -1, rows_per_step);
-  out.newey_west = nw.diagonal().cwiseMax(0.0).cwiseSqrt();
   const auto sd = [](const Eigen::MatrixXd& c) { return Eigen::VectorXd(c.diagonal().cwiseMax(0.0).cwiseSqrt()); };
-  out.block_jackknife = sd(blockJackknifeCovariance(H, y, blocks));
+  out.newey_west = sd(newey_west);
+  out.block_jackknife = sd(block_jackknife);
   // Between records: a variance with 2 degrees of freedom or more.
-  out.record_jackknife = records.size() >= 3 ? sd(blockJackknifeCovariance(H, y, records))
-                                             : Eigen::VectorXd::Constant(x.size(), std::numeric_limits<double>::quiet_NaN());
+  out.record_jackknife = record_jackknife ? sd(*record_jackknife) : Eigen::VectorXd::Constant(p, std::numeric_limits<double>::quiet_NaN());
   out.jackknife = out.block_jackknife;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
+  for (Eigen::Index i = 0; i < p; ++i) {
     if (out.record_jackknife[i] > out.jackknife[i] || std::isnan(out.jackknife[i])) out.jackknife[i] = out.record_jackknife[i];
   }
   out.reported = out.newey_west;
-  out.from_jackknife.assign(static_cast<std::size_t>(x.size()), false);
-  Eigen::VectorXd raise = Eigen::VectorXd::Ones(x.size());
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
+  out.from_jackknife.assign(static_cast<std::size_t>(p), false);
+  Eigen::VectorXd raise = Eigen::VectorXd::Ones(p);
+  for (Eigen::Index i = 0; i < p; ++i) {
     if (!(out.jackknife[i] > out.newey_west[i])) continue;  // NaN (too few blocks) keeps Newey-West's
     out.reported[i] = out.jackknife[i];
     out.from_jackknife[static_cast<std::size_t>(i)] = true;
     raise[i] = out.newey_west[i] > 0.0 ? out.jackknife[i] / out.newey_west[i] : 0.0;
   }
-  out.covariance = raise.asDiagonal() * nw * raise.asDiagonal();
+  out.covariance = raise.asDiagonal() * newey_west * raise.asDiagonal();
   // A parameter Newey-West puts no error on (an exact fit) takes the jackknife's alone.
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
+  for (Eigen::Index i = 0; i < p; ++i) {
     if (raise[i] == 0.0) out.covariance(i, i) = out.reported[i] * out.reported[i];
   }
   return out;
+}
+
+ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
+                              int rows_per_step, const std::vector<RowBlock>& blocks, const std::vector<RowBlock>& records) {
+  return combineReportedErrors(residualCovariance(H, y - H * x, channels, -1, rows_per_step), blockJackknifeCovariance(H, y, blocks),
+                               records.size() >= 3 ? std::optional<Eigen::MatrixXd>(blockJackknifeCovariance(H, y, records)) : std::nullopt);
 }
 
 }  // namespace exoid::ident

@@ -4,6 +4,7 @@
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/leg/consistency.hpp"
 #include "exoid/ident/leg/metrics.hpp"
 #include "exoid/ident/leg/regressor.hpp"
@@ -31,6 +32,8 @@ struct Stage {
 /// constrained estimate with each condition's distance in those standard errors.
 /// What the reported standard errors are, in words (identify's JSON and console).
 extern const char* const kReportedErrorsAre;
+/// The same for a segmental fit (MethodOutcome::segmental_errors).
+extern const char* const kSegmentalErrorsAre;
 
 struct ConsistencyStep {
   Eigen::VectorXd unconstrained;  ///< 10 (or 11 with Ia2)
@@ -57,10 +60,16 @@ struct MethodOutcome {
   /// Set when the estimate was made physically consistent (applyConsistency): x (and Ia2) are then
   /// the constrained estimate, and `implausible` lists only the significant violations.
   std::optional<ConsistencyStep> consistency;
+  /// LS by the segmental strategy: the reported errors of x (ident::segmentalReportedErrors).
+  std::optional<ident::ReportedErrors> segmental_errors;
   bool usable() const;        ///< every stage usable
   std::string problems() const;  ///< the messages of unusable stages
   double wallTime_s() const;
 };
+
+/// Reported errors as identify's JSON gives them, by parameter name: standard_errors (the
+/// reported), _newey_west, _jackknife, _record_jackknife, _from, _are.
+nlohmann::json errorsJson(const ident::ReportedErrors& e, const char* are);
 
 /// Entries of a search-box estimate (PSO, RLS-PSO) on their box's bound (within 1e-9 of the box
 /// width): there the box, not the data, chose the value, and the cost's optimum lies outside.

@@ -102,6 +102,9 @@ struct ParameterStatistics {
   /// How often estimate -+ 1.96 CRB std held the best-fit truth (the interval the noise alone
   /// would justify), the mean error and the scatter in those stds.
   stats::Coverage coverage;
+  /// The same with the standard errors the method reports (segmental LS: identify's rule stage by
+  /// stage); n = 0 for a method that reports none.
+  stats::Coverage coverage_reported;
 };
 
 /// Coverage below this share of the runs names the parameter in summary.md's verdict: a nominal

@@ -19,6 +19,7 @@
 // larger of the two.
 #include <Eigen/Core>
 
+#include <optional>
 #include <vector>
 
 namespace exoid::ident {
@@ -72,5 +73,11 @@ struct ReportedErrors {
 /// blocks: recordBlocks(...); records: wholeRecords(...).
 ReportedErrors reportedErrors(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const Eigen::VectorXd& x, const std::vector<Channel>& channels,
                               int rows_per_step, const std::vector<RowBlock>& blocks, const std::vector<RowBlock>& records);
+
+/// reportedErrors' rule on covariances made elsewhere (a segmental fit's, stage by stage): the
+/// jackknife's variance is the larger of the blocks' and the records' (when given), each
+/// parameter's reported error the larger of it and Newey-West's.
+ReportedErrors combineReportedErrors(const Eigen::MatrixXd& newey_west, const Eigen::MatrixXd& block_jackknife,
+                                     const std::optional<Eigen::MatrixXd>& record_jackknife);
 
 }  // namespace exoid::ident
