@@ -205,9 +205,11 @@ TEST(DesignedExcitation, ReplacesTheIdentificationRecordsOnly) {
   const ident::ParamVector nominal = ident::toParamVector(ident::defaultLeg());
   ProtocolConfig c = rigidLeg(3.0);
   c.variants = {Variant::kLs};
-  c.both_excitation = (ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
-  o.hip_locked = true;
-  c.knee_excitation = (ident::designExcitation(o, lc, nominal, ident::ExcitationLimits{}).trajectory);
+  const ident::Robot leg = ident::twoLinkLeg(lc);
+  c.both_excitation = ident::designExcitation(o, leg, nominal, ident::ExcitationLimits::twoLinkLeg()).trajectory;
+  o.locked_joints = 1;
+  o.locked_at_rad = Eigen::VectorXd::Constant(1, -10.0 * M_PI / 180.0);
+  c.knee_excitation = ident::designExcitation(o, leg, nominal, ident::ExcitationLimits::twoLinkLeg()).trajectory;
   const ProtocolResult r = runProtocol(c);
   EXPECT_EQ(r.records[0].data.metadata("trajectory").value_or(""), "fourier");
   EXPECT_EQ(r.records[0].data.metadata("hip_locked").value_or(""), "true");

@@ -1,8 +1,10 @@
-// Excitation design: the Fourier trajectory's rest-at-the-ends rule, the limits'
-// bookkeeping, the Cramer-Rao floor no trajectory can beat, and designs that beat the paper's
-// trajectories on the criterion they optimise.
+// Excitation design on every leg (the APAL leg in its X, a chain in its base parameters): the
+// Fourier trajectory's rest-at-the-ends rule, the limits' bookkeeping, determinism; on the APAL
+// leg the Cramer-Rao floor no trajectory can beat, and designs that beat the paper's trajectories
+// on the criterion they optimise.
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/core/random.hpp"
+#include "random_chain.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,10 @@
 namespace exoid::ident {
 namespace {
 
+const Robot& leg() {
+  static const Robot r = twoLinkLeg(test::kLeg);
+  return r;
+}
 
 // The paper's trajectory 3 (hip -30 - 30 sin, knee 75 - 30 sin, 1 Hz) as a Fourier trajectory.
 core::FourierSeries paperTrajectory3() {
@@ -25,9 +31,9 @@ core::FourierSeries paperTrajectory3() {
 }
 
 TEST(Excitation, LimitsAreReportedByNameAndSize) {
-  ExcitationLimits lim;
+  ExcitationLimits lim = ExcitationLimits::twoLinkLeg();
   lim.qd_max_radps << 3.0, 1.0;  // trajectory 3 reaches 30 deg * 2 pi = 3.29 rad/s on both joints
-  const ExcitationScore s = scoreExcitation(paperTrajectory3(), test::kLeg, toParamVector(defaultLeg()), lim);
+  const ExcitationScore s = scoreExcitation(leg(), paperTrajectory3(), toParamVector(defaultLeg()), lim);
   EXPECT_NEAR(s.qd_max_radps[1], 30.0 * M_PI / 180.0 * 2 * M_PI, 1e-3);
   EXPECT_EQ(s.worst_violation_name, "qd[knee]");
   EXPECT_NEAR(s.worst_violation, s.qd_max_radps[1] / 1.0 - 1.0, 1e-12);
@@ -36,7 +42,7 @@ TEST(Excitation, LimitsAreReportedByNameAndSize) {
 // The floor's column bounds hold at every state inside the limits (checked on random states with
 // the regressor itself), and Coulomb friction's floor is sigma / sqrt(rows) exactly.
 TEST(Excitation, CrbFloorBoundsEveryColumnInsideTheLimits) {
-  ExcitationLimits lim;
+  ExcitationLimits lim = ExcitationLimits::twoLinkLeg();
   lim.q_min_rad << -1.3, 0.2;
   lim.q_max_rad << 0.1, 1.9;
   lim.qd_max_radps << 3.0, 4.0;
@@ -72,10 +78,10 @@ TEST(Excitation, CrbFloorBoundsEveryColumnInsideTheLimits) {
 
 TEST(Excitation, DesignBeatsThePapersTrajectoryAndRespectsItsLimits) {
   const ParamVector nominal = toParamVector(defaultLeg());
-  const ExcitationLimits lim;
+  const ExcitationLimits lim = ExcitationLimits::twoLinkLeg();
   ExcitationOptions o;  // defaults: criterion crb, N = 5, f0 = 0.2 Hz, 8 restarts
-  const ExcitationDesign d = designExcitation(o, test::kLeg, nominal, lim);
-  const ExcitationScore paper = scoreExcitation(paperTrajectory3(), test::kLeg, nominal, lim);
+  const ExcitationDesign d = designExcitation(o, leg(), nominal, lim);
+  const ExcitationScore paper = scoreExcitation(leg(), paperTrajectory3(), nominal, lim);
   std::printf("[ info ] condition number: design %.3g (paper's trajectory 3: %.3g), %ld evaluations, %.2f s\n",
               d.score.condition_number, paper.condition_number, d.evaluations, d.wall_time_s);
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
@@ -85,7 +91,7 @@ TEST(Excitation, DesignBeatsThePapersTrajectoryAndRespectsItsLimits) {
   // are each scored on 1000 samples, so compare per-row information: std scales as 1/sqrt(rows)).
   EXPECT_LT(d.score.sum_log_std, paper.sum_log_std);
   // Nor the floor: no trajectory inside the limits beats it (1000 rows of unit noise per equation).
-  const Eigen::MatrixXd H = excitationRegressor(d.trajectory, test::kLeg, 1000);
+  const Eigen::MatrixXd H = excitationRegressor(leg(), d.trajectory, 1000);
   const Eigen::MatrixXd cov = (H.transpose() * H).inverse();
   const Eigen::VectorXd floor = crbFloor(lim, test::kLeg, false, 0.0, 1000.0, 1.0);
   for (int p = 0; p < kNumParams; ++p) EXPECT_GE(std::sqrt(cov(p, p)), floor[p]) << paramName(p);
@@ -96,25 +102,11 @@ TEST(Excitation, DesignBeatsThePapersTrajectoryAndRespectsItsLimits) {
   EXPECT_LT(qdd.cwiseAbs().maxCoeff(), 1e-12);
 }
 
-TEST(Excitation, SameSeedSameDesign) {
-  ExcitationOptions o;
-  o.restarts = 2;
-  o.max_evaluations = 800;
-  const ParamVector nominal = toParamVector(defaultLeg());
-  const ExcitationDesign a = designExcitation(o, test::kLeg, nominal, ExcitationLimits{});
-  const ExcitationDesign b = designExcitation(o, test::kLeg, nominal, ExcitationLimits{});
-  EXPECT_EQ(a.trajectory.a_rad, b.trajectory.a_rad);
-  EXPECT_EQ(a.trajectory.b_rad, b.trajectory.b_rad);
-  EXPECT_EQ(a.trajectory.offset_rad, b.trajectory.offset_rad);
-  o.seed = 2;
-  EXPECT_NE(designExcitation(o, test::kLeg, nominal, ExcitationLimits{}).trajectory.b_rad, a.trajectory.b_rad);
-}
-
 TEST(Excitation, ConditionNumberCriterionMeetsItsTargetToo) {
   ExcitationOptions o;
   o.criterion = ExcitationCriterion::kConditionNumber;
   o.restarts = 3;
-  const ExcitationDesign d = designExcitation(o, test::kLeg, toParamVector(defaultLeg()), ExcitationLimits{});
+  const ExcitationDesign d = designExcitation(o, leg(), toParamVector(defaultLeg()), ExcitationLimits::twoLinkLeg());
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
   EXPECT_LE(d.score.condition_number, 25.0);
   EXPECT_EQ(parseExcitationCriterion("cond"), ExcitationCriterion::kConditionNumber);
@@ -124,16 +116,82 @@ TEST(Excitation, ConditionNumberCriterionMeetsItsTargetToo) {
 
 TEST(Excitation, KneeOnlyDesignKeepsTheHipAtItsLock) {
   ExcitationOptions o;
-  o.hip_locked = true;
+  o.locked_joints = 1;
+  o.locked_at_rad = Eigen::VectorXd::Constant(1, -10.0 * M_PI / 180.0);  // the paper's
   o.restarts = 3;
-  const ExcitationDesign d = designExcitation(o, test::kLeg, toParamVector(defaultLeg()), ExcitationLimits{});
+  const ExcitationDesign d = designExcitation(o, leg(), toParamVector(defaultLeg()), ExcitationLimits::twoLinkLeg());
   EXPECT_EQ(d.score.worst_violation, 0.0) << d.score.worst_violation_name;
   EXPECT_EQ(d.trajectory.a_rad.col(0).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_EQ(d.trajectory.offset_rad[0], o.hip_locked_at_rad);
-  EXPECT_EQ(excitationRegressor(d.trajectory, test::kLeg, 100).cols(), kGroupSize);
-  EXPECT_EQ(crbFloor(ExcitationLimits{}, test::kLeg, true, o.hip_locked_at_rad, 1.0, 1.0).size(), kGroupSize);
+  EXPECT_EQ(d.trajectory.offset_rad[0], o.locked_at_rad[0]);
+  EXPECT_EQ(d.trajectory.locked_joints, 1);
+  // The knee equation's rows over the parameters it touches: the shank's and the knee's five.
+  const Eigen::MatrixXd H = excitationRegressor(leg(), d.trajectory, 100);
+  EXPECT_EQ(H.rows(), 100);
+  EXPECT_EQ(excitationParameters(leg(), 1), (std::vector<int>{kShankFirst, kShankFirst + 1, kShankFirst + 2, kShankFirst + 3, kShankFirst + 4}));
+  EXPECT_EQ(H.cols(), kGroupSize);
+  EXPECT_EQ(crbFloor(ExcitationLimits::twoLinkLeg(), test::kLeg, true, o.locked_at_rad[0], 1.0, 1.0).size(), kGroupSize);
   std::printf("[ info ] knee-only design: condition number %.3g\n", d.score.condition_number);
 }
+
+// Every leg: the APAL leg in its X and the APAL chain in its base parameters (a chain from a
+// model file would be the same code). A design starts and ends at rest, stays inside every limit
+// (checked on 1000 samples), is the same for the same seed and another for another, and scores as
+// the score function says; a motion out of range is a violation that names the joint.
+struct LegDesignCase {
+  const char* name;
+  Robot robot;
+  Eigen::VectorXd theta;
+};
+
+LegDesignCase apalInX() { return {"APAL leg (X)", twoLinkLeg(test::kLeg), toParamVector(defaultLeg())}; }
+
+LegDesignCase apalChainInBaseParameters() {
+  const Robot r = chainRobot(testing::apalChain(0.45));
+  Eigen::VectorXd phi(24);
+  phi.segment<10>(0) = linkParameters(9.0, {0.0, 0.0, -0.2}, Eigen::Vector3d(0.15, 0.15, 0.03).asDiagonal());
+  phi.segment<2>(10) << 1.0, 0.5;
+  phi.segment<10>(12) = linkParameters(4.0, {0.0, 0.0, -0.2}, Eigen::Vector3d(0.06, 0.06, 0.01).asDiagonal());
+  phi.segment<2>(22) << 0.7, 0.3;
+  return {"APAL chain (base parameters)", r, r.basis.combination * phi};
+}
+
+class ExcitationOnEveryLeg : public ::testing::TestWithParam<LegDesignCase (*)()> {};
+
+TEST_P(ExcitationOnEveryLeg, FeasibleAtRestAtTheEndsAndDeterministic) {
+  const LegDesignCase c = GetParam()();
+  ExcitationLimits lim = ExcitationLimits::twoLinkLeg();
+  lim.q_min_rad[0] = -1.2;
+  lim.q_max_rad[0] = 0.4;
+  ExcitationOptions o;
+  o.restarts = 2;
+  o.max_evaluations = 400;
+  const ExcitationDesign a = designExcitation(o, c.robot, c.theta, lim);
+  const ExcitationDesign b = designExcitation(o, c.robot, c.theta, lim);
+  EXPECT_EQ(a.trajectory.a_rad, b.trajectory.a_rad) << c.name;
+  EXPECT_EQ(a.trajectory.b_rad, b.trajectory.b_rad) << c.name;
+  EXPECT_EQ(a.trajectory.offset_rad, b.trajectory.offset_rad) << c.name;
+  o.seed = 2;
+  EXPECT_NE(designExcitation(o, c.robot, c.theta, lim).trajectory.b_rad, a.trajectory.b_rad) << c.name;
+  EXPECT_EQ(a.score.worst_violation, 0.0) << c.name << " " << a.score.worst_violation_name;
+  Eigen::VectorXd q, qd, qdd;
+  a.trajectory.at(0.0, q, qd, qdd);
+  EXPECT_LE(qd.cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LE(qdd.cwiseAbs().maxCoeff(), 1e-10);
+  a.trajectory.at(1.0 / a.trajectory.f0_hz, q, qd, qdd);
+  EXPECT_LE(qd.cwiseAbs().maxCoeff(), 1e-9);
+  const ExcitationScore s = scoreExcitation(c.robot, a.trajectory, c.theta, lim, 1000);
+  EXPECT_EQ(s.condition_number, a.score.condition_number);
+  EXPECT_TRUE(std::isfinite(s.condition_number));
+  core::FourierSeries wide = a.trajectory;
+  wide.offset_rad[1] = 2.5;
+  EXPECT_EQ(scoreExcitation(c.robot, wide, c.theta, lim, 200).worst_violation_name, "q_max[knee]") << c.name;
+  o.locked_joints = 2;
+  o.locked_at_rad = Eigen::Vector2d::Zero();
+  EXPECT_THROW(designExcitation(o, c.robot, c.theta, lim), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Legs, ExcitationOnEveryLeg, ::testing::Values(&apalInX, &apalChainInBaseParameters),
+                         [](const ::testing::TestParamInfo<LegDesignCase (*)()>& i) { return i.index == 0 ? "ApalX" : "ApalChain"; });
 
 }  // namespace
 }  // namespace exoid::ident

@@ -27,6 +27,7 @@ struct ExciteArgs {
   std::string model = sim::defaultModelPath();
   ident::ExcitationOptions options;
   double duration_s = 10.0, rate_hz = 1000.0, sigma_Nm = 0.5;  // the CRB comparison's footing
+  bool knee_only = false;          ///< the hip locked (the segmental strategy's first stage)
   double hip_locked_at_deg = -10.0;
   // Overrides of the envelope's limits, "hip,knee" (empty = the paper's envelope).
   LimitOverrides overrides;
@@ -66,10 +67,10 @@ void writeSeriesCsv(const std::string& path, const core::FourierSeries& design, 
 }
 
 // A "hip,knee" override of one limit pair; `scale` converts to SI.
-void overrideLimit(Eigen::Vector2d& limit, const std::vector<double>& v, double scale, const char* flag) {
+void overrideLimit(Eigen::VectorXd& limit, const std::vector<double>& v, double scale, const char* flag) {
   if (v.empty()) return;
   if (v.size() != 2) throw CLI::ValidationError(flag, "expected hip,knee (two numbers)");
-  limit << v[0] * scale, v[1] * scale;
+  limit = Eigen::Vector2d(v[0] * scale, v[1] * scale);
 }
 
 // A chain model (not the APAL leg) is designed as a chain, with its own limits.
@@ -114,7 +115,7 @@ ident::ExcitationLimits designLimits(const ExciteArgs& a, const ident::LegConsta
   overrideLimit(limits.qd_max_radps, a.overrides.qd_max, 1.0, "--qd-max");
   overrideLimit(limits.qdd_max_radps2, a.overrides.qdd_max, 1.0, "--qdd-max");
   overrideLimit(limits.tau_max_Nm, a.overrides.tau_max, 1.0, "--tau-max");
-  limits.validate();
+  limits.validate({"hip", "knee"});
   return limits;
 }
 
@@ -131,13 +132,13 @@ struct ExciteComparison {
 ExciteComparison compareWithPaper(const ExciteArgs& a, const ident::ExcitationDesign& d, const ident::LegConstants& c,
                                   const ident::ParamVector& nominal, const ident::ExcitationLimits& limits) {
   ExciteComparison k;
-  k.paper_id = a.options.hip_locked ? 1 : 3;
+  k.paper_id = a.knee_only ? 1 : 3;
   k.paper = sim::paperTrajectory(k.paper_id);
-  k.paper_score = ident::scoreExcitation(k.paper, c, nominal, limits, 1000);
+  k.paper_score = ident::scoreExcitation(ident::twoLinkLeg(c), k.paper, nominal, limits, 1000);
   k.crb = excitationCrb(d.trajectory, c, a.duration_s, a.rate_hz, a.sigma_Nm);
   k.crb_paper = excitationCrb(k.paper, c, a.duration_s, a.rate_hz, a.sigma_Nm);
-  k.floor = ident::crbFloor(limits, c, a.options.hip_locked, a.options.hip_locked_at_rad, a.duration_s * a.rate_hz, a.sigma_Nm);
-  for (int i = a.options.hip_locked ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) k.indices.push_back(i);
+  k.floor = ident::crbFloor(limits, c, a.knee_only, a.hip_locked_at_deg * M_PI / 180.0, a.duration_s * a.rate_hz, a.sigma_Nm);
+  for (int i = a.knee_only ? ident::kShankFirst : 0; i < ident::kNumParams; ++i) k.indices.push_back(i);
   return k;
 }
 
@@ -168,8 +169,8 @@ nlohmann::json designJson(const ExciteArgs& a, const ident::ExcitationDesign& d,
   j["command"] = "excite";
   j["seed"] = a.options.seed;
   j["model"] = a.model;
-  j["options"] = {{"criterion", ident::toString(a.options.criterion)}, {"harmonics", a.options.harmonics}, {"f0_hz", a.options.f0_hz}, {"hip_locked", a.options.hip_locked},
-                  {"hip_locked_at_rad", a.options.hip_locked_at_rad}, {"restarts", a.options.restarts},
+  j["options"] = {{"criterion", ident::toString(a.options.criterion)}, {"harmonics", a.options.harmonics}, {"f0_hz", a.options.f0_hz}, {"hip_locked", a.knee_only},
+                  {"hip_locked_at_rad", a.hip_locked_at_deg * M_PI / 180.0}, {"restarts", a.options.restarts},
                   {"max_evaluations", a.options.max_evaluations}, {"samples", a.options.samples}};
   j["criterion"] =
       std::string(a.options.criterion == ident::ExcitationCriterion::kCrb
@@ -195,7 +196,7 @@ nlohmann::json designJson(const ExciteArgs& a, const ident::ExcitationDesign& d,
 
 void printDesign(const ExciteArgs& a, const ident::ExcitationDesign& d, const ident::ExcitationLimits& limits, const ExciteComparison& k,
                  const std::string& figure) {
-  std::cout << "excitation design (" << (a.options.hip_locked ? "knee only, hip locked" : "both joints") << ", N = "
+  std::cout << "excitation design (" << (a.knee_only ? "knee only, hip locked" : "both joints") << ", N = "
             << a.options.harmonics << ", f0 = " << fmt(a.options.f0_hz) << " Hz, seed " << a.options.seed << "): "
             << d.evaluations << " evaluations, " << d.feasible_restarts << "/" << a.options.restarts
             << " restarts feasible, " << fmt(d.wall_time_s, 3) << " s\n"
@@ -221,7 +222,10 @@ void printDesign(const ExciteArgs& a, const ident::ExcitationDesign& d, const id
 void runExcite(const ExciteArgs& args) {
   if (!sim::isApalLegModel(args.model) || !args.selection.empty()) return exciteChainModel(args);
   ExciteArgs a = args;
-  a.options.hip_locked_at_rad = a.hip_locked_at_deg * M_PI / 180.0;
+  if (a.knee_only) {
+    a.options.locked_joints = 1;
+    a.options.locked_at_rad = Eigen::VectorXd::Constant(1, a.hip_locked_at_deg * M_PI / 180.0);
+  }
   a.options.validate();
   // The output checked before the design's seconds of work: its folder made, a file writable in it.
   core::prepareOutputFile(a.out);
@@ -229,7 +233,7 @@ void runExcite(const ExciteArgs& args) {
   const ident::ParamVector nominal = toParamVector(truth.x);
   const ident::LegConstants c = constantsOf(truth);
   const ident::ExcitationLimits limits = designLimits(a, c, nominal);
-  const ident::ExcitationDesign d = ident::designExcitation(a.options, c, nominal, limits);
+  const ident::ExcitationDesign d = ident::designExcitation(a.options, ident::twoLinkLeg(c), nominal, limits);
   const ExciteComparison k = compareWithPaper(a, d, c, nominal, limits);
   writeJsonFile(a.out, designJson(a, d, limits, k));
   std::string figure;
@@ -260,7 +264,7 @@ void addExciteCommand(CLI::App& app) {
       ->transform([](const std::string& s) { return sim::modelPathFor(s); })
       ->check(CLI::ExistingFile)
       ->capture_default_str();
-  cmd->add_flag("--knee-only", a->options.hip_locked, "Design the knee-only record (hip locked), the segmental strategy's first stage");
+  cmd->add_flag("--knee-only", a->knee_only, "Design the knee-only record (hip locked), the segmental strategy's first stage");
   cmd->add_option("--hip-locked-at-deg", a->hip_locked_at_deg, "Knee-only: where the hip is held, deg (the paper's -10)")
       ->capture_default_str();
   cmd->add_option_function<std::string>(

@@ -9,7 +9,7 @@
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/ident/design/robot_excitation.hpp"
+#include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/model/base_estimate.hpp"
@@ -172,7 +172,7 @@ void exciteChain(const ChainExciteArgs& a) {
   const LoadedChain loaded = loadChain(a.model, a.armature, a.selection);
   const auto& [path, chain, model, nominal, base, robot] = loaded;
   const int dof = model.dof();
-  ident::ChainExcitationLimits lim;
+  ident::ExcitationLimits lim;
   lim.q_min_rad.resize(dof);
   lim.q_max_rad.resize(dof);
   lim.qd_max_radps.resize(dof);
@@ -191,7 +191,8 @@ void exciteChain(const ChainExciteArgs& a) {
   lim.qd_max_radps = limitOr(a.limits.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
   lim.qdd_max_radps2 = limitOr(a.limits.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
   lim.tau_max_Nm = limitOr(a.limits.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
-  const ident::ChainExcitationDesign d = ident::designChainExcitation(a.options, model, base, nominal, lim);
+  if (a.options.locked_joints > 0) throw std::invalid_argument("excite --model: a chain's design moves every joint");
+  const ident::ExcitationDesign d = ident::designExcitation(a.options, robot, base.combination * nominal, lim);
   nlohmann::json j;
   j["tool"] = toolJson();
   j["model"] = {{"name", chain.name}, {"path", path}};

@@ -61,20 +61,17 @@ core::FourierSeries readExcitationFile(const std::string& path) {
 
 ident::ExcitationLimits paperEnvelope(const ident::LegConstants& c, const ident::ParamVector& nominal) {
   ident::ExcitationLimits wide;
-  wide.q_min_rad.setConstant(-10.0);
-  wide.q_max_rad.setConstant(10.0);
-  wide.qd_max_radps.setConstant(1e9);
-  wide.qdd_max_radps2.setConstant(1e9);
-  wide.tau_max_Nm.setConstant(1e9);
+  wide.q_min_rad = Eigen::Vector2d::Constant(-10.0);
+  wide.q_max_rad = Eigen::Vector2d::Constant(10.0);
+  wide.qd_max_radps = wide.qdd_max_radps2 = wide.tau_max_Nm = Eigen::Vector2d::Constant(1e9);
   ident::ExcitationLimits env;
-  env.q_min_rad.setConstant(1e9);
-  env.q_max_rad.setConstant(-1e9);
-  env.qd_max_radps.setZero();
-  env.qdd_max_radps2.setZero();
-  env.tau_max_Nm.setZero();
+  env.q_min_rad = Eigen::Vector2d::Constant(1e9);
+  env.q_max_rad = Eigen::Vector2d::Constant(-1e9);
+  env.qd_max_radps = env.qdd_max_radps2 = env.tau_max_Nm = Eigen::Vector2d::Zero();
+  const ident::Robot leg = ident::twoLinkLeg(c);
   for (int id = 1; id <= 4; ++id) {
     const core::FourierSeries t = sim::paperTrajectory(id);
-    const ident::ExcitationScore s = ident::scoreExcitation(t, c, nominal, wide, 1000);
+    const ident::ExcitationScore s = ident::scoreExcitation(leg, t, nominal, wide, 1000);
     env.q_min_rad = env.q_min_rad.cwiseMin(s.q_min_rad);
     env.q_max_rad = env.q_max_rad.cwiseMax(s.q_max_rad);
     env.qd_max_radps = env.qd_max_radps.cwiseMax(s.qd_max_radps);
@@ -88,7 +85,7 @@ ident::ExcitationLimits paperEnvelope(const ident::LegConstants& c, const ident:
 Eigen::VectorXd excitationCrb(const core::FourierSeries& t, const ident::LegConstants& c, double duration_s,
                               double rate_hz, double sigma_Nm) {
   const int samples = static_cast<int>(std::lround(t.period_s() * rate_hz));
-  const Eigen::MatrixXd H = ident::excitationRegressor(t, c, samples);
+  const Eigen::MatrixXd H = ident::excitationRegressor(ident::twoLinkLeg(c), t, samples);
   const double periods = duration_s / t.period_s();
   const Eigen::MatrixXd info = periods * H.transpose() * H / (sigma_Nm * sigma_Nm);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(info);

@@ -1,33 +1,38 @@
 #pragma once
-// Excitation design (Swevers, Ganseman, Tukel, de Schutter, Van Brussel 1997): periodic finite
-// Fourier series trajectories, rated by how well the regressor they produce determines the
-// parameters, under the rig's limits. Pure Eigen, so a user can design for their own rig from its nominal parameters.
+// Excitation design (Swevers, Ganseman, Tukel, de Schutter, Van Brussel 1997) for any robot: a
+// periodic finite Fourier series per joint, rated by how well the rows it produces determine the
+// robot's parameters (the 2-link leg's X, a chain's base parameters), under the joints' limits.
+// Pure Eigen, so a user can design for their own rig from its nominal parameters.
 //
 // Per joint: q(t) = offset + sum_{k=1..N} a_k cos(k w t) + b_k sin(k w t), w = 2 pi f0. Zero
 // velocity and acceleration at t = 0 (and so at every period's end) are built in: the first
 // harmonic's coefficients follow from the others (b_1 = -sum_{k>=2} k b_k, a_1 = -sum_{k>=2} k^2 a_k),
-// so every trajectory the optimiser sees starts and ends at rest.
+// so every trajectory the optimiser sees starts and ends at rest. The first locked_joints joints
+// may be held by a lock (a segmental strategy's stage: the APAL leg's knee-only record): their
+// equations are the lock's, and the design rates the moving joints' equations over the parameters
+// those equations touch.
 #include "exoid/core/fourier_series.hpp"
-#include "exoid/core/random.hpp"
 #include "exoid/ident/leg/params.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/model/robot.hpp"
 
 #include <Eigen/Core>
 
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <string>
 
 namespace exoid::ident {
 
-/// The rig's limits the design must respect (SI). Torques from the nominal model's inverse dynamics.
+/// The joints' limits a design must respect (SI), one entry per joint; +infinity (-infinity for
+/// q_min) where the robot gives none. Torques from the nominal model's inverse dynamics.
 struct ExcitationLimits {
-  Eigen::Vector2d q_min_rad{-1.4, 0.05}, q_max_rad{0.5, 1.9};
-  Eigen::Vector2d qd_max_radps{3.0, 3.0};
-  Eigen::Vector2d qdd_max_radps2{30.0, 30.0};
-  Eigen::Vector2d tau_max_Nm{120.0, 60.0};
-  void validate() const;  ///< throws std::invalid_argument naming the field
+  Eigen::VectorXd q_min_rad, q_max_rad, qd_max_radps, qdd_max_radps2, tau_max_Nm;
+  /// Sizes (dof), order, positive rates; throws std::invalid_argument naming the field and joint.
+  void validate(const std::vector<std::string>& joints) const;
+  /// A generic envelope of the APAL leg (hip, knee) for tests and examples; `exoid excite` uses
+  /// the paper's trajectories' envelope or the URDF's limits.
+  static ExcitationLimits twoLinkLeg();
 };
 
 /// What a design minimises.
@@ -48,27 +53,29 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name);
 
 /// How good a trajectory is, evaluated on `samples` points of one period.
 struct ExcitationScore {
-  /// Condition number of the column-scaled regressor the design is for (both equations, all 10
-  /// columns; knee-only designs: the knee equation's 5 shank columns).
-  double condition_number = 0.0;
-  /// sum_i log std_i of the design's parameters (the kCrb criterion; same footing).
-  double sum_log_std = 0.0;
-  /// Largest excess over the limits, relative to each limit (0 = feasible).
-  double worst_violation = 0.0;
-  std::string worst_violation_name;    ///< e.g. "qd[knee]"; empty when feasible
-  Eigen::Vector2d q_min_rad, q_max_rad, qd_max_radps, qdd_max_radps2, tau_max_Nm;  ///< reached
+  double condition_number = 0.0;  ///< of the column-scaled rows the design is for
+  double sum_log_std = 0.0;       ///< sum of log Cramer-Rao stds of the design's parameters (kCrb)
+  double worst_violation = 0.0;   ///< largest excess over a limit, relative to the limit (0 = feasible)
+  std::string worst_violation_name;  ///< e.g. "qd[knee]"; empty when feasible
+  Eigen::VectorXd q_min_rad, q_max_rad, qd_max_radps, qdd_max_radps2, tau_max_Nm;  ///< reached, per joint
 };
 
-/// Scores a trajectory for the nominal parameters x_nominal (torques) and constants c.
-ExcitationScore scoreExcitation(const core::FourierSeries& traj, const LegConstants& c, const ParamVector& x_nominal,
+/// The parameters a trajectory's rows determine: those the moving joints' equations touch
+/// (robot.joint_columns), all of them when no joint is locked.
+std::vector<int> excitationParameters(const Robot& robot, int locked_joints);
+
+/// Scores a trajectory for nominal parameters theta_nominal (the robot's; torques). A locked
+/// joint's range is checked (where its lock holds it), not its rates or torque.
+ExcitationScore scoreExcitation(const Robot& robot, const core::FourierSeries& t, const Eigen::VectorXd& theta_nominal,
                                 const ExcitationLimits& limits, int samples = 1000);
 
-/// The regressor the design is for, on `samples` points of one period (rows: both equations in
-/// time order, or the knee equation's shank columns for a locked hip).
-Eigen::MatrixXd excitationRegressor(const core::FourierSeries& traj, const LegConstants& c, int samples);
+/// The rows the design is for, on `samples` points of one period: the moving joints' equations in
+/// time order, over excitationParameters' columns.
+Eigen::MatrixXd excitationRegressor(const Robot& robot, const core::FourierSeries& t, int samples);
 
-/// A floor no trajectory inside `limits` can beat: for each of the design's parameters, the
-/// std of its LS estimate from `rows` samples per equation with white noise sigma is at least
+/// The 2-link leg (limits for hip, knee): a floor no trajectory inside `limits` can beat. For each
+/// of the design's parameters (all 10, or the knee's 5 when the hip is locked), the std of its LS
+/// estimate from `rows` samples per equation with white noise sigma is at least
 /// sigma / sqrt(rows * (b_hip^2 + b_knee^2)), where b is a bound on |its regressor column| over
 /// every state inside the limits (Cauchy-Schwarz: correlations with other columns only raise the
 /// std). Coulomb friction's column is sgn(qd): its floor is sigma / sqrt(rows) whatever the limits.
@@ -82,8 +89,10 @@ struct ExcitationOptions {
   /// Base frequency, > 0: a 5 s period whose 5th harmonic is the paper's 1 Hz, so the design asks
   /// no faster motion of the rig than the paper's trajectories did.
   double f0_hz = 0.2;
-  bool hip_locked = false;    ///< design the knee-only record (the segmental strategy's first stage)
-  double hip_locked_at_rad = -10.0 * M_PI / 180.0;  ///< where the locked hip is held (the paper's -10 deg)
+  /// The first locked_joints joints are held by a lock at locked_at_rad (one entry each): the
+  /// APAL leg's knee-only record locks its hip at the paper's -10 deg.
+  int locked_joints = 0;
+  Eigen::VectorXd locked_at_rad;
   int restarts = 8;           ///< random starting points, >= 1
   long max_evaluations = 6000;  ///< per restart, >= 100
   int samples = 200;          ///< points per period while optimising (the result is rescored on 1000)
@@ -99,29 +108,12 @@ struct ExcitationDesign {
   double wall_time_s = 0.0;
 };
 
-/// The search both excitation designs run (this leg's and any chain's, design/robot_excitation.hpp):
-/// Nelder-Mead on `objective` from options.restarts starts drawn by `start` from one generator
-/// seeded with options.seed; the best end point `feasible` accepts, else the best of all.
-struct RestartSearch {
-  Eigen::VectorXd x;
-  long evaluations = 0;
-  int feasible_restarts = 0;
-};
-RestartSearch searchFromRestarts(const ExcitationOptions& options, const std::function<Eigen::VectorXd(core::Rng&)>& start,
-                                 const std::function<double(const Eigen::VectorXd&)>& objective,
-                                 const std::function<bool(const Eigen::VectorXd&)>& feasible);
-/// One joint's harmonics from a design's free coefficients p[at..]: a_2..a_N then b_2..b_N into
-/// a(1..N-1), b(1..N-1); a_1 and b_1 follow from rest at t = 0 (sum k^2 a_k = 0: qdd(0) = 0;
-/// sum k b_k = 0: qd(0) = 0). a and b hold N each. Returns the index after the last one read.
-int unpackRestingHarmonics(const Eigen::VectorXd& p, int at, Eigen::Ref<Eigen::VectorXd> a, Eigen::Ref<Eigen::VectorXd> b);
-/// The largest s in [0, 1] (40 bisection steps) with feasible_at(s), for shrinking a design's
-/// harmonics into the limits; feasible_at(0) is assumed.
-double largestFeasibleScale(const std::function<bool(double)>& feasible_at);
-
 /// Minimises the criterion + a penalty on the limits' violations by Nelder-Mead from `restarts`
-/// random starts (all from options.seed), keeps the best feasible end point, and if none is
-/// feasible shrinks the harmonics of the best until it is. Deterministic.
-ExcitationDesign designExcitation(const ExcitationOptions& options, const LegConstants& c, const ParamVector& x_nominal,
+/// random starts about the middle of each moving joint's range (0 without one), all from
+/// options.seed; keeps the best feasible end point, and if none is feasible (or a peak falls
+/// between the optimiser's samples) shrinks the harmonics until it is. Deterministic. Throws
+/// std::invalid_argument on bad options, limits or sizes.
+ExcitationDesign designExcitation(const ExcitationOptions& options, const Robot& robot, const Eigen::VectorXd& theta_nominal,
                                   const ExcitationLimits& limits);
 
 }  // namespace exoid::ident
