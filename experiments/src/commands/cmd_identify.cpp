@@ -707,20 +707,14 @@ struct OptionalTerm {
   bool significant = false;
 };
 
-OptionalTerm kneeArmatureTest(const LegRecords& r, double significance_sigmas) {
+OptionalTerm kneeArmatureTest(const LegRecords& r, const ident::MethodOptions& mo, double significance_sigmas) {
   const ident::Robot with = ident::twoLinkLeg(r.c, true);
   std::vector<ident::RecordRows> rows;
   for (std::size_t k = 0; k < r.primary.data.size(); ++k) rows.push_back(ident::processRecord(r.primary.data[k], with, r.primary.signals[k]));
-  const ident::RecordRows st = ident::stackRecords(rows);
-  const ident::LsResult ls = ident::solveLeastSquares(st.W, st.y);
-  OptionalTerm t;
-  if (ls.rank < st.W.cols()) return t;
-  const ident::ReportedErrors e = ident::reportedErrors(st.W, st.y, ls.x, ident::interleavedChannels(st.W.rows(), 1), 2,
-                                                        ident::recordBlocks(st.record_rows, st.W.rows(), 2), ident::wholeRecords(st.record_rows, st.W.rows()));
-  t.value = ls.x[ident::kKneeArmature];
-  t.std_error = e.reported[ident::kKneeArmature];
-  t.significant = t.std_error > 0.0 && t.value > significance_sigmas * t.std_error;
-  return t;
+  const std::vector<OptionalTermFit> fit = fitOptionalTerms(with, rows, {std::string(ident::paramName(ident::kKneeArmature))}, significance_sigmas,
+                                                            mo.ls.max_condition);
+  if (fit.empty()) return {};
+  return {fit.front().value, fit.front().std_error, fit.front().significant};
 }
 
 std::string optionalTermHint(const OptionalTerm& t) {
@@ -757,7 +751,7 @@ void run(const IdentifyArgs& a) {
   }
   std::optional<OptionalTerm> armature;
   const bool implausible = std::any_of(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return !m.implausible.empty(); });
-  if (single && !a.knee_armature && implausible) armature = kneeArmatureTest(r, a.consistency_options.significance_sigmas);
+  if (single && !a.knee_armature && implausible) armature = kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas);
   const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
   const std::vector<std::pair<std::string, std::vector<Validation>>> validations = validateOutcomes(a, log, r, outcomes);
 

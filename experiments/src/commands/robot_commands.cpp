@@ -529,21 +529,14 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   const ident::Robot robot = ident::chainRobot(with, bo);
   std::vector<ident::RecordRows> rows;
   for (std::size_t r = 0; r < a.data.size(); ++r) rows.push_back(ident::processRecord(readLog(a.data[r], log), robot, fit.signals[r]));
-  ident::ChainEstimateOptions eo;
-  eo.ls.max_condition = a.max_condition;
-  eo.consistent = false;
-  const ident::ChainEstimate e = ident::estimateChain(robot, ident::stackRecords(rows), Eigen::VectorXd::Zero(with.standardParameterCount()), eo);
-  if (e.ls.rank < robot.basis.rank) return t;
-  for (const std::string& joint : missing) {
-    const auto it = std::find(robot.basis.names.begin(), robot.basis.names.end(), joint + ".Ia");
-    if (it == robot.basis.names.end()) continue;  // regrouped with a link's inertia: no record separates it
-    const Eigen::Index i = it - robot.basis.names.begin();
-    const double value = e.beta[i], se = e.std_error[i];
-    const bool significant = se > 0.0 && value > a.significance_sigmas * se;
-    t.json[joint] = {{"value_kgm2", value}, {"std_error_kgm2", se}, {"significant", significant}};
-    if (!significant) continue;
+  std::vector<std::string> terms;
+  for (const std::string& joint : missing) terms.push_back(joint + ".Ia");
+  for (const OptionalTermFit& f : fitOptionalTerms(robot, rows, terms, a.significance_sigmas, a.max_condition)) {
+    const std::string joint = f.name.substr(0, f.name.size() - 3);
+    t.json[joint] = {{"value_kgm2", f.value}, {"std_error_kgm2", f.std_error}, {"significant", f.significant}};
+    if (!f.significant) continue;
     t.joints.push_back(joint);
-    t.shown.push_back(joint + ".Ia = " + fmt(value, 4) + " +- " + fmt(se, 2) + " kg m^2, " + fmt(value / se, 3) + " standard errors above 0");
+    t.shown.push_back(f.name + " = " + fmt(f.value, 4) + " +- " + fmt(f.std_error, 2) + " kg m^2, " + fmt(f.value / f.std_error, 3) + " standard errors above 0");
   }
   return t;
 }

@@ -1,6 +1,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 
 #include "exoid/ident/estimators/segmental_errors.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/experiments/report/cells.hpp"
 
 #include "exoid/core/format.hpp"
@@ -411,6 +412,25 @@ std::string undeterminedProblem(const ident::Robot& robot, const ident::Determin
   if (d.undetermined.empty()) return "";
   return "not determined by the records' motion: " + d.describe(robot) +
          "; fit them from a record that moves their joints, or leave them to another stage";
+}
+
+std::vector<OptionalTermFit> fitOptionalTerms(const ident::Robot& with, const std::vector<ident::RecordRows>& rows,
+                                              const std::vector<std::string>& names, double significance_sigmas, double max_condition) {
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = max_condition;
+  eo.consistent = false;
+  const ident::ChainEstimate e =
+      ident::estimateChain(with, ident::stackRecords(rows), Eigen::VectorXd::Zero(with.chain.standardParameterCount()), eo);
+  std::vector<OptionalTermFit> out;
+  if (e.ls.rank < with.parameters()) return out;
+  for (const std::string& name : names) {
+    const auto it = std::find(with.names().begin(), with.names().end(), name);
+    if (it == with.names().end()) continue;
+    const Eigen::Index i = it - with.names().begin();
+    const double value = e.beta[i], se = e.std_error[i];
+    out.push_back({name, value, se, se > 0.0 && value > significance_sigmas * se});
+  }
+  return out;
 }
 
 }  // namespace exoid::experiments

@@ -67,6 +67,20 @@ struct MethodOutcome {
   double wallTime_s() const;
 };
 
+/// One optional term (a joint's armature) tested on the records: fitted by LS with the model plus
+/// the term, its value and reported error; significant when it lies more than the significance
+/// in reported errors above 0 (a rotor inertia is positive).
+struct OptionalTermFit {
+  std::string name;  ///< the robot's parameter ("Ia2", "knee.Ia")
+  double value = 0.0, std_error = 0.0;
+  bool significant = false;
+};
+/// `with` is the model with the optional terms; rows its rows of each record (each processed in its
+/// own band). Each of `names` that is a parameter of `with` is tested (a term a record cannot
+/// separate, regrouped into a link's inertia, is not one); none when the fit is not full rank.
+std::vector<OptionalTermFit> fitOptionalTerms(const ident::Robot& with, const std::vector<ident::RecordRows>& rows,
+                                              const std::vector<std::string>& names, double significance_sigmas, double max_condition);
+
 /// Reported errors as identify's JSON gives them, by parameter name: standard_errors (the
 /// reported), _newey_west, _jackknife, _record_jackknife, _from, _are.
 nlohmann::json errorsJson(const ident::ReportedErrors& e, const char* are);
