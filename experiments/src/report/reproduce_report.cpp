@@ -579,6 +579,21 @@ void crbSection(std::ostream& md, const ProtocolResult& r) {
         "summary (`exoid sweep`; docs/findings.md, section 4.6).\n";
   md << "\nThe bounds themselves (sigma, SI units):\n\n";
   ct.printMarkdown(md);
+  // The errors the LS arms report (identify's rule stage by stage): these include model error.
+  TextTable rt(zh);
+  for (const VariantScore& s : r.scores) {
+    if (!s.outcome.segmental_errors) continue;
+    std::vector<std::string> row{toString(s.variant)};
+    for (int i = 0; i < kNumParams; ++i) {
+      const double se = s.outcome.segmental_errors->reported[i];
+      row.push_back(se > 0.0 && std::isfinite(se) ? fixed(s.vs_best_fit.abs[i] / se, 1) : "-");
+    }
+    rt.addRow(row);
+  }
+  md << "\nThe same errors in units of the standard errors each LS arm reports (`identify --knee-data --both-data`: "
+        "Newey-West or the block jackknife, the larger, stage by stage with what the knee stage carries into the hip's; "
+        "they see model error where the bound sees noise only):\n\n";
+  rt.printMarkdown(md);
 }
 
 void figuresSection(std::ostream& md) {
