@@ -179,6 +179,10 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   EXPECT_TRUE(joined) << r["stages"][0]["identifies"];
   const nlohmann::json& b = r["base_parameters"];
   ASSERT_EQ(b["names"].size(), 17u);
+  // LS's standard errors stage by stage (ident::segmentalReportedErrors, against Monte Carlo in
+  // SegmentalErrors.*): one per base parameter, at rounding level on exact records.
+  ASSERT_EQ(b["std_error"].size(), 17u);
+  for (std::size_t i = 0; i < 17; ++i) EXPECT_LT(b["std_error"][i].get<double>(), 1e-6) << b["names"][i].get<std::string>();
   for (const char* m : {"ls", "lad"}) {
     for (std::size_t i = 0; i < 17; ++i) {
       const double truth = b["truth"][i].get<double>();

@@ -8,6 +8,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
 #include <algorithm>
@@ -158,30 +159,40 @@ std::vector<int> knownAfterStage(const ident::SegmentalResult& ls, int rank) {
   return stage_of;
 }
 
+// LS's standard errors (std err) beside its estimate when every LS stage is usable.
 void printStageEstimates(const ident::BaseParameters& base, const std::vector<ident::Method>& methods,
                          const std::vector<ident::SegmentalResult>& results, const std::vector<int>& stage_of,
-                         const std::optional<Eigen::VectorXd>& truth) {
+                         const std::optional<Eigen::VectorXd>& truth, const std::optional<ident::ReportedErrors>& errors) {
   std::vector<std::string> header = {"base parameter", "known after stage"};
   for (ident::Method m : methods) header.push_back(ident::toString(m));
+  if (errors) header.insert(header.begin() + 3, "std err");
   if (truth) header.insert(header.end(), {"truth", "ls err %"});
+  if (truth && errors) header.push_back("err / std");
   TextTable table(header);
   for (int i = 0; i < base.rank; ++i) {
     std::vector<std::string> row = {base.names[static_cast<std::size_t>(i)], core::toText(stage_of[static_cast<std::size_t>(i)])};
     for (const ident::SegmentalResult& r : results) row.push_back(fmt(r.theta[i], 6));
+    if (errors) row.insert(row.begin() + 3, fmt(errors->reported[i], 3));
     if (truth) {
       const double ls = results.front().theta[i];
       row.push_back(fmt((*truth)[i], 6));
       row.push_back(std::abs((*truth)[i]) > 0.0 ? fmt(100.0 * (ls - (*truth)[i]) / std::abs((*truth)[i]), 3) : "-");
+      if (errors) row.push_back(errors->reported[i] > 0.0 ? fmt((ls - (*truth)[i]) / errors->reported[i], 3) : "-");
     }
     table.addRow(row);
   }
   table.print(std::cout);
   printCombinations(std::cout, base.names, base.combinations);
+  if (errors) {
+    std::cout << wrapped("std err: LS's standard errors, the larger of Newey-West and a jackknife over blocks of the records, stage by "
+                         "stage with what the earlier stages' errors carry into each later one")
+              << "\n";
+  }
 }
 
 nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
                           const std::vector<ident::SegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
-                          const std::vector<std::string>& problems) {
+                          const std::optional<ident::ReportedErrors>& errors, const std::vector<std::string>& problems) {
   nlohmann::json j;
   j["tool"] = toolJson();
   j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
@@ -193,6 +204,13 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
         std::vector<double>(results[k].theta.data(), results[k].theta.data() + results[k].theta.size());
   }
   if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
+  if (errors) {
+    const auto v = [](const Eigen::VectorXd& x) { return std::vector<double>(x.data(), x.data() + x.size()); };
+    j["base_parameters"]["std_error"] = v(errors->reported);
+    j["base_parameters"]["std_error_newey_west"] = v(errors->newey_west);
+    j["base_parameters"]["std_error_jackknife"] = v(errors->jackknife);
+    j["base_parameters"]["std_error_are"] = kSegmentalErrorsAre;
+  }
   j["status"] = problems.empty() ? "usable" : "not usable";
   j["problems"] = problems;
   return j;
@@ -228,8 +246,13 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
 
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
-  printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth);
-  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, problems));
+  std::optional<ident::ReportedErrors> errors;
+  const auto usable = [](const ident::StageResult& st) { return ident::usable(st.estimate.summary.status); };
+  if (std::all_of(results.front().stages.begin(), results.front().stages.end(), usable)) {
+    errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
+  }
+  printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);
+  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, errors, problems));
   throwIfUnusable(problems);  // exit 3, naming why
   return 0;
 }
