@@ -8,8 +8,10 @@
 #include "exoid/ident/design/identifiability.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
+#include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <optional>
 
@@ -65,8 +67,18 @@ void bindMethods(py::module_& m) {
           const MethodOptions o = methodOptions(kw, "identify_segmental");
           // Each record processed in its own band (the knee record's from its knee equation: its hip is locked).
           const Dataset kd = datasetFrom(knee_record), bd = datasetFrom(both_record);
-          return segmentalDict(identifySegmental(
-              robot, {{1, processRecord(kd, robot, kneeRecordSignals(kd, robot, s))}, {0, processRecord(bd, robot, s)}}, parseMethod(method), o));
+          const std::vector<SegmentalStage> stages = {{1, processRecord(kd, robot, kneeRecordSignals(kd, robot, s))}, {0, processRecord(bd, robot, s)}};
+          const SegmentalResult r = identifySegmental(robot, stages, parseMethod(method), o);
+          py::dict out = segmentalDict(r);
+          const bool usable_stages = std::all_of(r.stages.begin(), r.stages.end(), [](const StageResult& st) { return usable(st.estimate.summary.status); });
+          if (method == "ls" && usable_stages) {
+            // What `exoid identify --knee-data --both-data` reports: identify's rule stage by stage.
+            const ReportedErrors e = segmentalReportedErrors(robot, stages, r);
+            out["std_error"] = e.reported;
+            out["std_error_newey_west"] = e.newey_west;
+            out["std_error_jackknife"] = e.jackknife;
+          }
+          return out;
         },
         py::arg("knee_record"), py::arg("both_record"), py::arg("thigh_length_m"), py::arg("method") = "rls-pso",
         py::arg("gravity_mps2") = 9.81, py::arg("processing") = "parallel", py::arg("cutoff_hz") = py::none(),
@@ -74,7 +86,9 @@ void bindMethods(py::module_& m) {
         (std::string("The paper's segmental strategy: the knee parameters (Mxs, Mys, Js, fc2, fv2) from a record with the "
                      "hip fixed, then the hip parameters from a record where both joints move, its hip torque minus "
                      "the knee part. Records are dataset dicts (read_dataset). Returns x (10) and the knee and hip "
-                     "stages' estimates (dicts as identify returns) and warnings (both stages', named). ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
+                     "stages' estimates (dicts as identify returns) and warnings (both stages', named); method='ls' also std_error (10: "
+                     "the larger of Newey-West and the block jackknife, stage by stage with what the knee stage carries into the "
+                     "hip's, as `exoid identify` reports), std_error_newey_west, std_error_jackknife. ") + kSignalOptionsDoc + " " + kMethodOptionsDoc).c_str());
 
   m.def("identify_chain_idim_iv",
         [](const ChainModel& model, const py::dict& record, const std::string& controller, std::optional<double> cutoff_hz, int filter_order,

@@ -214,7 +214,8 @@ def run_cli(*args):
 @needs_simulator
 def test_bindings_give_the_command_lines_numbers(tmp_path):
     """The same records through `exoid simulate` + `exoid identify` and through the module: the
-    segmental RLS-PSO and IDIM-IV estimates agree to the CSV's 17 significant digits."""
+    segmental LS (and its standard errors, stage by stage), RLS-PSO and IDIM-IV estimates agree to
+    the CSV's 17 significant digits."""
     opts = dict(duration=4, noise_tau=0.5, noise_q_deg=0.01)
     knee = exoid.simulate(trajectory=1, seed=3, **opts)
     both = exoid.simulate(trajectory=3, seed=4, **opts)
@@ -224,7 +225,8 @@ def test_bindings_give_the_command_lines_numbers(tmp_path):
                 "--noise-q-deg", "0.01", "--out", str(tmp_path / name))
     out = tmp_path / "id.json"
     run_cli("identify", "--knee-data", str(tmp_path / "k.csv"), "--both-data", str(tmp_path / "b.csv"),
-            "--method", "rls-pso", "--method", "idim-iv", "--pso-iterations", "400", "--seed", "9", "--json", str(out))
+            "--method", "ls", "--method", "rls-pso", "--method", "idim-iv", "--pso-iterations", "400", "--seed", "9",
+            "--json", str(out))
     import json
     with open(out) as f:
         methods = json.load(f)["methods"]
@@ -234,6 +236,11 @@ def test_bindings_give_the_command_lines_numbers(tmp_path):
     iv = exoid.identify_idim_iv(both["dataset"], lt, knee_record=knee["dataset"])["x"]
     assert np.allclose(py, cli["rls-pso"], rtol=1e-9, atol=1e-12), (py, cli["rls-pso"])
     assert np.allclose(iv, cli["idim-iv"], rtol=1e-9, atol=1e-12), (iv, cli["idim-iv"])
+    ls = exoid.identify_segmental(knee["dataset"], both["dataset"], thigh_length_m=lt, method="ls")
+    cli_se = np.array([methods["ls"]["segmental_errors"]["standard_errors"][n] for n in exoid.param_names()])
+    assert np.allclose(ls["x"], cli["ls"], rtol=1e-9, atol=1e-12), (ls["x"], cli["ls"])
+    assert np.allclose(ls["std_error"], cli_se, rtol=1e-9, atol=1e-15), (ls["std_error"], cli_se)
+    assert np.all(ls["std_error"] > 0)
 
 
 @needs_simulator
