@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import exoid
+from cli_support import exoid_binary
 
 pytestmark = pytest.mark.skipif(not exoid.has_simulator, reason="built without MuJoCo")
 
@@ -50,11 +51,8 @@ def test_chain_idim_iv_gives_the_command_lines_numbers(tmp_path):
     """IDIM-IV on leg3 through the module and through `exoid identify --model leg3 --method idim-iv`
     on the same record: the same estimate (to the CSV's 17 significant digits)."""
     import json
-    import os
     import subprocess
-    binary = os.environ.get("EXOID_BINARY")
-    if not binary:
-        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    binary = exoid_binary()
     csv, out = tmp_path / "rec.csv", tmp_path / "id.json"
     for args in (["simulate", "--model", "leg3", "--duration", "8", "--noise-q-deg", "0.02", "--noise-tau", "0.2", "--seed", "5",
                   "--out", str(csv)],

@@ -5,13 +5,13 @@ The URDF is a two-legged exoskeleton with trunk, arms and head (tests/data/two_l
 import json
 import math
 import os
-import subprocess
 import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
 
 import exoid
+from cli_support import exoid_binary, identify
 from kdl_support import PyKDL, kdl_frame, kdl_torques, kdl_vector
 if not exoid.has_simulator:
     pytest.skip("built without MuJoCo and urdfdom, which read robot models", allow_module_level=True)
@@ -183,20 +183,17 @@ def left_leg_records(folder, fit_seed, check_seed):
 
 
 def test_identify_is_exact_on_one_leg_of_the_tree_from_kdl_data(tmp_path):
-    binary = os.environ.get("EXOID_BINARY")
-    if not binary:
-        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    binary = exoid_binary()
     base, tip, _ = CASES[0]
     fit, check = left_leg_records(tmp_path, 1, 2)
     out = tmp_path / "id.json"
-    done = subprocess.run([binary, "identify", "--model", URDF, "--base", base, "--tip", tip, "--data", str(fit), "--validate", str(check),
-                           "--json", str(out)], capture_output=True, text=True)
+    done = identify(binary, "--model", URDF, "--base", base, "--tip", tip, "--data", fit, "--validate", check, "--json", out)
     assert done.returncode == 0, done.stdout + done.stderr
     j = json.loads(out.read_text())
     rms = [joint["rms_error_Nm"] for v in j["validation"] for joint in v["joints"]]
     assert len(rms) == 6 and max(rms) <= 1e-6, rms
     # The same URDF without the options: exit 1 listing the leaf links to choose a tip from.
-    done = subprocess.run([binary, "identify", "--model", URDF, "--data", str(fit)], capture_output=True, text=True)
+    done = identify(binary, "--model", URDF, "--data", fit)
     assert done.returncode == 1 and "l_sole" in done.stderr and "r_sole" in done.stderr, done.stderr
 
 
@@ -223,9 +220,7 @@ def arm_urdf(path, dof=7, seed=7):
 
 
 def test_a_seven_joint_arms_identify_output_fits_a_terminal(tmp_path):
-    binary = os.environ.get("EXOID_BINARY")
-    if not binary:
-        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    binary = exoid_binary()
     urdf = tmp_path / "arm.urdf"
     arm_urdf(urdf)
     arm = exoid.load_chain(str(urdf))
@@ -234,8 +229,7 @@ def test_a_seven_joint_arms_identify_output_fits_a_terminal(tmp_path):
     record(tmp_path / "fit.csv", arm["joints"], chain, friction_of(str(urdf)), gravity, 3)
     record(tmp_path / "check.csv", arm["joints"], chain, friction_of(str(urdf)), gravity, 4)
     out = tmp_path / "id.json"
-    done = subprocess.run([binary, "identify", "--model", str(urdf), "--data", str(tmp_path / "fit.csv"), "--validate", str(tmp_path / "check.csv"),
-                           "--json", str(out)], capture_output=True, text=True)
+    done = identify(binary, "--model", urdf, "--data", tmp_path / "fit.csv", "--validate", tmp_path / "check.csv", "--json", out)
     assert done.returncode == 0, done.stdout + done.stderr
     long_lines = [line for line in (done.stdout + done.stderr).splitlines() if len(line) > 120]
     assert not long_lines, f"{len(long_lines)} lines over 120 characters, e.g. {long_lines[0]}"
@@ -250,9 +244,7 @@ def test_a_seven_joint_arms_identify_output_fits_a_terminal(tmp_path):
 def test_the_cad_beside_the_estimate(tmp_path):
     """The model file's own values of every base parameter beside the estimate: equal to it on exact
     data from that file; from a file whose masses are 20 % off, a larger validation torque error."""
-    binary = os.environ.get("EXOID_BINARY")
-    if not binary:
-        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    binary = exoid_binary()
     base, tip, _ = CASES[0]
     fit, check = left_leg_records(tmp_path, 5, 6)
     import re
@@ -261,8 +253,7 @@ def test_the_cad_beside_the_estimate(tmp_path):
     results = {}
     for name, model in (("cad", URDF), ("heavier", str(heavier))):
         out = tmp_path / f"{name}.json"
-        done = subprocess.run([binary, "identify", "--model", model, "--base", base, "--tip", tip, "--data", str(fit), "--validate", str(check),
-                               "--json", str(out)], capture_output=True, text=True)
+        done = identify(binary, "--model", model, "--base", base, "--tip", tip, "--data", fit, "--validate", check, "--json", out)
         assert done.returncode == 0, done.stdout + done.stderr
         assert "the model file's own parameters (CAD): torque error RMS" in " ".join(done.stdout.split())
         results[name] = json.loads(out.read_text())

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import exoid
+from cli_support import exoid_binary
 
 SOURCE = os.environ.get("EXOID_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 DFKI = os.path.join(SOURCE, "data", "real", "dfki_double_pendulum")
@@ -203,9 +204,7 @@ def test_simulated_rigid_leg_gives_back_its_truth():
 
 def run_cli(*args):
     import subprocess
-    binary = os.environ.get("EXOID_BINARY")
-    if not binary:
-        pytest.skip("EXOID_BINARY not set (ctest sets it)")
+    binary = exoid_binary()
     # Exit 3 = an estimate is not usable (e.g. implausible): its numbers are still written.
     done = subprocess.run([binary, *args], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     assert done.returncode in (0, 3), done.stderr
