@@ -11,7 +11,6 @@
 #include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
-#include <algorithm>
 #include <limits>
 #include <optional>
 
@@ -70,8 +69,7 @@ void bindMethods(py::module_& m) {
           const std::vector<SegmentalStage> stages = {{1, processRecord(kd, robot, kneeRecordSignals(kd, robot, s))}, {0, processRecord(bd, robot, s)}};
           const SegmentalResult r = identifySegmental(robot, stages, parseMethod(method), o);
           py::dict out = segmentalDict(r);
-          const bool usable_stages = std::all_of(r.stages.begin(), r.stages.end(), [](const StageResult& st) { return usable(st.estimate.summary.status); });
-          if (method == "ls" && usable_stages) {
+          if (method == "ls" && r.usable()) {
             // What `exoid identify --knee-data --both-data` reports: identify's rule stage by stage.
             const ReportedErrors e = segmentalReportedErrors(robot, stages, r);
             out["std_error"] = e.reported;

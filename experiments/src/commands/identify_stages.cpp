@@ -200,17 +200,10 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
   j["stages"] = stages_json;
   j["base_parameters"] = {{"names", loaded.base.names}, {"combinations", loaded.base.combinations}};
   for (std::size_t k = 0; k < methods.size(); ++k) {
-    j["base_parameters"]["methods"][ident::toString(methods[k])] =
-        std::vector<double>(results[k].theta.data(), results[k].theta.data() + results[k].theta.size());
+    j["base_parameters"]["methods"][ident::toString(methods[k])] = toVector(results[k].theta);
   }
-  if (truth) j["base_parameters"]["truth"] = std::vector<double>(truth->data(), truth->data() + truth->size());
-  if (errors) {
-    const auto v = [](const Eigen::VectorXd& x) { return std::vector<double>(x.data(), x.data() + x.size()); };
-    j["base_parameters"]["std_error"] = v(errors->reported);
-    j["base_parameters"]["std_error_newey_west"] = v(errors->newey_west);
-    j["base_parameters"]["std_error_jackknife"] = v(errors->jackknife);
-    j["base_parameters"]["std_error_are"] = kSegmentalErrorsAre;
-  }
+  if (truth) j["base_parameters"]["truth"] = toVector(*truth);
+  if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));
   j["status"] = problems.empty() ? "usable" : "not usable";
   j["problems"] = problems;
   return j;
@@ -247,8 +240,7 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
   std::optional<ident::ReportedErrors> errors;
-  const auto usable = [](const ident::StageResult& st) { return ident::usable(st.estimate.summary.status); };
-  if (std::all_of(results.front().stages.begin(), results.front().stages.end(), usable)) {
+  if (results.front().usable()) {
     errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
   }
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);

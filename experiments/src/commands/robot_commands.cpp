@@ -51,6 +51,14 @@ nlohmann::json namedStrings(const std::vector<std::string>& names, const std::ve
 
 std::vector<double> toVector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
+nlohmann::json baseErrorsJson(const Eigen::VectorXd& reported, const ident::ReportedErrors& e, const char* are) {
+  return {{"std_error", toVector(reported)},
+          {"std_error_newey_west", toVector(e.newey_west)},
+          {"std_error_jackknife", toVector(e.jackknife)},
+          {"std_error_record_jackknife", toVector(e.record_jackknife)},
+          {"std_error_are", are}};
+}
+
 sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
   sim::ChainSimConfig c;
   c.model_path = s.model_path;
@@ -582,17 +590,13 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
   j["base_parameters"] = {{"names", loaded.base.names},
                           {"combinations", loaded.base.combinations},
                           {"ls", toVector(est.beta)},
-                          {"std_error", toVector(est.std_error)},
-                          {"std_error_newey_west", toVector(est.errors.newey_west)},
-                          {"std_error_jackknife", toVector(est.errors.jackknife)},
-                          {"std_error_record_jackknife", toVector(est.errors.record_jackknife)},
-                          {"std_error_are", kReportedErrorsAre},
                           {"condition_number", est.ls.condition_number},
                           {"residual_rms_Nm", est.ls.residual_rms},
                           {"rows", est.rows},
                           {"cad", toVector(cad)},
                           {"cad_is", "the model file's own parameters (its CAD) in the same base parameters"},
                           {"ls_minus_cad_std_errors", cadDistances(est, cad)}};
+  j["base_parameters"].update(baseErrorsJson(est.std_error, est.errors, kReportedErrorsAre));
   if (est.consistent) {
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
     j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},

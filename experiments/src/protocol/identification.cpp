@@ -198,8 +198,7 @@ MethodOutcome identifySegmented(const ident::Robot& robot, ident::Method m, cons
   const std::vector<ident::SegmentalStage> stages = {{1, knee_record}, {0, both_record}};
   const ident::SegmentalResult r = ident::identifySegmental(robot, stages, m, o);
   MethodOutcome out = segmentalOutcome(robot, m, r);
-  const bool full_rank = std::all_of(r.stages.begin(), r.stages.end(), [](const ident::StageResult& st) { return ident::usable(st.estimate.summary.status); });
-  if (m == ident::Method::kLs && full_rank) out.segmental_errors = ident::segmentalReportedErrors(robot, stages, r);
+  if (m == ident::Method::kLs && r.usable()) out.segmental_errors = ident::segmentalReportedErrors(robot, stages, r);
   return out;
 }
 

@@ -743,9 +743,10 @@ void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, c
 
 // Per cell: how often each method's nominal 95 % intervals held the truth, per parameter, and the
 // verdict naming every parameter short of kCoverageShortfall: with -+ 1.96 CRB std (every method),
-// then with -+ 1.96 of the standard errors a method reports (those that report them).
+// then with -+ 1.96 of the standard errors a method reports (those that report them:
+// every_method false leaves out a method with no interval for any parameter).
 void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, const CellSummary& c, stats::Coverage ParameterStatistics::*which,
-                        const std::string& sigma, const std::string& unit) {
+                        bool every_method, const std::string& sigma, const std::string& unit) {
   std::vector<std::string> names, header{"method"};
   for (int i = 0; i < kNumParams; ++i) names.emplace_back(ident::paramName(i));
   header.insert(header.end(), names.begin(), names.end());
@@ -761,7 +762,7 @@ void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, c
       row.push_back(k.n ? fixed(100.0 * k.share, 0) : "-");
       coverage.push_back(k);
     }
-    if (std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; }) && which != &ParameterStatistics::coverage) continue;
+    if (!every_method && std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; })) continue;
     t.addRow(row);
     ++shown;
     if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += std::string("- ") + toString(v) + ": " + short_of + "\n";
@@ -777,8 +778,8 @@ void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, c
 
 void writeCoverageTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
   for (const CellSummary* c : cs) {
-    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, "CRB std", "CRB stds");
-    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, "reported standard errors", "reported standard errors");
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, true, "CRB std", "CRB stds");
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, false, "reported standard errors", "reported standard errors");
   }
 }
 

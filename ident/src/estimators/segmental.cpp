@@ -7,6 +7,7 @@
 #include <Eigen/QR>
 #include <Eigen/SVD>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -210,6 +211,10 @@ Eigen::VectorXd SegmentalPlan::assemble(const std::vector<Eigen::VectorXd>& foun
     return theta;
   }
   return V.transpose().fullPivLu().solve(c);
+}
+
+bool SegmentalResult::usable() const {
+  return std::all_of(stages.begin(), stages.end(), [](const StageResult& st) { return ident::usable(st.estimate.summary.status); });
 }
 
 SegmentalResult identifySegmental(const Robot& robot, const std::vector<SegmentalStage>& stages, Method method,

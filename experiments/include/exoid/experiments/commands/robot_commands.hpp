@@ -7,6 +7,7 @@
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
+#include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/sim/motor_rig.hpp"
@@ -44,6 +45,9 @@ void truthOfChain(const std::string& model_path, const std::string& json_out, co
 /// value per joint; an empty one keeps the model's (or the envelope's) limit.
 /// An Eigen vector as a std::vector (for JSON).
 std::vector<double> toVector(const Eigen::VectorXd& v);
+/// A fit's standard errors as a chain's identify JSON gives them beside base_parameters.ls:
+/// std_error (`reported`, what the fit reports), _newey_west, _jackknife, _record_jackknife, _are.
+nlohmann::json baseErrorsJson(const Eigen::VectorXd& reported, const ident::ReportedErrors& e, const char* are);
 
 struct LimitOverrides {
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;

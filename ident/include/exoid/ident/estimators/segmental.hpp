@@ -80,6 +80,7 @@ struct StageResult {
 struct SegmentalResult {
   Eigen::VectorXd theta;  ///< every parameter, assembled from the stages
   std::vector<StageResult> stages;
+  bool usable() const;  ///< every stage's estimate is usable (full rank, conditioned)
 };
 
 /// Runs `method` stage by stage. Throws as SegmentalPlan does, or for a record of another robot.
