@@ -400,7 +400,7 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
     if (m.segmental_errors) printErrors(m.method, *m.segmental_errors, ", stage by stage with what the knee stage carries into the hip's");
     if (!m.consistency) continue;
     const ConsistencyStep& cs = *m.consistency;
-    printErrors(m.method, cs.errors, "");
+    if (!m.segmental_errors) printErrors(m.method, cs.errors, "");
     if (!cs.fit.constrained) {
       std::cout << ident::toString(m.method) << ": physically consistent (friction >= 0, Js >= 0, Jt >= Js, "
                 << "(Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2))\n";
@@ -410,8 +410,8 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
       std::cout << ident::toString(m.method) << ": " << v << ": consistent with the bound within "
                 << fmt(cs.significance_sigmas, 3) << " standard errors\n";
     }
-    std::cout << ident::toString(m.method) << ": the table gives the physically consistent estimate (constrained least "
-              << "squares); unconstrained:";
+    std::cout << ident::toString(m.method) << ": the table gives the physically consistent estimate ("
+              << (m.segmental_errors ? "the nearest in its standard errors" : "constrained least squares") << "); unconstrained:";
     for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) {
       std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fmt(cs.unconstrained[i], 5);
     }
@@ -744,9 +744,11 @@ void run(const IdentifyArgs& a) {
 
   std::vector<MethodOutcome> outcomes;
   for (ident::Method m : methods) outcomes.push_back(identifyBy(m, a, r, cl, mo));
-  if (single && a.consistency) {
+  if (a.consistency) {
     for (MethodOutcome& m : outcomes) {
-      if (m.method == ident::Method::kLs) applyConsistency(m, r.primary.rows, r.c, a.consistency_options);
+      if (m.method != ident::Method::kLs) continue;
+      if (single) applyConsistency(m, r.primary.rows, r.c, a.consistency_options);
+      if (segmental && m.segmental_errors) applySegmentalConsistency(m, r.c, a.consistency_options);
     }
   }
   std::optional<OptionalTerm> armature;
@@ -821,9 +823,10 @@ void addIdentificationOptions(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("--iv-max-iterations", args.iv.max_iterations, "IDIM-IV: iteration limit, >= 1")
       ->capture_default_str()->group("Identification");
   cmd.add_flag("!--no-consistency", args.consistency,
-               "LS over --data: report the unconstrained estimate and judge it by the plain plausibility rule, instead\n"
-               "of the physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 +\n"
-               "Mys^2)) whose violations count only beyond --significance standard errors")
+               "LS: report the unconstrained estimate and judge it by the plain plausibility rule, instead of the\n"
+               "physically consistent estimate (friction >= 0, Js >= 0, Jt >= Js, (Jt - Js) Js >= Lt^2 (Mxs^2 + Mys^2))\n"
+               "whose violations count only beyond --significance standard errors (segmental: the nearest consistent\n"
+               "estimate in the metric of its reported covariance)")
       ->group("Identification");
   cmd.add_option("--significance", args.consistency_options.significance_sigmas,
                  "Standard errors beyond which a violated physical condition is significant (exit code 3)")

@@ -12,6 +12,8 @@
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -193,6 +195,27 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident:
   m.consistency = std::move(step);
 }
 
+void applySegmentalConsistency(MethodOutcome& m, const ident::LegConstants& c, const ident::ConsistencyOptions& options) {
+  if (!m.segmental_errors || m.knee_armature || m.segmental_errors->covariance.rows() != kNumParams) {
+    throw std::invalid_argument("applySegmentalConsistency: needs a segmental LS outcome of the 10 parameters with its reported errors");
+  }
+  const Eigen::MatrixXd& C = m.segmental_errors->covariance;
+  const Eigen::LLT<Eigen::MatrixXd> llt(C);
+  if (!C.allFinite() || llt.info() != Eigen::Success) return;
+  // C = L L', so (x' - x)' C^-1 (x' - x) = ||L^-1 (x' - x)||^2: least squares with H = L^-1, y = H x.
+  const Eigen::MatrixXd H = llt.matrixL().solve(Eigen::MatrixXd::Identity(kNumParams, kNumParams));
+  const Eigen::VectorXd x = m.x;
+  ConsistencyStep step;
+  step.unconstrained = x;
+  step.significance_sigmas = options.significance_sigmas;
+  step.errors = *m.segmental_errors;
+  step.std_err = step.errors.reported;
+  step.fit = ident::solveConsistentLeastSquares(H, H * x, c.thigh_length_m, x, C, options);
+  m.x = step.fit.x;
+  m.implausible = step.significant();
+  m.consistency = std::move(step);
+}
+
 MethodOutcome identifySegmented(const ident::Robot& robot, ident::Method m, const ident::RecordRows& knee_record,
                                 const ident::RecordRows& both_record, const ident::MethodOptions& o) {
   const std::vector<ident::SegmentalStage> stages = {{1, knee_record}, {0, both_record}};
@@ -329,7 +352,7 @@ nlohmann::json toJson(const MethodOutcome& m, bool with_history) {
     }
     nlohmann::json un = nlohmann::json::object();
     for (Eigen::Index i = 0; i < cs.unconstrained.size(); ++i) un[std::string(ident::paramName(static_cast<int>(i)))] = cs.unconstrained[i];
-    j["consistency"] = errorsJson(cs.errors, kReportedErrorsAre);
+    j["consistency"] = errorsJson(cs.errors, m.segmental_errors ? kSegmentalErrorsAre : kReportedErrorsAre);
     j["consistency"].update({{"constrained", cs.fit.constrained}, {"significance_sigmas", cs.significance_sigmas},
                              {"unconstrained_parameters", un}, {"checks", checks}});
   }

@@ -122,6 +122,11 @@ MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLo
 /// m.implausible (not usable). Throws std::invalid_argument unless m has one stage "all".
 void applyConsistency(MethodOutcome& m, const ident::RecordRows& r, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options = {});
+/// The same for the segmental strategy's LS (m.segmental_errors set, 10 parameters): its stages have
+/// no common rows, so the consistent estimate is the nearest consistent x in the metric of the
+/// reported covariance C, min (x' - x)' C^-1 (x' - x), and each condition is judged by its
+/// distance in the reported errors. Nothing changes when C is not finite and positive definite.
+void applySegmentalConsistency(MethodOutcome& m, const ident::LegConstants& c, const ident::ConsistencyOptions& options = {});
 
 /// Per-joint validation torque errors of X on a record.
 struct Validation {
