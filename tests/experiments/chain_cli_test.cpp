@@ -4,6 +4,7 @@
 // not take is refused by name.
 #include "cli_test_support.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/report/table.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -183,6 +184,10 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   // SegmentalErrors.*): one per base parameter, at rounding level on exact records.
   ASSERT_EQ(b["std_error"].size(), 17u);
   for (std::size_t i = 0; i < 17; ++i) EXPECT_LT(b["std_error"][i].get<double>(), 1e-6) << b["names"][i].get<std::string>();
+  // Physical consistency judged in those errors, as one fit's: the truth is a real leg, so LS is.
+  EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
+  EXPECT_EQ(r["consistent"]["standard_errors_from_ls"].get<double>(), 0.0);
+  EXPECT_EQ(b["consistent"].size(), 17u);
   for (const char* m : {"ls", "lad"}) {
     for (std::size_t i = 0; i < 17; ++i) {
       const double truth = b["truth"][i].get<double>();
@@ -196,6 +201,38 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   EXPECT_NE(stderrOf({"identify", "--stage", "knee=" + dir + "/knee.csv", "--data", dir + "/all.csv"}, 105).find("--knee-data and --both-data"),
             std::string::npos);
   EXPECT_NE(stderrOf({"simulate", "--model", "leg3", "--lock", "toe", "--out", dir + "/x.csv"}, 1).find("cannot lock joint 'toe'"), std::string::npos);
+}
+
+// Noisy stage records (5 s, 2 N m torque noise): LS lies outside the physically consistent set, and
+// the distance to it is judged in LS's reported errors, as one fit's is: within --significance it is
+// the bound, beyond it exit 3 naming the size.
+TEST(ChainCli, SegmentalStrategyJudgesConsistencyInItsReportedErrors) {
+  const std::string dir = ::testing::TempDir() + "/segmental_noisy";
+  std::filesystem::create_directories(dir);
+  testing::internal::CaptureStdout();
+  const auto simulate = [&](const std::string& out, const std::string& seed, const std::vector<std::string>& lock) {
+    std::vector<std::string> args = {"simulate", "--model", "leg3", "--duration", "5", "--noise-tau", "2", "--seed", seed, "--out", dir + "/" + out};
+    args.insert(args.end(), lock.begin(), lock.end());
+    return runExoid(args);
+  };
+  ASSERT_EQ(simulate("ankle.csv", "11", {"--lock", "hip,knee"}), 0);
+  ASSERT_EQ(simulate("knee.csv", "12", {"--lock", "hip"}), 0);
+  ASSERT_EQ(simulate("all.csv", "13", {}), 0);
+  const std::string out = dir + "/segmental.json";
+  const std::vector<std::string> identify = {"identify", "--model", "leg3", "--stage", "ankle=" + dir + "/ankle.csv", "--stage",
+                                             "knee=" + dir + "/knee.csv", "--data", dir + "/all.csv", "--json", out};
+  ASSERT_EQ(runExoid(identify), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json r = readJson(out);
+  EXPECT_EQ(r["consistent"]["status"], "constrained");
+  const double d = r["consistent"]["standard_errors_from_ls"].get<double>();
+  EXPECT_GT(d, 0.0);
+  EXPECT_LT(d, 2.0);
+  std::vector<std::string> strict = identify;
+  strict.insert(strict.end(), {"--significance", fmt(0.5 * d, 4)});
+  EXPECT_NE(stderrOf(strict, 3).find("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(d, 3) +
+                                     " reported standard errors"),
+            std::string::npos);
 }
 
 TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBaseParameter) {

@@ -1,5 +1,5 @@
 // `exoid identify --model M --stage JOINT=FILE ... --data FILE`: the segmental strategy down a
-// chain (ident/model/chain_segmental.hpp), every method stage by stage.
+// chain (ident/estimators/segmental.hpp), every method stage by stage.
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
@@ -9,9 +9,13 @@
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/segmental_errors.hpp"
+#include "exoid/ident/model/consistent_fit.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <map>
 #include <optional>
@@ -190,9 +194,30 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
   }
 }
 
+// LS's physically consistent estimate: the stages share no rows, so the nearest consistent base
+// parameters in the metric of LS's reported covariance C, min (b - theta)' C^-1 (b - theta)
+// (identify's one fit uses its rows' metric); beyond --significance of those errors away, no
+// physical body explains the data.
+struct StagesConsistency {
+  ident::ConsistentFit fit;
+  double mahalanobis = 0.0;  ///< reported standard errors from LS to the consistent estimate
+};
+
+std::optional<StagesConsistency> stagesConsistency(const LoadedChain& loaded, const Eigen::VectorXd& theta, const ident::ReportedErrors& errors) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(errors.covariance);
+  if (!errors.covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
+  const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
+  StagesConsistency c{ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi), 0.0};
+  if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // LS itself: no distance
+  const Eigen::VectorXd d = c.fit.beta - theta;
+  c.mahalanobis = std::sqrt(std::max(0.0, d.dot(A * d)));
+  return c;
+}
+
 nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
                           const std::vector<ident::SegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
-                          const std::optional<ident::ReportedErrors>& errors, const std::vector<std::string>& problems) {
+                          const std::optional<ident::ReportedErrors>& errors, const std::optional<StagesConsistency>& consistent,
+                          const std::vector<std::string>& problems) {
   nlohmann::json j;
   j["tool"] = toolJson();
   j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
@@ -204,6 +229,11 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
   }
   if (truth) j["base_parameters"]["truth"] = toVector(*truth);
   if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));
+  if (consistent) {
+    j["base_parameters"]["consistent"] = toVector(consistent->fit.beta);
+    j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->mahalanobis},
+                       {"metric", "LS's reported covariance"}};
+  }
   j["status"] = problems.empty() ? "usable" : "not usable";
   j["problems"] = problems;
   return j;
@@ -244,7 +274,17 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
   }
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);
-  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, errors, problems));
+  std::optional<StagesConsistency> consistent;
+  if (a.consistency && errors) consistent = stagesConsistency(loaded, results.front().theta, *errors);
+  if (consistent) {
+    std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
+              << fmt(consistent->mahalanobis, 3) << " reported standard errors from LS\n";
+    if (consistent->mahalanobis > a.significance_sigmas) {
+      problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(consistent->mahalanobis, 3) +
+                         " reported standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+    }
+  }
+  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, errors, consistent, problems));
   throwIfUnusable(problems);  // exit 3, naming why
   return 0;
 }
