@@ -145,7 +145,7 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
   const nlohmann::json summary = exoid::test::readJson(d + "/summary.json");
   ASSERT_EQ(summary["conditions"].size(), 4u);
   std::map<int, std::vector<double>> ls_median;  // cell -> per seed
-  std::map<int, std::vector<double>> ls_z2;      // cell -> sum over seeds of z^2, per parameter
+  std::map<int, std::vector<double>> ls_z;       // cell -> sum over seeds of z = error / se, per parameter
   std::map<int, std::vector<int>> ls_held;       // cell -> seeds whose x -+ 1.96 se held the truth, per parameter
   for (const auto& e : std::filesystem::directory_iterator(d + "/runs")) {
     const nlohmann::json j = exoid::test::readJson(e.path().string());
@@ -161,13 +161,13 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
     double scale = 0.0;
     for (double v : t) scale = std::max(scale, std::abs(v));
     std::vector<double> rel;
-    std::vector<double>& z2 = ls_z2[j["cell"]];
-    z2.resize(t.size(), 0.0);
+    std::vector<double>& z = ls_z[j["cell"]];
+    z.resize(t.size(), 0.0);
     std::vector<int>& held = ls_held[j["cell"]];
     held.resize(t.size(), 0);
     for (std::size_t i = 0; i < t.size(); ++i) {
       if (std::abs(t[i]) > 1e-12 * scale) rel.push_back(std::abs(x[i] - t[i]) / std::abs(t[i]));
-      z2[i] += (x[i] - t[i]) * (x[i] - t[i]) / (se[i] * se[i]);
+      if (se[i] > 0.0) z[i] += (x[i] - t[i]) / se[i];
       held[i] += std::abs(x[i] - t[i]) <= 1.959963984540054 * se[i] ? 1 : 0;
     }
     ls_median[j["cell"]].push_back(medianOf(rel));
@@ -180,19 +180,21 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
     EXPECT_NEAR(ls["metrics"]["median_abs_rel_err"]["mean"].get<double>(), 0.5 * (m[0] + m[1]), 1e-15);
     for (std::size_t i = 0; i < leg3.base.names.size(); ++i) {
       const nlohmann::json& p = ls["parameters"][leg3.base.names[i]];
-      EXPECT_NEAR(p["z_rms"].get<double>(), std::sqrt(ls_z2[cell][i] / 2.0), 1e-12);
-      if (!p.contains("coverage95")) continue;  // a noise-free cell's zero standard errors give no interval
-      EXPECT_EQ(p["coverage95"]["n"], 2);
-      EXPECT_DOUBLE_EQ(p["coverage95"]["share"].get<double>(), ls_held[cell][i] / 2.0) << leg3.base.names[i];
+      EXPECT_EQ(p["coverage95"]["n"], 0);  // a chain's runs give no CRB
+      const nlohmann::json& k = p["coverage95_reported"];
+      if (k["n"] == 0) continue;  // a noise-free cell's zero standard errors give no interval
+      EXPECT_EQ(k["n"], 2);
+      EXPECT_DOUBLE_EQ(k["share"].get<double>(), ls_held[cell][i] / 2.0) << leg3.base.names[i];
+      EXPECT_NEAR(k["mean_error_over_sigma"].get<double>(), ls_z[cell][i] / 2.0, 1e-12 * (1.0 + std::abs(ls_z[cell][i]))) << leg3.base.names[i];
     }
     EXPECT_TRUE(c["methods"]["lad"].contains("vs_ls"));
-    EXPECT_EQ(c["methods"]["lad"]["vs_ls"]["n"], 2);
+    EXPECT_EQ(c["methods"]["lad"]["vs_ls"]["torque_err_mean"]["n"], 2);
   }
   // Noise-free records: LS recovers every base parameter with a non-zero truth within 2 % (the
   // error left is the processing's and the encoder's, which the noisy cells only add to).
   EXPECT_LT(summary["conditions"][0]["methods"]["ls"]["metrics"]["max_abs_rel_err"]["mean"].get<double>(), 0.02);
   const std::string md = slurp(d + "/summary.md");
-  EXPECT_NE(md.find("# exoid sweep --model leg3"), std::string::npos);
+  EXPECT_NE(md.find("# Sweep summary: --model leg3"), std::string::npos);
   EXPECT_NE(md.find("| knee.Ia |"), std::string::npos);
 }
 
@@ -219,7 +221,9 @@ TEST(ChainSweep, VibrationAndBacklashAreAxesOfAChainSweep) {
   EXPECT_EQ(seen.size(), 4u);
   const std::string csv = slurp(d + "/summary.csv");
   EXPECT_EQ(csv.rfind("cell,torque_noise_Nm,angle_noise_deg,quantisation_deg,vibration_level,cylinder_mass_scale,encoder_backlash_deg,", 0), 0u);
-  EXPECT_NE(slurp(d + "/summary.md").find("vibration level 1, encoder backlash 0.1 deg"), std::string::npos);
+  const std::string md = slurp(d + "/summary.md");
+  EXPECT_NE(md.find("## default motion, vibration level 1, angle noise"), std::string::npos) << md;
+  EXPECT_NE(md.find("encoder backlash 0.1 deg"), std::string::npos) << md;
 }
 
 TEST(ChainSweep, ThreadsShardsMergeAndResumeGiveTheSameBytes) {

@@ -71,13 +71,13 @@ TEST(Sweep, SummaryJsonIsTheTypedSummarySerialised) {
   const CellSummary& noisy = s.cells[1];
   EXPECT_EQ(noisy.condition.torque_noise_Nm, 0.5);
   ASSERT_EQ(noisy.methods.size(), 5u);
-  EXPECT_FALSE(noisy.method(Variant::kLs).vs_ls);
-  ASSERT_TRUE(noisy.method(Variant::kRlsPso).vs_ls);
-  EXPECT_EQ(noisy.method(Variant::kRlsPso).vs_ls->torque_err_mean.n, 2);
-  EXPECT_EQ(noisy.method(Variant::kRlsPso).n, 2);
-  EXPECT_FALSE(noisy.method(Variant::kLs).vs_paper_trajectories);  // no optimised cells here
-  EXPECT_EQ(noisy.find(Variant::kIdimIv), nullptr);
-  EXPECT_THROW(noisy.method(Variant::kIdimIv), std::out_of_range);
+  EXPECT_FALSE(noisy.method("ls").vs_ls);
+  ASSERT_TRUE(noisy.method("rls-pso").vs_ls);
+  EXPECT_EQ(noisy.method("rls-pso").vs_ls->torque_err_mean.n, 2);
+  EXPECT_EQ(noisy.method("rls-pso").n, 2);
+  EXPECT_FALSE(noisy.method("ls").vs_paper_trajectories);  // no optimised cells here
+  EXPECT_EQ(noisy.find("idim-iv"), nullptr);
+  EXPECT_THROW(noisy.method("idim-iv"), std::out_of_range);
   EXPECT_STREQ(metricName(SweepMetric::kTorqueErrMean), "torque_err_mean");
   EXPECT_STREQ(metricName(SweepMetric::kValRms), "val_rms");
 }

@@ -116,13 +116,8 @@ RunFailures writeOutputs(const SweepLayout& layout, const std::vector<nlohmann::
                          const nlohmann::json& timing, std::ostream& log) {
   std::error_code ec;
   fs::remove(dir / kMarker, ec);
-  bool plots_written = false;
-  if (layout.chain) {
-    writeChainSweepTables(layout, jobs, dir.string());
-    plots_written = true;  // a chain sweep has no figures: its tables are the output
-  } else {
-    writeSweepTables(layout, jobs, dir.string());
-  }
+  writeSweepTables(layout, jobs, dir.string());
+  bool plots_written = layout.chain;  // a chain sweep has no figures: its tables are the output
   if (plots && !layout.chain) {
     try {
       runPlotScript("sweep_plots.py", {(dir / "summary.json").string(), dir.string()});

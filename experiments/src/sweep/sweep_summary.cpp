@@ -67,26 +67,25 @@ std::string coverageShortfall(const std::vector<std::string>& names, const std::
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-using ident::kNumParams;
 
-// Scores of one (job, method), recomputed from the stored raw numbers.
+// Scores of one (job, method), recomputed from the stored raw numbers. The parameter vectors have
+// the run's parameters (X, or a chain's base parameters); what a run does not score is NaN.
 struct Row {
   int cell = 0, replicate = 0;
   std::uint64_t seed = 0;
   std::string method, status, message;
   bool ok = false;
   double err_rigid = kNaN, err_best_fit = kNaN;  // norms: Mxt-dominated, kept under that name
-  Eigen::VectorXd rel_best_fit = Eigen::VectorXd::Constant(kNumParams, kNaN);
-  Eigen::VectorXd rel_rigid = Eigen::VectorXd::Constant(kNumParams, kNaN);
-  Eigen::VectorXd abs_best_fit = Eigen::VectorXd::Constant(kNumParams, kNaN);
-  Eigen::VectorXd crb = Eigen::VectorXd::Constant(kNumParams, kNaN);  // this method's noise std
-  Eigen::VectorXd z = Eigen::VectorXd::Constant(kNumParams, kNaN);    // abs_best_fit / crb
-  Eigen::VectorXd reported = Eigen::VectorXd::Constant(kNumParams, kNaN);  // the method's own standard errors, if any
-  double ts_hip = kNaN, ts_knee = kNaN;                                // torque-space vs best fit
-  double gap_box = kNaN, gap_free = kNaN;                              // worst stage
+  Eigen::VectorXd rel_best_fit, rel_rigid, abs_best_fit;
+  Eigen::VectorXd crb;       // this method's noise std
+  Eigen::VectorXd z;         // abs_best_fit / crb
+  Eigen::VectorXd reported;  // the method's own standard errors, if any
+  double ts_hip = kNaN, ts_knee = kNaN, ts_mean = kNaN;  // torque-space vs best fit
+  double gap_box = kNaN, gap_free = kNaN;                // worst stage
   double median_abs_rel = kNaN, max_abs_rel = kNaN;
   double plausible = kNaN;  // 1 when no physical condition is violated
   double val[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};  // knee mean/std/rms, hip mean/std/rms
+  double val_rms = kNaN;                                 // mean over the joints
   double wall_time_s = kNaN;
 };
 
@@ -96,25 +95,69 @@ Eigen::VectorXd vec(const nlohmann::json& j) {
   return v;
 }
 
+double jsonMean(const nlohmann::json& values) { return stats::mean(values.get<std::vector<double>>()); }
 
-// The per-method scores of a job record: CRB, torque-space errors, optimality gaps.
-void readScores(const nlohmann::json& m, Row& r) {
+// Median and worst |relative error| over the parameters that have one.
+void summarizeRelativeErrors(Row& r) {
+  std::vector<double> a;
+  for (Eigen::Index i = 0; i < r.rel_best_fit.size(); ++i) {
+    if (!std::isnan(r.rel_best_fit[i])) a.push_back(std::abs(r.rel_best_fit[i]));
+  }
+  if (a.empty()) return;
+  r.max_abs_rel = *std::max_element(a.begin(), a.end());
+  r.median_abs_rel = stats::median(a);
+}
+
+// The APAL protocol's scores of a method: the errors against the rigid and the best-fit truth,
+// CRB, torque-space errors, optimality gaps, the paper's validation trajectories.
+void readApalScores(const nlohmann::json& job, const nlohmann::json& m, Row& r) {
+  const Eigen::VectorXd x = vec(m.at("x"));
+  const ident::ParamError eb = ident::paramError(x, vec(job.at("truth").at("best_fit")));
+  const ident::ParamError er = ident::paramError(x, vec(job.at("truth").at("rigid")));
+  r.err_best_fit = eb.norm_rel;
+  r.err_rigid = er.norm_rel;
+  r.rel_best_fit = eb.rel;
+  r.rel_rigid = er.rel;
+  r.abs_best_fit = eb.abs;
   r.crb = vec(m.at("crb_std"));
-  if (m.contains("std_error")) r.reported = vec(m.at("std_error"));
+  r.reported = m.contains("std_error") ? vec(m.at("std_error")) : Eigen::VectorXd::Constant(x.size(), kNaN);
   r.plausible = m.at("implausible").empty() ? 1.0 : 0.0;
-  for (int i = 0; i < kNumParams; ++i) r.z[i] = r.crb[i] > 0.0 ? r.abs_best_fit[i] / r.crb[i] : kNaN;
+  r.z.resize(x.size());
+  for (Eigen::Index i = 0; i < x.size(); ++i) r.z[i] = r.crb[i] > 0.0 ? r.abs_best_fit[i] / r.crb[i] : kNaN;
   r.ts_hip = m.at("torque_space").at("best_fit").at("hip").get<double>();
   r.ts_knee = m.at("torque_space").at("best_fit").at("knee").get<double>();
+  r.ts_mean = 0.5 * (r.ts_hip + r.ts_knee);
   for (const auto& [stage, g] : m.at("optimality_gaps").items()) {
     if (g.contains("box")) r.gap_box = std::isnan(r.gap_box) ? g["box"].get<double>() : std::max(r.gap_box, g["box"].get<double>());
     if (g.contains("unconstrained")) {
       r.gap_free = std::isnan(r.gap_free) ? g["unconstrained"].get<double>() : std::max(r.gap_free, g["unconstrained"].get<double>());
     }
   }
-  std::vector<double> a(r.rel_best_fit.data(), r.rel_best_fit.data() + kNumParams);
-  for (double& x : a) x = std::abs(x);
-  r.max_abs_rel = *std::max_element(a.begin(), a.end());
-  r.median_abs_rel = stats::median(a);
+  int k = 0;
+  for (const char* joint : {"knee_validation", "hip_validation"}) {
+    for (const char* f : {"mean_abs", "std_abs", "rms"}) r.val[k++] = m.at(joint).at(f).get<double>();
+  }
+  r.val_rms = 0.5 * (r.val[2] + r.val[5]);
+  r.wall_time_s = m.at("wall_time_s").get<double>();
+}
+
+// A base parameter's error is relative (to |truth|) unless its truth is zero (up to rounding of
+// the combination): then only its absolute error counts.
+bool hasRelativeError(const Eigen::VectorXd& truth, Eigen::Index i) { return std::abs(truth[i]) > 1e-12 * truth.cwiseAbs().maxCoeff(); }
+
+// A chain run's scores of a method (robot_sweep.hpp): errors against the simulation's truth, the
+// validation record's torque errors per joint, LS's own standard errors.
+void readChainScores(const nlohmann::json& job, const nlohmann::json& m, Row& r) {
+  const Eigen::VectorXd truth = vec(job.at("truth"));
+  const Eigen::Index n = truth.size();
+  r.crb = r.z = r.reported = r.rel_best_fit = r.abs_best_fit = Eigen::VectorXd::Constant(n, kNaN);
+  if (!r.ok) return;
+  const Eigen::VectorXd x = vec(m.at("x"));
+  r.abs_best_fit = x - truth;
+  for (Eigen::Index i = 0; i < n; ++i) r.rel_best_fit[i] = hasRelativeError(truth, i) ? r.abs_best_fit[i] / std::abs(truth[i]) : kNaN;
+  if (m.contains("std_error")) r.reported = vec(m.at("std_error"));
+  r.ts_mean = jsonMean(m.at("torque_err_rel"));
+  r.val_rms = jsonMean(m.at("val_rms_Nm"));
 }
 
 std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
@@ -125,41 +168,52 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
     base.replicate = job.at("replicate").get<int>();
     base.seed = job.at("seed").get<std::uint64_t>();
     if (job.at("status") != "ok") {
-      for (Variant v : config.methods) {
+      for (const std::string& method : config.method_names) {
         Row r = base;
-        r.method = toString(v);
+        r.method = method;
         r.status = "error";
         r.message = job.at("message").get<std::string>();
         rows.push_back(r);
       }
       continue;
     }
-    const Eigen::VectorXd rigid = vec(job.at("truth").at("rigid")), best = vec(job.at("truth").at("best_fit"));
     for (const nlohmann::json& m : job.at("methods")) {
       Row r = base;
       r.method = m.at("method").get<std::string>();
       r.status = m.at("status").get<std::string>();
       r.message = m.at("message").get<std::string>();
       r.ok = r.status == "ok";
-      const Eigen::VectorXd x = vec(m.at("x"));
-      const ident::ParamError eb = ident::paramError(x, best), er = ident::paramError(x, rigid);
-      r.err_best_fit = eb.norm_rel;
-      r.err_rigid = er.norm_rel;
-      r.rel_best_fit = eb.rel;
-      r.rel_rigid = er.rel;
-      r.abs_best_fit = eb.abs;
-      readScores(m, r);
-      int k = 0;
-      for (const char* joint : {"knee_validation", "hip_validation"}) {
-        for (const char* f : {"mean_abs", "std_abs", "rms"}) r.val[k++] = m.at(joint).at(f).get<double>();
+      if (config.chain) {
+        readChainScores(job, m, r);
+      } else {
+        readApalScores(job, m, r);
       }
-      r.wall_time_s = m.at("wall_time_s").get<double>();
+      summarizeRelativeErrors(r);
       rows.push_back(r);
     }
   }
   return rows;
 }
 
+// Each cell's parameters (and a chain's truth), from its first successful run.
+struct CellParameters {
+  std::vector<std::string> names;
+  std::vector<double> truth;
+};
+
+std::map<int, CellParameters> parametersOf(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
+  std::map<int, CellParameters> out;
+  for (const nlohmann::json& job : jobs) {
+    const int cell = job.at("cell").get<int>();
+    if (job.at("status") != "ok" || out.count(cell)) continue;
+    if (config.chain) {
+      out[cell] = {job.at("base_parameters").get<std::vector<std::string>>(), job.at("truth").get<std::vector<double>>()};
+    } else {
+      for (int i = 0; i < ident::kNumParams; ++i) out[cell].names.emplace_back(ident::paramName(i));
+    }
+  }
+  return out;
+}
 
 // The summary metrics, in SweepMetric order: how to read each from a row.
 struct Metric {
@@ -170,7 +224,7 @@ struct Metric {
 constexpr Metric kMetrics[kNumSweepMetrics] = {
     {SweepMetric::kTorqueErrHip, "torque_err_hip", [](const Row& r) { return r.ts_hip; }},
     {SweepMetric::kTorqueErrKnee, "torque_err_knee", [](const Row& r) { return r.ts_knee; }},
-    {SweepMetric::kTorqueErrMean, "torque_err_mean", [](const Row& r) { return 0.5 * (r.ts_hip + r.ts_knee); }},
+    {SweepMetric::kTorqueErrMean, "torque_err_mean", [](const Row& r) { return r.ts_mean; }},
     {SweepMetric::kMedianAbsRelErr, "median_abs_rel_err", [](const Row& r) { return r.median_abs_rel; }},
     {SweepMetric::kMaxAbsRelErr, "max_abs_rel_err", [](const Row& r) { return r.max_abs_rel; }},
     {SweepMetric::kNormErrBestFit, "norm_err_best_fit_mxt_dominated", [](const Row& r) { return r.err_best_fit; }},
@@ -182,7 +236,7 @@ constexpr Metric kMetrics[kNumSweepMetrics] = {
     {SweepMetric::kKneeValRms, "knee_val_rms", [](const Row& r) { return r.val[2]; }},
     {SweepMetric::kHipValMeanAbs, "hip_val_mean_abs", [](const Row& r) { return r.val[3]; }},
     {SweepMetric::kHipValRms, "hip_val_rms", [](const Row& r) { return r.val[5]; }},
-    {SweepMetric::kValRms, "val_rms", [](const Row& r) { return 0.5 * (r.val[2] + r.val[5]); }},
+    {SweepMetric::kValRms, "val_rms", [](const Row& r) { return r.val_rms; }},
 };
 
 constexpr bool inSweepMetricOrder() {
@@ -235,14 +289,27 @@ const Replicates& repsOf(const Cell& c, const std::string& method) {
   return it == c.by_method.end() ? empty : it->second;
 }
 
-void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::string& path) {
+// Every cell's parameters, in the order they first appear (a chain's vibrating cells add their
+// base-motion ones).
+std::vector<std::string> allNames(const std::map<int, CellParameters>& cells) {
+  std::vector<std::string> names;
+  for (const auto& [cell, p] : cells) {
+    for (const std::string& n : p.names) {
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    }
+  }
+  return names;
+}
+
+void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::map<int, CellParameters>& cells, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
+  const std::vector<std::string> names = allNames(cells);
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell,replicate," << kConditionCsvHeader
         << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
            "norm_err_rigid_mxt_dominated,norm_err_best_fit_mxt_dominated,gap_box_max,gap_unconstrained_max,plausible";
     for (const char* prefix : {"rel_err_", "rel_err_rigid_", "err_over_crb_", "crb_std_"}) {
-      for (int i = 0; i < kNumParams; ++i) out << ',' << prefix << ident::paramName(i);
+      for (const std::string& n : names) out << ',' << csvField(prefix + n);
     }
     out << ",knee_val_mean_abs,knee_val_std_abs,knee_val_rms,hip_val_mean_abs,hip_val_std_abs,hip_val_rms,message,wall_time_s\n";
     for (const Row& r : rows) {
@@ -250,8 +317,13 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
           << r.method << ',' << r.status << ',' << csvNumber(r.ts_hip) << ',' << csvNumber(r.ts_knee) << ',' << csvNumber(r.median_abs_rel)
           << ',' << csvNumber(r.max_abs_rel) << ',' << csvNumber(r.err_rigid) << ',' << csvNumber(r.err_best_fit) << ',' << csvNumber(r.gap_box) << ','
           << csvNumber(r.gap_free) << ',' << csvNumber(r.plausible);
+      const auto own = cells.find(r.cell);
       for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) {
-        for (int i = 0; i < kNumParams; ++i) out << ',' << csvNumber((*v)[i]);
+        for (const std::string& n : names) {
+          const std::vector<std::string>* mine = own == cells.end() ? nullptr : &own->second.names;
+          const Eigen::Index i = mine ? std::find(mine->begin(), mine->end(), n) - mine->begin() : v->size();
+          out << ',' << csvNumber(i < v->size() ? (*v)[i] : kNaN);
+        }
       }
       for (double v : r.val) out << ',' << csvNumber(v);
       out << ',' << csvField(r.message) << ',' << csvNumber(r.wall_time_s) << '\n';
@@ -293,18 +365,21 @@ stats::ConfidenceInterval metricCi(const Replicates& reps, SweepMetric m) {
   return stats::meanCi(x);
 }
 
-// Parameter i over a method's seeds: signed relative error (mean, CI), median and worst |rel|,
-// mean noise std (CRB) and RMS of error / CRB.
-ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
+// Parameter i over a method's seeds: signed relative error (mean, CI; a zero truth has none),
+// median and worst |rel|, RMS of the error, mean noise std (CRB) and RMS of error / CRB.
+ParameterStatistics parameterStatistics(const Replicates& reps, Eigen::Index i) {
   std::vector<double> rel, abs_rel, crb, errors, sigmas, reported;
-  double z2 = 0.0;
+  double z2 = 0.0, e2 = 0.0;
   int zn = 0;
   for (const auto& [rep, row] : reps) {
     errors.push_back(row->abs_best_fit[i]);
+    e2 += row->abs_best_fit[i] * row->abs_best_fit[i];
     sigmas.push_back(row->crb[i]);
     reported.push_back(row->reported[i]);
-    rel.push_back(row->rel_best_fit[i]);
-    abs_rel.push_back(std::abs(row->rel_best_fit[i]));
+    if (!std::isnan(row->rel_best_fit[i])) {
+      rel.push_back(row->rel_best_fit[i]);
+      abs_rel.push_back(std::abs(row->rel_best_fit[i]));
+    }
     if (std::isfinite(row->crb[i])) crb.push_back(row->crb[i]);
     if (std::isfinite(row->z[i])) {
       z2 += row->z[i] * row->z[i];
@@ -315,6 +390,7 @@ ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
   p.rel_err = stats::meanCi(rel);
   p.abs_rel_err_median = stats::median(abs_rel);
   p.abs_rel_err_max = abs_rel.empty() ? kNaN : *std::max_element(abs_rel.begin(), abs_rel.end());
+  p.abs_err_rms = reps.empty() ? kNaN : std::sqrt(e2 / static_cast<double>(reps.size()));
   p.crb_std = stats::mean(crb);
   p.rms_error_over_crb = zn ? std::sqrt(z2 / zn) : kNaN;
   p.coverage = stats::coverageOf(errors, sigmas);
@@ -323,7 +399,7 @@ ParameterStatistics parameterStatistics(const Replicates& reps, int i) {
 }
 
 // The largest finite RMS error / CRB over the parameters (NaN when none is).
-double worstOverCrb(const std::array<ParameterStatistics, kNumParams>& parameters) {
+double worstOverCrb(const std::vector<ParameterStatistics>& parameters) {
   double worst = kNaN;
   for (const ParameterStatistics& p : parameters) {
     const double r = p.rms_error_over_crb;
@@ -332,12 +408,12 @@ double worstOverCrb(const std::array<ParameterStatistics, kNumParams>& parameter
   return worst;
 }
 
-// One method in one cell; `ls` is LS's replicates in the same cell (compared when not empty).
-MethodSummary summarizeMethod(const Cell& c, Variant v, const Replicates& ls) {
-  const std::string name = toString(v);
+// One method in one cell of `parameters` parameters; `ls` is LS's replicates in the same cell
+// (compared when not empty).
+MethodSummary summarizeMethod(const Cell& c, const std::string& name, const Replicates& ls, std::size_t parameters) {
   const Replicates& reps = repsOf(c, name);
   MethodSummary m;
-  m.method = v;
+  m.method = name;
   m.n = static_cast<int>(reps.size());
   m.n_failed = c.failed.count(name) ? c.failed.at(name) : 0;
   for (const Metric& metric : kMetrics) m.metrics[static_cast<std::size_t>(metric.id)] = metricCi(reps, metric.id);
@@ -346,7 +422,7 @@ MethodSummary summarizeMethod(const Cell& c, Variant v, const Replicates& ls) {
     for (const LsPaired& p : kVersusLs) vs.*p.field = pairedBy(reps, ls, [&](const Row& r) { return metricOf(r, p.metric); });
     m.vs_ls = vs;
   }
-  for (int i = 0; i < kNumParams; ++i) m.parameters[static_cast<std::size_t>(i)] = parameterStatistics(reps, i);
+  for (std::size_t i = 0; i < parameters; ++i) m.parameters.push_back(parameterStatistics(reps, static_cast<Eigen::Index>(i)));
   m.rms_error_over_crb_max = worstOverCrb(m.parameters);
   return m;
 }
@@ -386,7 +462,7 @@ VersusPaper versusPaper(const Replicates& opt, const Replicates& pap, Get get) {
 }
 
 // One method of an optimised cell against the same method in its paper twin (Holm not yet applied).
-TrajectoryComparison compareWithTwin(const Cell& optimised, const Cell& paper, int paper_cell, const std::string& method) {
+TrajectoryComparison compareWithTwin(const Cell& optimised, const Cell& paper, int paper_cell, const std::string& method, std::size_t parameters) {
   const Replicates& opt = repsOf(optimised, method);
   const Replicates& pap = repsOf(paper, method);
   TrajectoryComparison t;
@@ -394,8 +470,8 @@ TrajectoryComparison compareWithTwin(const Cell& optimised, const Cell& paper, i
   for (const PaperPaired& p : kVersusPaper) {
     t.*p.field = versusPaper(opt, pap, [&](const Row& r) { return metricOf(r, p.metric); });
   }
-  for (int i = 0; i < kNumParams; ++i) {
-    t.parameters[static_cast<std::size_t>(i)] = versusPaper(opt, pap, [i](const Row& r) { return std::abs(r.rel_best_fit[i]); });
+  for (std::size_t i = 0; i < parameters; ++i) {
+    t.parameters.push_back(versusPaper(opt, pap, [i](const Row& r) { return std::abs(r.rel_best_fit[static_cast<Eigen::Index>(i)]); }));
   }
   return t;
 }
@@ -408,7 +484,7 @@ void adjustVersusPaper(const std::vector<CellSummary*>& compared, std::size_t k)
     holmAdjustFamily(family);
   };
   for (const PaperPaired& p : kVersusPaper) adjust([&](TrajectoryComparison& t) -> VersusPaper& { return t.*p.field; });
-  for (std::size_t i = 0; i < kNumParams; ++i) adjust([i](TrajectoryComparison& t) -> VersusPaper& { return t.parameters[i]; });
+  for (std::size_t i = 0; i < compared.front()->parameters.size(); ++i) adjust([i](TrajectoryComparison& t) -> VersusPaper& { return t.parameters[i]; });
 }
 
 // Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
@@ -426,14 +502,14 @@ void compareTrajectories(const std::vector<SweepCondition>& conds, const std::ma
   }
   for (std::size_t j = 0; j < compared.size(); ++j) {
     for (MethodSummary& m : compared[j]->methods) {
-      m.vs_paper_trajectories = compareWithTwin(cells.at(compared[j]->cell), cells.at(twins[j]), twins[j], toString(m.method));
+      m.vs_paper_trajectories = compareWithTwin(cells.at(compared[j]->cell), cells.at(twins[j]), twins[j], m.method, compared[j]->parameters.size());
     }
   }
   if (compared.empty()) return;
   for (std::size_t k = 0; k < compared.front()->methods.size(); ++k) adjustVersusPaper(compared, k);
 }
 
-SweepSummary summarize(const SweepLayout& config, const std::vector<Row>& rows) {
+SweepSummary summarize(const SweepLayout& config, const std::vector<Row>& rows, const std::map<int, CellParameters>& parameters) {
   const std::vector<SweepCondition> conds = config.conditions();
   const std::map<int, Cell> cells = cellsOf(rows);
   SweepSummary s;
@@ -442,11 +518,15 @@ SweepSummary summarize(const SweepLayout& config, const std::vector<Row>& rows) 
     CellSummary cs;
     cs.cell = cell;
     cs.condition = conds[static_cast<std::size_t>(cell)];
+    if (const auto p = parameters.find(cell); p != parameters.end()) {
+      cs.parameters = p->second.names;
+      cs.truth = p->second.truth;
+    }
     const Replicates& ls = repsOf(c, "ls");
-    for (Variant v : config.methods) cs.methods.push_back(summarizeMethod(c, v, ls));
+    for (const std::string& m : config.method_names) cs.methods.push_back(summarizeMethod(c, m, ls, cs.parameters.size()));
     s.cells.push_back(std::move(cs));
   }
-  adjustVersusLs(s.cells, config.methods.size());
+  adjustVersusLs(s.cells, config.method_names.size());
   compareTrajectories(conds, cells, s.cells);
   return s;
 }
@@ -465,7 +545,9 @@ nlohmann::json statisticsJson() {
       {"vs_paper_trajectories", "an optimised-trajectories cell against its paper twin (same condition and seeds), per "
                                 "method: Wilcoxon signed-rank, win_rate = share of seeds where optimised < paper, Holm "
                                 "over the compared cells per method and metric (each parameter's error is a metric)"},
-      {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates)"},
+      {"torque_err", "||Y (x - x_bf)|| / ||Y x_bf|| per joint on the fixed validation states (ident::validationStates); a chain: "
+                     "on the run's validation record, x_bf its truth"},
+      {"abs_err_rms", "RMS over seeds of estimate - best fit truth (a parameter whose truth is zero has no relative error)"},
       {"crb_std", "noise-limited std of each parameter for the method's own regressor, processing and structure "
                   "(experiments::noiseStd); mean over the cell's seeds"},
       {"rms_error_over_crb", "RMS over seeds of (estimate - best fit truth) / crb_std of that seed"},
@@ -497,6 +579,7 @@ nlohmann::json summaryJson(const ParameterStatistics& p) {
   return {{"rel_err", {{"mean", jsonNumber(p.rel_err.mean)}, {"ci95_low", jsonNumber(p.rel_err.low)}, {"ci95_high", jsonNumber(p.rel_err.high)}}},
           {"abs_rel_err_median", jsonNumber(p.abs_rel_err_median)},
           {"abs_rel_err_max", jsonNumber(p.abs_rel_err_max)},
+          {"abs_err_rms", jsonNumber(p.abs_err_rms)},
           {"crb_std", jsonNumber(p.crb_std)},
           {"rms_error_over_crb", jsonNumber(p.rms_error_over_crb)},
           {"coverage95", coverageJson(p.coverage)},
@@ -505,21 +588,21 @@ nlohmann::json summaryJson(const ParameterStatistics& p) {
 
 // An object of each parameter's entry, keyed by its name.
 template <typename T>
-nlohmann::json byParameter(const std::array<T, kNumParams>& entries) {
+nlohmann::json byParameter(const std::vector<std::string>& names, const std::vector<T>& entries) {
   nlohmann::json j;
-  for (int i = 0; i < kNumParams; ++i) j[std::string(ident::paramName(i))] = summaryJson(entries[static_cast<std::size_t>(i)]);
+  for (std::size_t i = 0; i < names.size() && i < entries.size(); ++i) j[names[i]] = summaryJson(entries[i]);
   return j;
 }
 
-nlohmann::json summaryJson(const TrajectoryComparison& t) {
+nlohmann::json summaryJson(const TrajectoryComparison& t, const std::vector<std::string>& names) {
   nlohmann::json j;
   j["paper_cell"] = t.paper_cell;
   for (const PaperPaired& p : kVersusPaper) j[metricName(p.metric)] = summaryJson(t.*p.field);
-  j["parameters"] = byParameter(t.parameters);
+  j["parameters"] = byParameter(names, t.parameters);
   return j;
 }
 
-nlohmann::json summaryJson(const MethodSummary& m) {
+nlohmann::json summaryJson(const MethodSummary& m, const std::vector<std::string>& names) {
   nlohmann::json j;
   j["n"] = m.n;
   j["n_failed"] = m.n_failed;
@@ -527,9 +610,9 @@ nlohmann::json summaryJson(const MethodSummary& m) {
   if (m.vs_ls) {
     for (const LsPaired& p : kVersusLs) j["vs_ls"][metricName(p.metric)] = summaryJson((*m.vs_ls).*p.field);
   }
-  j["parameters"] = byParameter(m.parameters);
+  j["parameters"] = byParameter(names, m.parameters);
   j["rms_error_over_crb_max"] = jsonNumber(m.rms_error_over_crb_max);
-  if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = summaryJson(*m.vs_paper_trajectories);
+  if (m.vs_paper_trajectories) j["vs_paper_trajectories"] = summaryJson(*m.vs_paper_trajectories, names);
   return j;
 }
 
@@ -537,13 +620,20 @@ nlohmann::json summaryJson(const CellSummary& c) {
   nlohmann::json j;
   j["cell"] = c.cell;
   j["condition"] = toJson(c.condition);
-  for (const MethodSummary& m : c.methods) j["methods"][toString(m.method)] = summaryJson(m);
+  if (!c.truth.empty()) j["base_parameters"] = {{"names", c.parameters}, {"truth", c.truth}};
+  for (const MethodSummary& m : c.methods) j["methods"][m.method] = summaryJson(m, c.parameters);
   return j;
 }
 
 // ---- summary.csv and summary.md ----
 
 void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
+  std::vector<std::string> names;
+  for (const CellSummary& c : s.cells) {
+    for (const std::string& n : c.parameters) {
+      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+    }
+  }
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell," << kConditionCsvHeader << ",method,n,n_failed";
     for (const Metric& m : kMetrics) {
@@ -553,16 +643,16 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
       const char* n = metricName(p.metric);
       out << ",win_rate_vs_ls_" << n << ",p_wilcoxon_vs_ls_" << n << ",p_holm_vs_ls_" << n << ",mdd_vs_ls_" << n;
     }
-    for (int i = 0; i < kNumParams; ++i) out << ",rms_error_over_crb_" << ident::paramName(i);
+    for (const std::string& n : names) out << ',' << csvField("rms_error_over_crb_" + n);
     out << ",rms_error_over_crb_max";
-    for (int i = 0; i < kNumParams; ++i) out << ",coverage95_" << ident::paramName(i);
+    for (const std::string& n : names) out << ',' << csvField("coverage95_" + n);
     for (const PaperPaired& p : kVersusPaper) {
       out << ",win_rate_vs_paper_trajectories_" << metricName(p.metric) << ",p_holm_vs_paper_trajectories_" << metricName(p.metric);
     }
     out << "\n";
     for (const CellSummary& c : s.cells) {
       for (const MethodSummary& m : c.methods) {
-        out << c.cell << ',' << conditionCsv(c.condition) << ',' << toString(m.method) << ',' << m.n << ',' << m.n_failed;
+        out << c.cell << ',' << conditionCsv(c.condition) << ',' << m.method << ',' << m.n << ',' << m.n_failed;
         for (const stats::ConfidenceInterval& ci : m.metrics) {
           out << ',' << csvNumber(ci.mean) << ',' << csvNumber(ci.std) << ',' << csvNumber(ci.low) << ',' << csvNumber(ci.high);
         }
@@ -574,9 +664,14 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
             out << ",,,,";
           }
         }
-        for (const ParameterStatistics& p : m.parameters) out << ',' << csvNumber(p.rms_error_over_crb);
+        // A parameter this cell does not have (a chain's base-motion ones on a still base): empty.
+        const auto of = [&](const std::string& n) -> const ParameterStatistics* {
+          const auto i = static_cast<std::size_t>(std::find(c.parameters.begin(), c.parameters.end(), n) - c.parameters.begin());
+          return i < m.parameters.size() ? &m.parameters[i] : nullptr;
+        };
+        for (const std::string& n : names) out << ',' << csvNumber(of(n) ? of(n)->rms_error_over_crb : kNaN);
         out << ',' << csvNumber(m.rms_error_over_crb_max);
-        for (const ParameterStatistics& p : m.parameters) out << ',' << csvNumber(p.coverage.share);
+        for (const std::string& n : names) out << ',' << csvNumber(of(n) ? of(n)->coverage.share : kNaN);
         for (const PaperPaired& p : kVersusPaper) {
           if (m.vs_paper_trajectories) {
             const PairedComparison& q = ((*m.vs_paper_trajectories).*p.field).test;
@@ -605,9 +700,9 @@ std::string trajectoryPairText(const VersusPaper& p, double scale, int decimals)
          fixed(p.test.win_rate, 2) + ", p = " + fmt(p.test.p_holm, 2) + ")";
 }
 
-// A section's heading: the condition without the torque noise (the tables' columns).
-std::string sectionKey(const SweepCondition& k) {
-  return "cylinder mass scale " + fmt(k.cylinder_mass_scale) + ", vibration level " + fmt(k.vibration_level) + ", angle noise " +
+// A section's heading: the condition without the torque noise (the tables' columns); a chain has no cylinder.
+std::string sectionKey(const SweepCondition& k, bool chain) {
+  return (chain ? std::string() : "cylinder mass scale " + fmt(k.cylinder_mass_scale) + ", ") + "vibration level " + fmt(k.vibration_level) + ", angle noise " +
          fmt(k.angle_noise_deg) + " deg, quantisation " + fmt(k.quantisation_deg) + " deg" +
          (k.encoder_backlash_deg > 0.0 ? ", encoder backlash " + fmt(k.encoder_backlash_deg) + " deg" : std::string());
 }
@@ -637,15 +732,15 @@ std::vector<std::string> noiseHeader(const std::string& first, const std::vector
 const char* kTrajectoryMetricTitles[] = {"Torque-space error (%)", "Median per-parameter |error| (%)", "Worst per-parameter |error| (%)"};
 
 // One trajectory-comparison section: methods x torque noise per metric, then per parameter for LS and RLS-PSO.
-void writeTrajectorySection(std::ostream& md, const std::vector<Variant>& methods, const Section& section) {
+void writeTrajectorySection(std::ostream& md, const std::vector<std::string>& methods, const Section& section) {
   const std::vector<const CellSummary*>& cs = section.second;
   const std::vector<std::string> header = noiseHeader("method", cs);
   md << "\n## " << section.first << "\n";
   for (int k = 0; k < 3; ++k) {
     md << "\n" << kTrajectoryMetricTitles[k] << "\n\n";
     TextTable t(header);
-    for (Variant v : methods) {
-      std::vector<std::string> row{toString(v)};
+    for (const std::string& v : methods) {
+      std::vector<std::string> row{v};
       for (const CellSummary* c : cs) {
         row.push_back(trajectoryPairText((*c->method(v).vs_paper_trajectories).*kVersusPaper[k].field, 100.0, 2));
       }
@@ -653,14 +748,14 @@ void writeTrajectorySection(std::ostream& md, const std::vector<Variant>& method
     }
     t.printMarkdown(md);
   }
-  for (Variant method : {Variant::kLs, Variant::kRlsPso}) {
+  for (const char* method : {"ls", "rls-pso"}) {
     if (cs.front()->find(method) == nullptr) continue;
-    md << "\n" << toString(method) << ": per-parameter |error| (%)\n\n";
+    md << "\n" << method << ": per-parameter |error| (%)\n\n";
     TextTable t(noiseHeader("param", cs));
-    for (int i = 0; i < kNumParams; ++i) {
-      std::vector<std::string> row{std::string(ident::paramName(i))};
+    for (std::size_t i = 0; i < cs.front()->parameters.size(); ++i) {
+      std::vector<std::string> row{cs.front()->parameters[i]};
       for (const CellSummary* c : cs) {
-        row.push_back(trajectoryPairText(c->method(method).vs_paper_trajectories->parameters[static_cast<std::size_t>(i)], 100.0, 2));
+        row.push_back(trajectoryPairText(c->method(method).vs_paper_trajectories->parameters[i], 100.0, 2));
       }
       t.addRow(row);
     }
@@ -679,8 +774,8 @@ void writeTrajectoryComparisonMd(const SweepSummary& s, std::ostream& md) {
         "same condition and the same seeds (validation on trajectories 2 and 4 in both): paper -> optimised mean over seeds "
         "(share of seeds where optimised is better, Wilcoxon signed-rank p, Holm-adjusted over the compared cells per method "
         "and metric).\n";
-  for (const Section& section : sectionsOf(compared, [](const CellSummary& c) { return sectionKey(c.condition); })) {
-    writeTrajectorySection(md, s.layout.methods, section);
+  for (const Section& section : sectionsOf(compared, [&](const CellSummary& c) { return sectionKey(c.condition, s.layout.chain); })) {
+    writeTrajectorySection(md, s.layout.method_names, section);
   }
 }
 
@@ -699,14 +794,18 @@ std::string cellText(const MethodSummary& m, CellTable what) {
 
 // Methods (rows) x torque noise (columns): the torque-space error, the median and worst
 // per-parameter error, the worst error in units of the method's CRB.
-void writeMethodTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+void writeMethodTables(std::ostream& md, const std::vector<std::string>& methods, const std::vector<const CellSummary*>& cs) {
   for (const auto& [what, title] : {std::pair{CellTable::kTorque, "Torque-space error (%)"},
                                     std::pair{CellTable::kParams, "Per-parameter |error| (%): median (worst)"},
                                     std::pair{CellTable::kCrb, "Worst RMS error / CRB"}}) {
+    const bool any = std::any_of(cs.begin(), cs.end(), [&](const CellSummary* c) {
+      return std::any_of(c->methods.begin(), c->methods.end(), [&](const MethodSummary& m) { return cellText(m, what) != "-"; });
+    });
+    if (!any) continue;  // a chain's runs give no CRB
     md << "\n" << title << "\n\n";
     TextTable t(noiseHeader("method", cs));
-    for (Variant v : methods) {
-      std::vector<std::string> row{toString(v)};
+    for (const std::string& v : methods) {
+      std::vector<std::string> row{v};
       for (const CellSummary* c : cs) row.push_back(cellText(c->method(v), what));
       t.addRow(row);
     }
@@ -715,11 +814,11 @@ void writeMethodTables(std::ostream& md, const std::vector<Variant>& methods, co
 }
 
 // Every method against LS on the torque-space error: is it closer to the truth, significantly?
-void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+void writeVersusLsTable(std::ostream& md, const std::vector<std::string>& methods, const std::vector<const CellSummary*>& cs) {
   TextTable t(noiseHeader("method", cs));
   bool any = false;
-  for (Variant v : methods) {
-    std::vector<std::string> row{toString(v)};
+  for (const std::string& v : methods) {
+    std::vector<std::string> row{v};
     bool have = false;
     for (const CellSummary* c : cs) {
       const MethodSummary& m = c->method(v);
@@ -745,17 +844,17 @@ void writeVersusLsTable(std::ostream& md, const std::vector<Variant>& methods, c
 // verdict naming every parameter short of kCoverageShortfall: with -+ 1.96 CRB std (every method),
 // then with -+ 1.96 of the standard errors a method reports (those that report them:
 // every_method false leaves out a method with no interval for any parameter).
-void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, const CellSummary& c, stats::Coverage ParameterStatistics::*which,
+void writeCoverageTable(std::ostream& md, const std::vector<std::string>& methods, const CellSummary& c, stats::Coverage ParameterStatistics::*which,
                         bool every_method, const std::string& sigma, const std::string& unit) {
-  std::vector<std::string> names, header{"method"};
-  for (int i = 0; i < kNumParams; ++i) names.emplace_back(ident::paramName(i));
+  const std::vector<std::string>& names = c.parameters;
+  std::vector<std::string> header{"method"};
   header.insert(header.end(), names.begin(), names.end());
   TextTable t(header);
   std::string verdict;
   int shown = 0;
-  for (Variant v : methods) {
+  for (const std::string& v : methods) {
     const MethodSummary& m = c.method(v);
-    std::vector<std::string> row{toString(v)};
+    std::vector<std::string> row{v};
     std::vector<stats::Coverage> coverage;
     for (const ParameterStatistics& p : m.parameters) {
       const stats::Coverage& k = p.*which;
@@ -765,9 +864,12 @@ void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, c
     if (!every_method && std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; })) continue;
     t.addRow(row);
     ++shown;
-    if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += std::string("- ") + toString(v) + ": " + short_of + "\n";
+    if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += "- " + v + ": " + short_of + "\n";
   }
-  if (shown == 0) return;
+  const bool any = std::any_of(c.methods.begin(), c.methods.end(), [&](const MethodSummary& m) {
+    return std::any_of(m.parameters.begin(), m.parameters.end(), [&](const ParameterStatistics& p) { return (p.*which).n > 0; });
+  });
+  if (shown == 0 || !any) return;  // a chain's runs give no CRB
   md << "\nCoverage: seeds (%) whose estimate -+ 1.96 " << sigma << " held the truth, torque noise " << fmt(c.condition.torque_noise_Nm, 4)
      << " N m (nominal 95 %)\n\n";
   t.printMarkdown(md);
@@ -776,24 +878,45 @@ void writeCoverageTable(std::ostream& md, const std::vector<Variant>& methods, c
                                     "in " + unit + "):\n" + verdict);
 }
 
-void writeCoverageTables(std::ostream& md, const std::vector<Variant>& methods, const std::vector<const CellSummary*>& cs) {
+void writeCoverageTables(std::ostream& md, const std::vector<std::string>& methods, const std::vector<const CellSummary*>& cs) {
   for (const CellSummary* c : cs) {
     writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, true, "CRB std", "CRB stds");
     writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, false, "reported standard errors", "reported standard errors");
   }
 }
 
+// Per cell: each parameter's median |relative error| per method (the RMS of its absolute error
+// where its truth is zero: a chain's parameter that the combination zeroes).
+void writeParameterTables(std::ostream& md, const std::vector<std::string>& methods, const std::vector<const CellSummary*>& cs) {
+  for (const CellSummary* c : cs) {
+    md << "\nPer-parameter |error| (%), median over the seeds, torque noise " << fmt(c->condition.torque_noise_Nm, 4) << " N m\n\n";
+    std::vector<std::string> header{"parameter"};
+    header.insert(header.end(), methods.begin(), methods.end());
+    TextTable t(header);
+    for (std::size_t i = 0; i < c->parameters.size(); ++i) {
+      std::vector<std::string> row{c->parameters[i]};
+      for (const std::string& v : methods) {
+        const ParameterStatistics& p = c->method(v).parameters[i];
+        row.push_back(std::isfinite(p.abs_rel_err_median) ? fixed(100.0 * p.abs_rel_err_median, 2)
+                                                          : std::isfinite(p.abs_err_rms) ? fmt(p.abs_err_rms, 3) + " abs" : "-");
+      }
+      t.addRow(row);
+    }
+    t.printMarkdown(md);
+  }
+}
+
 // RLS-PSO vs LS on the paired metrics, when the sweep compared them in any of the section's cells.
 void writeRlsPsoTable(std::ostream& md, const std::vector<const CellSummary*>& cs) {
   bool have_pair = false;
-  for (const CellSummary* c : cs) have_pair = have_pair || (c->find(Variant::kRlsPso) != nullptr && c->find(Variant::kRlsPso)->vs_ls);
+  for (const CellSummary* c : cs) have_pair = have_pair || (c->find("rls-pso") != nullptr && c->find("rls-pso")->vs_ls);
   if (!have_pair) return;
   md << "\nRLS-PSO vs LS (win rate, Holm-adjusted p, MDD)\n\n";
   TextTable t(noiseHeader("metric", cs));
   for (const LsPaired& q : kVersusLs) {
     std::vector<std::string> row{metricName(q.metric)};
     for (const CellSummary* c : cs) {
-      const PairedComparison& p = (*c->method(Variant::kRlsPso).vs_ls).*q.field;
+      const PairedComparison& p = (*c->method("rls-pso").vs_ls).*q.field;
       const double scale = q.metric == SweepMetric::kTorqueErrMean ? 100.0 : 1.0;
       row.push_back(fixed(p.win_rate, 2) + ", p = " + fmt(p.p_holm, 3) + ", MDD " + fmt(scale * p.mdd, 3) +
                     (scale == 100.0 ? " %" : " N m"));
@@ -808,23 +931,35 @@ void writeRlsPsoTable(std::ostream& md, const std::vector<const CellSummary*>& c
 // worst error in units of the method's CRB, every method vs LS, and RLS-PSO vs LS.
 void writeSummaryMd(const SweepSummary& s, const std::string& path) {
   core::writeFileAtomically(path, [&](std::ostream& md) {
-    md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
-          "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
-          "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
-          "noise-limited std). Paired comparison: Wilcoxon signed-rank vs LS over the same seeds, Holm-adjusted over the "
-          "sweep's cells; MDD = minimal detectable difference at 80 % power.\n";
+    if (s.layout.chain) {
+      const nlohmann::json& sw = s.layout.resolved.at("sweep");
+      md << "# Sweep summary: --model " << sw.at("model").get<std::string>() << "\n\nMean over seeds [95 % Student-t CI]. Each run: "
+         << sw.at("design").get<std::string>() << ". Torque-space error: ||Wv (x - x*)|| / ||Wv x*|| on the validation record, x* "
+            "the simulation's truth, mean over the joints, in %. Per-parameter error: median (worst) over the base parameters "
+            "with a non-zero truth of |x_i - x*_i| / |x*_i|, in %. Paired comparison: Wilcoxon signed-rank vs LS over the same "
+            "seeds, Holm-adjusted over the sweep's cells; MDD = minimal detectable difference at 80 % power. No figures: "
+            "runs.csv has every run.\n";
+    } else {
+      md << "# Sweep summary\n\nMean over seeds [95 % Student-t CI]. Torque-space error: ||Y (x - x_bf)|| / ||Y x_bf|| on the "
+            "fixed validation states, mean of hip and knee, in %. Per-parameter error: median (worst) over the 10 parameters "
+            "of |x_i - x_bf,i| / |x_bf,i|, in %. Error/CRB: the largest over parameters of RMS(error) / (the method's "
+            "noise-limited std). Paired comparison: Wilcoxon signed-rank vs LS over the same seeds, Holm-adjusted over the "
+            "sweep's cells; MDD = minimal detectable difference at 80 % power.\n";
+    }
     std::vector<const CellSummary*> cells;
     for (const CellSummary& c : s.cells) cells.push_back(&c);
-    const auto key = [](const CellSummary& c) {
-      return (c.condition.trajectories == "optimised" ? std::string("optimised trajectories, ") : std::string("paper's trajectories, ")) +
-             sectionKey(c.condition);
+    const auto key = [&](const CellSummary& c) {
+      const std::string& t = c.condition.trajectories;
+      return (t == "optimised" ? std::string("optimised trajectories, ") : t == "paper" ? std::string("paper's trajectories, ") : t + " motion, ") +
+             sectionKey(c.condition, s.layout.chain);
     };
     for (const auto& [heading, cs] : sectionsOf(cells, key)) {
       md << "\n## " << heading << "\n";
-      writeMethodTables(md, s.layout.methods, cs);
-      writeVersusLsTable(md, s.layout.methods, cs);
+      writeMethodTables(md, s.layout.method_names, cs);
+      writeVersusLsTable(md, s.layout.method_names, cs);
       writeRlsPsoTable(md, cs);
-      writeCoverageTables(md, s.layout.methods, cs);
+      writeCoverageTables(md, s.layout.method_names, cs);
+      writeParameterTables(md, s.layout.method_names, cs);
     }
     writeTrajectoryComparisonMd(s, md);
   });
@@ -834,20 +969,20 @@ void writeSummaryMd(const SweepSummary& s, const std::string& path) {
 
 const char* metricName(SweepMetric m) { return kMetrics[static_cast<std::size_t>(m)].name; }
 
-const MethodSummary* CellSummary::find(Variant v) const {
+const MethodSummary* CellSummary::find(const std::string& method) const {
   for (const MethodSummary& m : methods) {
-    if (m.method == v) return &m;
+    if (m.method == method) return &m;
   }
   return nullptr;
 }
 
-const MethodSummary& CellSummary::method(Variant v) const {
-  if (const MethodSummary* m = find(v)) return *m;
-  throw std::out_of_range(std::string("sweep summary: cell ") + core::toText(cell) + " has no method '" + toString(v) + "'");
+const MethodSummary& CellSummary::method(const std::string& method) const {
+  if (const MethodSummary* m = find(method)) return *m;
+  throw std::out_of_range("sweep summary: cell " + core::toText(cell) + " has no method '" + method + "'");
 }
 
 SweepLayout layoutOf(const SweepConfig& c) {
-  return {c.conditions(), c.isChain() ? std::vector<Variant>{} : c.methods, c.seeds, c.toJson(), c.isChain(), c.methodNames()};
+  return {c.conditions(), c.seeds, c.toJson(), c.isChain(), c.methodNames()};
 }
 
 SweepLayout layoutFromJson(const nlohmann::json& resolved) {
@@ -864,18 +999,17 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved) {
     if (g.contains("trajectories")) c.trajectories = g.at("trajectories").get<std::vector<std::string>>();
     const std::vector<std::string> names = resolved.at("sweep").at("methods").get<std::vector<std::string>>();
     const bool chain = resolved.at("sweep").contains("model");
-    c.methods.clear();
     if (!chain) {
-      for (const std::string& m : names) c.methods.push_back(parseVariant(m));
+      for (const std::string& m : names) parseVariant(m);  // a malformed folder's unknown method fails here
     }
-    return {c.conditions(), c.methods, resolved.at("sweep").at("seeds").get<int>(), resolved, chain, names};
+    return {c.conditions(), resolved.at("sweep").at("seeds").get<int>(), resolved, chain, names};
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string("malformed sweep configuration (config.json): ") + e.what());
   }
 }
 
 SweepSummary summarizeSweep(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
-  return summarize(config, rowsOf(config, jobs));
+  return summarize(config, rowsOf(config, jobs), parametersOf(config, jobs));
 }
 
 nlohmann::json toJson(const SweepSummary& s) {
@@ -891,8 +1025,9 @@ nlohmann::json toJson(const SweepSummary& s) {
 
 void writeSweepTables(const SweepLayout& config, const std::vector<nlohmann::json>& jobs, const std::string& dir) {
   const std::vector<Row> rows = rowsOf(config, jobs);
-  writeRunsCsv(config, rows, dir + "/runs.csv");
-  const SweepSummary s = summarize(config, rows);
+  const std::map<int, CellParameters> parameters = parametersOf(config, jobs);
+  writeRunsCsv(config, rows, parameters, dir + "/runs.csv");
+  const SweepSummary s = summarize(config, rows, parameters);
   writeJsonFile(dir + "/summary.json", toJson(s));
   testKillPoint("sweep-tables");
   writeSummaryCsv(s, dir + "/summary.csv");

@@ -1,10 +1,10 @@
 #pragma once
-// `exoid sweep --model M` on any serial chain: the same grid, seeds, resume, shards and merge as
-// the APAL leg's sweep, with the chain's own run and summary. A run simulates a fit record (the
-// sweep's design, or the simulator's default motion of its seed) and a validation record (the
-// default motion of another seed), processes them as `exoid identify --model` does (the band from
-// the data), and fits every method in the model's base parameters, scored against the
-// simulation's truth: each base parameter's error, the validation torque error per joint, and
+// `exoid sweep --model M` on any serial chain: the same grid, seeds, resume, shards, merge and
+// tables (sweep_summary.hpp) as the APAL leg's sweep, with the chain's own run. A run simulates a
+// fit record (the sweep's design, or the simulator's default motion of its seed) and a validation
+// record (the default motion of another seed), processes them as `exoid identify --model` does
+// (the band from the data), and fits every method in the model's base parameters, scored against
+// the simulation's truth: each base parameter's error, the validation torque error per joint, and
 // LS's own standard errors against its actual errors.
 #include "exoid/experiments/sweep/sweep_job.hpp"
 #include "exoid/experiments/sweep/sweep_summary.hpp"
@@ -26,9 +26,5 @@ nlohmann::json runChainSweepRun(const SweepConfig& config, const SweepCondition&
 /// `exoid excite --model` with its defaults and the seed deriveSeed(master_seed, 0), written to
 /// dir/design.json.
 SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ostream& log);
-
-/// runs.csv, summary.csv, summary.json, summary.md of a chain sweep (`jobs` sorted by (cell,
-/// replicate)), each written atomically into `dir`.
-void writeChainSweepTables(const SweepLayout& layout, const std::vector<nlohmann::json>& jobs, const std::string& dir);
 
 }  // namespace exoid::experiments

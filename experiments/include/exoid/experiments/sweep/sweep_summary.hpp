@@ -1,12 +1,12 @@
 #pragma once
-// The sweep's deterministic outputs from its job records: runs.csv (one row per job x method),
-// summary.csv / summary.json / summary.md (per condition and method: mean, std, 95 % Student-t
-// CI; paired Wilcoxon comparison against LS; Cramer-Rao bound and RMS error relative to it).
+// The sweep's deterministic outputs from its job records, the APAL leg's or a chain's alike:
+// runs.csv (one row per job x method), summary.csv / summary.json / summary.md (per condition and
+// method: mean, std, 95 % Student-t CI; paired Wilcoxon comparison against LS; each parameter's
+// error, its Cramer-Rao bound where the run gives one, and the coverage of the intervals).
 // Nothing here depends on wall time, thread count, shard split or resume history, except the
 // last column of runs.csv (wall_time_s).
 #include "exoid/experiments/report/stats.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
-#include "exoid/ident/leg/params.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -22,11 +22,11 @@ namespace exoid::experiments {
 /// (rebuilt from a folder's config.json by `exoid merge`).
 struct SweepLayout {
   std::vector<SweepCondition> cells;
-  std::vector<Variant> methods;
   int seeds = 0;
   nlohmann::json resolved;  ///< SweepConfig::toJson()
-  /// A chain model's sweep (robot_sweep.hpp): method_names are ident::Method names, methods empty.
+  /// A chain model's sweep (robot_sweep.hpp): its runs score the model's base parameters.
   bool chain = false;
+  /// The methods in the sweep's order: Variant names (the APAL leg), ident::Method names (a chain).
   std::vector<std::string> method_names;
   const std::vector<SweepCondition>& conditions() const { return cells; }
 };
@@ -36,21 +36,21 @@ SweepLayout layoutFromJson(const nlohmann::json& resolved);
 
 /// The per-run metrics the summary reports over seeds, in summary.csv's column order.
 enum class SweepMetric {
-  kTorqueErrHip,         ///< ||Y (x - x_bf)|| / ||Y x_bf|| on the validation states, hip
-  kTorqueErrKnee,        ///< the same, knee
-  kTorqueErrMean,        ///< mean of hip and knee
+  kTorqueErrHip,         ///< ||Y (x - x_bf)|| / ||Y x_bf|| on the validation states, hip (the APAL leg)
+  kTorqueErrKnee,        ///< the same, knee (the APAL leg)
+  kTorqueErrMean,        ///< mean over the joints (a chain: on its validation record)
   kMedianAbsRelErr,      ///< median over the parameters of |x_i - x_bf,i| / |x_bf,i|
   kMaxAbsRelErr,         ///< the largest of them
   kNormErrBestFit,       ///< ||x - x_bf|| / ||x_bf|| (Mxt-dominated, for comparison only)
   kNormErrRigid,         ///< ||x - x_rigid|| / ||x_rigid|| (idem)
-  kGapBoxMax,            ///< worst stage's optimality gap against the L1 optimum over its box
-  kPlausibleRate,        ///< 1 when no physical condition is violated
-  kGapUnconstrainedMax,  ///< worst stage's gap against the unconstrained L1 optimum
-  kKneeValMeanAbs,       ///< knee validation (trajectory 2): mean |error|, N m
-  kKneeValRms,           ///< knee validation RMS error, N m
-  kHipValMeanAbs,        ///< hip validation (trajectory 4): mean |error|, N m
-  kHipValRms,            ///< hip validation RMS error, N m
-  kValRms,               ///< mean of the knee and hip validation RMS errors, N m
+  kGapBoxMax,            ///< worst stage's optimality gap against the L1 optimum over its box (APAL)
+  kPlausibleRate,        ///< 1 when no physical condition is violated (APAL)
+  kGapUnconstrainedMax,  ///< worst stage's gap against the unconstrained L1 optimum (APAL)
+  kKneeValMeanAbs,       ///< knee validation (trajectory 2): mean |error|, N m (APAL)
+  kKneeValRms,           ///< knee validation RMS error, N m (APAL)
+  kHipValMeanAbs,        ///< hip validation (trajectory 4): mean |error|, N m (APAL)
+  kHipValRms,            ///< hip validation RMS error, N m (APAL)
+  kValRms,               ///< mean over the joints of the validation RMS errors, N m
 };
 inline constexpr int kNumSweepMetrics = 15;
 /// Its name in summary.csv / summary.json ("torque_err_mean", ...).
@@ -89,7 +89,7 @@ struct VersusPaper {
 struct TrajectoryComparison {
   int paper_cell = -1;
   VersusPaper torque_err_mean, median_abs_rel_err, max_abs_rel_err, val_rms;
-  std::array<VersusPaper, ident::kNumParams> parameters;  ///< |relative error| of each parameter
+  std::vector<VersusPaper> parameters;  ///< |relative error| of each parameter
 };
 
 /// One parameter over a method's seeds.
@@ -97,6 +97,7 @@ struct ParameterStatistics {
   stats::ConfidenceInterval rel_err;  ///< signed relative error against the best fit (std unused)
   double abs_rel_err_median = std::numeric_limits<double>::quiet_NaN();
   double abs_rel_err_max = std::numeric_limits<double>::quiet_NaN();
+  double abs_err_rms = std::numeric_limits<double>::quiet_NaN();  ///< RMS of x - truth (a zero truth has no relative error)
   double crb_std = std::numeric_limits<double>::quiet_NaN();             ///< mean noise-limited std
   double rms_error_over_crb = std::numeric_limits<double>::quiet_NaN();  ///< RMS of error / that seed's CRB std
   /// How often estimate -+ 1.96 CRB std held the best-fit truth (the interval the noise alone
@@ -121,11 +122,11 @@ std::string coverageShortfall(const std::vector<std::string>& names, const std::
 
 /// One method in one cell, over the seeds where it gave an estimate.
 struct MethodSummary {
-  Variant method = Variant::kLs;
+  std::string method;
   int n = 0;         ///< seeds with an estimate
   int n_failed = 0;  ///< seeds without
   std::array<stats::ConfidenceInterval, kNumSweepMetrics> metrics;  ///< indexed by SweepMetric
-  std::array<ParameterStatistics, ident::kNumParams> parameters;
+  std::vector<ParameterStatistics> parameters;  ///< in the cell's parameter order (CellSummary::parameters)
   double rms_error_over_crb_max = std::numeric_limits<double>::quiet_NaN();  ///< worst parameter's
   std::optional<VersusLs> vs_ls;  ///< not for LS itself, nor where LS has no estimate
   std::optional<TrajectoryComparison> vs_paper_trajectories;  ///< optimised cells with a paper twin only
@@ -136,11 +137,13 @@ struct MethodSummary {
 struct CellSummary {
   int cell = 0;
   SweepCondition condition;
-  std::vector<MethodSummary> methods;  ///< in the sweep's method order
-  /// nullptr when the sweep did not run `v`.
-  const MethodSummary* find(Variant v) const;
-  /// Throws std::out_of_range when the sweep did not run `v`.
-  const MethodSummary& method(Variant v) const;
+  std::vector<std::string> parameters;  ///< the parameters scored: X, or the chain's base parameters
+  std::vector<double> truth;            ///< a chain's (the same every run); empty for the APAL leg (per run)
+  std::vector<MethodSummary> methods;   ///< in the sweep's method order
+  /// nullptr when the sweep did not run `method`.
+  const MethodSummary* find(const std::string& method) const;
+  /// Throws std::out_of_range when the sweep did not run `method`.
+  const MethodSummary& method(const std::string& method) const;
 };
 
 /// The sweep summarised per cell and method: what summary.json, summary.csv and summary.md show.
