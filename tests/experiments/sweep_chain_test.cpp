@@ -189,6 +189,7 @@ TEST(ChainSweep, ScoresEveryRunAgainstTheModelsTruth) {
     }
     EXPECT_TRUE(c["methods"]["lad"].contains("vs_ls"));
     EXPECT_EQ(c["methods"]["lad"]["vs_ls"]["torque_err_mean"]["n"], 2);
+    EXPECT_EQ(c["methods"]["lad"]["vs_ls"]["median_abs_rel_err"]["n"], 2);
   }
   // Noise-free records: LS recovers every base parameter with a non-zero truth within 2 % (the
   // error left is the processing's and the encoder's, which the noisy cells only add to).

@@ -254,7 +254,9 @@ struct LsPaired {
   SweepMetric metric;
   PairedComparison VersusLs::*field;
 };
-const LsPaired kVersusLs[] = {{SweepMetric::kTorqueErrMean, &VersusLs::torque_err_mean}, {SweepMetric::kValRms, &VersusLs::val_rms}};
+const LsPaired kVersusLs[] = {{SweepMetric::kTorqueErrMean, &VersusLs::torque_err_mean},
+                              {SweepMetric::kValRms, &VersusLs::val_rms},
+                              {SweepMetric::kMedianAbsRelErr, &VersusLs::median_abs_rel_err}};
 struct PaperPaired {
   SweepMetric metric;
   VersusPaper TrajectoryComparison::*field;
@@ -917,7 +919,7 @@ void writeRlsPsoTable(std::ostream& md, const std::vector<const CellSummary*>& c
     std::vector<std::string> row{metricName(q.metric)};
     for (const CellSummary* c : cs) {
       const PairedComparison& p = (*c->method("rls-pso").vs_ls).*q.field;
-      const double scale = q.metric == SweepMetric::kTorqueErrMean ? 100.0 : 1.0;
+      const double scale = q.metric == SweepMetric::kValRms ? 1.0 : 100.0;
       row.push_back(fixed(p.win_rate, 2) + ", p = " + fmt(p.p_holm, 3) + ", MDD " + fmt(scale * p.mdd, 3) +
                     (scale == 100.0 ? " %" : " N m"));
     }

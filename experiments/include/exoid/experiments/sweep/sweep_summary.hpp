@@ -73,9 +73,10 @@ PairedComparison pairedValues(const std::vector<double>& a, const std::vector<do
 /// Holm-adjusts a family of tests (a null member is a missing test: NaN in the family).
 void holmAdjustFamily(const std::vector<PairedComparison*>& family);
 
-/// A method against LS in the same cell; Holm's family: the sweep's cells, per method and metric.
+/// A method against LS in the same cell (the torque error, the validation RMS and the median
+/// parameter error); Holm's family: the sweep's cells, per method and metric.
 struct VersusLs {
-  PairedComparison torque_err_mean, val_rms;
+  PairedComparison torque_err_mean, val_rms, median_abs_rel_err;
 };
 
 /// One metric of an optimised cell against its paper twin, and both arms' means over seeds.
