@@ -165,7 +165,7 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   ASSERT_EQ(simulate("all.csv", "", "3"), 0);
   const std::string out = dir + "/segmental.json";
   ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--stage", "ankle=" + dir + "/ankle.csv", "--stage", "knee=" + dir + "/knee.csv",
-                      "--data", dir + "/all.csv", "--truth", dir + "/all.json", "--method", "ls,lad", "--json", out}),
+                      "--data", dir + "/all.csv", "--truth", dir + "/all.json", "--method", "ls,lad", "--validate", dir + "/all.csv", "--json", out}),
             0);
   testing::internal::GetCapturedStdout();
   const nlohmann::json a = readJson(dir + "/ankle.json");
@@ -184,6 +184,14 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   // SegmentalErrors.*): one per base parameter, at rounding level on exact records.
   ASSERT_EQ(b["std_error"].size(), 17u);
   for (std::size_t i = 0; i < 17; ++i) EXPECT_LT(b["std_error"][i].get<double>(), 1e-6) << b["names"][i].get<std::string>();
+  // The validation records and the model file's own parameters, as one fit's: on an exact record
+  // the estimate predicts the torque to rounding (relative 1e-6, as the parameters).
+  ASSERT_EQ(r["validation"].size(), 1u);
+  for (const auto& joint : r["validation"][0]["joints"]) {
+    EXPECT_LT(joint["rms_error_Nm"].get<double>(), 1e-6 * joint["rms_measured_Nm"].get<double>()) << joint.dump();
+  }
+  EXPECT_EQ(r["validation"][0]["methods_rms_error_Nm"]["lad"].size(), 3u);
+  EXPECT_EQ(b["cad"].size(), 17u);
   // Physical consistency judged in those errors, as one fit's: the truth is a real leg, so LS is.
   EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
   EXPECT_EQ(r["consistent"]["standard_errors_from_ls"].get<double>(), 0.0);

@@ -62,6 +62,10 @@ std::string lockedJoints(const ident::ChainModel& model, Eigen::Index first) {
 struct StageRecords {
   std::vector<ident::SegmentalStage> stages;
   nlohmann::json json = nlohmann::json::array();
+  /// The last stage's (every joint moving) first record: its processing, for the validation
+  /// records, and its rows, for --plot without them.
+  ident::SignalOptions fit_signals;
+  ident::RecordRows fit_rows;
 };
 
 StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<StageInput>& inputs,
@@ -79,6 +83,10 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
       std::optional<ident::BandChoice> band;
       records.push_back(ident::processRecord(data[s][r], loaded.robot, a.signals, rule, &band));
       if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
+      if (s + 1 == inputs.size() && r == 0) {
+        out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+        out.fit_rows = records.back();
+      }
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
     }
     out.stages.push_back({in.first_joint, ident::stackRecords(records)});
@@ -242,10 +250,8 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
 }  // namespace
 
 int identifyChainStages(const ChainIdentifyArgs& a) {
-  if (!a.validate.empty() || !a.plot.empty()) {
-    throw std::invalid_argument("--stage: --validate and --plot are for one fit of --data; run identify without --stage for them");
-  }
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
+  core::prepareOutputFile(a.plot);
   const LoadedChain still = loadChain(a.model, a.armature, a.selection);
   const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
   const std::vector<StageInput> inputs = stageInputs(a, still.model);
@@ -284,7 +290,19 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
                          " reported standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
     }
   }
-  if (!a.json_out.empty()) writeJsonFile(a.json_out, stagesJson(loaded, records.json, methods, results, truth, errors, consistent, problems));
+  // The validation records, the model file's own parameters (CAD) and --plot, as the one fit's.
+  const Eigen::VectorXd cad = loaded.base.combination * loaded.phi;
+  std::vector<NamedEstimate> others;
+  for (std::size_t k = 1; k < methods.size(); ++k) others.emplace_back(ident::toString(methods[k]), results[k].theta);
+  const ChainValidation validation = validateChain(a, loaded, log, records.fit_signals, results.front().theta, others, cad);
+  if (!a.plot.empty()) plotChainFit(a, loaded, results.front().theta, validation.first ? *validation.first : records.fit_rows);
+  if (!a.json_out.empty()) {
+    nlohmann::json j = stagesJson(loaded, records.json, methods, results, truth, errors, consistent, problems);
+    j["base_parameters"]["cad"] = toVector(cad);
+    if (errors) j["base_parameters"]["ls_minus_cad_std_errors"] = cadDistances(results.front().theta, errors->reported, cad);
+    j["validation"] = validation.json;
+    writeJsonFile(a.json_out, j);
+  }
   throwIfUnusable(problems);  // exit 3, naming why
   return 0;
 }

@@ -386,10 +386,10 @@ std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& 
 
 // One validation record: the LS estimate's torque error per joint (printed), the model file's
 // own (CAD) model's, every other method's RMS error per joint.
-nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded,
-                              const ident::ChainEstimate& est, const MethodEstimates& others, const Eigen::VectorXd& cad) {
+nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded, const Eigen::VectorXd& ls,
+                              const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad) {
   const ident::ChainModel& model = loaded.model;
-  const std::vector<double> error = jointRms(v, v.y - v.W * est.beta, model.dof()), measured = jointRms(v, v.y, model.dof());
+  const std::vector<double> error = jointRms(v, v.y - v.W * ls, model.dof()), measured = jointRms(v, v.y, model.dof());
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
   std::ostringstream line;
   line << "validation " << file << ": torque error RMS";
@@ -410,27 +410,24 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   }
   std::cout << wrapped(cad_line.str()) << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
-  for (const auto& [m, e] : others) vj["methods_rms_error_Nm"][ident::toString(m)] = jointRms(v, v.y - v.W * e.x, model.dof());
+  for (const auto& [m, x] : others) vj["methods_rms_error_Nm"][m] = jointRms(v, v.y - v.W * x, model.dof());
   return vj;
 }
 
-// Validation: each record processed as the fit's first, its torque predicted by the estimates.
-struct ChainValidation {
-  nlohmann::json json = nlohmann::json::array();
-  std::optional<ident::RecordRows> first;  ///< the first validation record (what the figure shows)
-};
+}  // namespace
 
-ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log,
-                              const ident::SignalOptions& fit_signals, const ident::ChainEstimate& est, const MethodEstimates& others,
-                              const Eigen::VectorXd& cad) {
+ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::SignalOptions& fit_signals,
+                              const Eigen::VectorXd& ls, const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad) {
   ChainValidation out;
   for (const std::string& file : a.validate) {
     ident::RecordRows v = ident::processRecord(readLog(file, log), loaded.robot, fit_signals);
-    out.json.push_back(validationJson(file, v, loaded, est, others, cad));
+    out.json.push_back(validationJson(file, v, loaded, ls, others, cad));
     if (!out.first) out.first = std::move(v);
   }
   return out;
 }
+
+namespace {
 
 // t_s and each joint's measured and predicted torque, %.9g.
 void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::RecordRows& shown,
@@ -455,15 +452,24 @@ void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, 
   });
 }
 
-// --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
-void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::RecordRows& shown) {
+}  // namespace
+
+void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown) {
   const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
-  writeTorqueSeries(series, loaded.model, shown, shown.W * est.beta);
+  writeTorqueSeries(series, loaded.model, shown, shown.W * ls);
   runPlotScript("torque_fit_plot.py", {series, a.plot,
                                              loaded.chain.name + ": " +
                                                  (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
   std::cout << "wrote " << a.plot << " and " << series << "\n";
 }
+
+nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& std_error, const Eigen::VectorXd& cad) {
+  nlohmann::json out = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < cad.size(); ++i) out.push_back(std_error[i] > 0.0 ? nlohmann::json((ls[i] - cad[i]) / std_error[i]) : nlohmann::json());
+  return out;
+}
+
+namespace {
 
 // Why the result must not be used (none: usable), and how far the consistent estimate is from LS.
 struct ChainVerdict {
@@ -497,13 +503,6 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
     }
   }
   return v;
-}
-
-// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
-nlohmann::json cadDistances(const ident::ChainEstimate& est, const Eigen::VectorXd& cad) {
-  nlohmann::json out = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < cad.size(); ++i) out.push_back(est.std_error[i] > 0.0 ? nlohmann::json((est.beta[i] - cad[i]) / est.std_error[i]) : nlohmann::json());
-  return out;
 }
 
 // An optional term the records may need: when no physically consistent body explains the fit, the
@@ -595,7 +594,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
                           {"rows", est.rows},
                           {"cad", toVector(cad)},
                           {"cad_is", "the model file's own parameters (its CAD) in the same base parameters"},
-                          {"ls_minus_cad_std_errors", cadDistances(est, cad)}};
+                          {"ls_minus_cad_std_errors", cadDistances(est.beta, est.std_error, cad)}};
   j["base_parameters"].update(baseErrorsJson(est.std_error, est.errors, kReportedErrorsAre));
   if (est.consistent) {
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
@@ -646,8 +645,10 @@ int identifyChain(const ChainIdentifyArgs& a) {
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
   const Eigen::VectorXd cad = base.combination * loaded.phi;
-  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est, others, cad);
-  if (!a.plot.empty()) plotChainFit(a, loaded, est, validation.first ? *validation.first : fit.records.front());
+  std::vector<NamedEstimate> others_x;
+  for (const auto& [m, e] : others) others_x.emplace_back(ident::toString(m), e.x);
+  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est.beta, others_x, cad);
+  if (!a.plot.empty()) plotChainFit(a, loaded, est.beta, validation.first ? *validation.first : fit.records.front());
 
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -114,6 +115,23 @@ struct ChainIdentifyArgs {
 int identifyChain(const ChainIdentifyArgs& args);
 /// identifyChain with stages: ident::identifyChainSegmental, every method stage by stage.
 int identifyChainStages(const ChainIdentifyArgs& args);
+
+/// What the one fit and the stages share once they have their estimates.
+struct LoadedChain;
+/// A method's estimate by its name (the methods other than LS), in the base parameters.
+using NamedEstimate = std::pair<std::string, Eigen::VectorXd>;
+/// Every --validate record, processed as the fit's first record (`fit_signals`): LS's and the
+/// model file's (CAD `cad`) torque error RMS per joint, printed, and every other method's.
+struct ChainValidation {
+  nlohmann::json json = nlohmann::json::array();
+  std::optional<ident::RecordRows> first;  ///< the first validation record (what --plot shows)
+};
+ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::SignalOptions& fit_signals,
+                              const Eigen::VectorXd& ls, const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad);
+/// --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
+void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown);
+/// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
+nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& std_error, const Eigen::VectorXd& cad);
 /// Throws UnusableResult (exit 3) naming every problem ("; "-separated) when there are any.
 void throwIfUnusable(const std::vector<std::string>& problems);
 
