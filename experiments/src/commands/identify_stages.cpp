@@ -231,9 +231,11 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
   j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
   j["strategy"] = "segmental_down_the_chain";
   j["stages"] = stages_json;
-  j["base_parameters"] = {{"names", loaded.base.names}, {"combinations", loaded.base.combinations}};
-  for (std::size_t k = 0; k < methods.size(); ++k) {
-    j["base_parameters"]["methods"][ident::toString(methods[k])] = toVector(results[k].theta);
+  // As one fit's JSON: LS in base_parameters.ls, every other method's in methods (beta, status).
+  j["base_parameters"] = {{"names", loaded.base.names}, {"combinations", loaded.base.combinations}, {"ls", toVector(results.front().theta)}};
+  j["methods"] = nlohmann::json::object();
+  for (std::size_t k = 1; k < methods.size(); ++k) {
+    j["methods"][ident::toString(methods[k])] = {{"beta", toVector(results[k].theta)}, {"usable", results[k].usable()}};
   }
   if (truth) j["base_parameters"]["truth"] = toVector(*truth);
   if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));

@@ -20,6 +20,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <tuple>
 
 namespace exoid::experiments {
 namespace {
@@ -109,7 +110,6 @@ ChainIdentifications identifyRecords(const ChainReproduceArgs& a, const std::str
   ChainIdentifications notes;
   notes.one_fit_note = identifyNoting(id);
   ChainIdentifyArgs seg = id;
-  seg.validate.clear();
   seg.plot.clear();
   seg.stages = records.stages;
   seg.json_out = dir + "segmental.json";
@@ -140,25 +140,23 @@ void writeErrorTable(std::ostream& md, const std::vector<std::string>& names, co
   }
 }
 
-// Each method's median |error| and validation RMS per joint, into the report and the printed table.
+// Each method's median |error| and validation RMS per joint (one fit's, then the stages'), into the
+// report and the printed table.
 void writeSummaryTable(std::ostream& md, TextTable& t, const std::vector<double>& truth, const NamedEstimates& fits,
-                       const NamedEstimates& staged, const nlohmann::json& val) {
+                       const NamedEstimates& staged, const nlohmann::json& val, const nlohmann::json& staged_val) {
   md << "\n## Summary\n\n| method | median abs error (%) | validation RMS per joint (N m) |\n|---|---|---|\n";
-  for (const auto& f : fits) {
-    std::string rms;
-    if (f.first == "ls") {
-      for (const auto& jv : val["joints"]) rms += (rms.empty() ? "" : ", ") + fmt(jv["rms_error_Nm"].get<double>(), 4);
-    } else {
-      for (double x : val["methods_rms_error_Nm"][f.first]) rms += (rms.empty() ? "" : ", ") + fmt(x, 4);
+  for (const auto& [estimates, v, prefix] : {std::tuple{&fits, &val, ""}, std::tuple{&staged, &staged_val, "segmental "}}) {
+    for (const auto& f : *estimates) {
+      std::string rms;
+      if (f.first == "ls") {
+        for (const auto& jv : (*v)["joints"]) rms += (rms.empty() ? "" : ", ") + fmt(jv["rms_error_Nm"].get<double>(), 4);
+      } else {
+        for (double x : (*v)["methods_rms_error_Nm"][f.first]) rms += (rms.empty() ? "" : ", ") + fmt(x, 4);
+      }
+      const std::string med = fixed(medianAbsError(f.second, truth), 2);
+      md << "| " << prefix << f.first << " | " << med << " | " << rms << " |\n";
+      t.addRow({prefix + f.first, med, rms});
     }
-    const std::string med = fixed(medianAbsError(f.second, truth), 2);
-    md << "| " << f.first << " | " << med << " | " << rms << " |\n";
-    t.addRow({f.first, med, rms});
-  }
-  for (const auto& f : staged) {
-    const std::string med = fixed(medianAbsError(f.second, truth), 2);
-    md << "| segmental " << f.first << " | " << med << " | - |\n";
-    t.addRow({"segmental " + f.first, med, "-"});
   }
   md << "\n";
 }
@@ -171,10 +169,8 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
   const std::vector<double> truth = one["base_parameters"]["truth"];
   NamedEstimates fits = {{"ls", one["base_parameters"]["ls"]}};
   for (auto it = one["methods"].begin(); it != one["methods"].end(); ++it) fits.emplace_back(it.key(), it.value()["beta"].get<std::vector<double>>());
-  NamedEstimates staged;
-  for (auto it = sg["base_parameters"]["methods"].begin(); it != sg["base_parameters"]["methods"].end(); ++it) {
-    staged.emplace_back(it.key(), it.value().get<std::vector<double>>());
-  }
+  NamedEstimates staged = {{"ls", sg["base_parameters"]["ls"]}};
+  for (auto it = sg["methods"].begin(); it != sg["methods"].end(); ++it) staged.emplace_back(it.key(), it.value()["beta"].get<std::vector<double>>());
   std::ostringstream md;
   md << "# exoid reproduce --model " << records.fit_sidecar["model"]["name"].get<std::string>() << "\n\n"
      << "Model `" << std::filesystem::path(a.sim.model_path).filename().string() << "` (" << records.joints.size() << " joints, " << names.size()
@@ -189,7 +185,7 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
         "a stage's error reflects its record's excitation as much as the strategy.\n\n## Every base parameter, error against the truth (%)\n\n";
   writeErrorTable(md, names, truth, fits, staged);
   TextTable t({"method", "median |err| %", "validation RMS (N m), per joint"});
-  writeSummaryTable(md, t, truth, fits, staged, one["validation"].front());
+  writeSummaryTable(md, t, truth, fits, staged, one["validation"].front(), sg["validation"].front());
   if (!notes.one_fit_note.empty()) md << "One fit, not usable (exit 3 of identify): " << notes.one_fit_note << "\n\n";
   if (!notes.segmental_note.empty()) md << "Segmental strategy, not usable (exit 3 of identify): " << notes.segmental_note << "\n\n";
   md << "Files: `identify.json`, `segmental.json` (every estimate, status and condition number)"
