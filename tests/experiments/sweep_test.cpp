@@ -3,7 +3,9 @@
 #include "exoid/experiments/sweep/sweep_summary.hpp"
 #include "sweep_test_support.hpp"
 
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 namespace exoid::experiments {
@@ -110,6 +112,35 @@ TEST(Sweep, OptimisedCellsArePairedWithTheirPaperTwins) {
   const nlohmann::json j0 = nlohmann::json::parse(slurp(d + "/runs/job-00000-0001.json"));
   const nlohmann::json j1 = nlohmann::json::parse(slurp(d + "/runs/job-00001-0001.json"));
   EXPECT_EQ(j0["seed"], j1["seed"]);
+  // Every run of one cell failed (the review found the per-parameter comparison then indexed past
+  // the failed cell's parameters): each cell keeps X's 10 parameters, the failed side's numbers
+  // are missing (null), the other side's stand.
+  const SweepLayout layout = layoutFromJson(nlohmann::json::parse(slurp(d + "/config.json")));
+  for (int failed_cell : {0, 1}) {
+    std::vector<nlohmann::json> jobs;
+    for (int cell : {0, 1}) {
+      for (int rep = 0; rep < 3; ++rep) {
+        char name[64];
+        std::snprintf(name, sizeof name, "/runs/job-%05d-%04d.json", cell, rep);
+        nlohmann::json j = nlohmann::json::parse(slurp(d + name));
+        if (cell == failed_cell) j = {{"cell", cell}, {"replicate", rep}, {"seed", j["seed"]}, {"status", "error"}, {"message", "injected"},
+                                      {"methods", nlohmann::json::array()}, {"wall_time_s", 0.0}};
+        jobs.push_back(j);
+      }
+    }
+    const SweepSummary summary = summarizeSweep(layout, jobs);
+    ASSERT_EQ(summary.cells.size(), 2u);
+    for (const CellSummary& c : summary.cells) EXPECT_EQ(c.parameters.size(), 10u);
+    const MethodSummary& ls = summary.cells[1].method("ls");
+    ASSERT_TRUE(ls.vs_paper_trajectories);
+    ASSERT_EQ(ls.vs_paper_trajectories->parameters.size(), 10u);
+    EXPECT_EQ(ls.vs_paper_trajectories->parameters[0].test.n, 0);
+    EXPECT_EQ(summary.cells[static_cast<std::size_t>(failed_cell)].method("ls").n, 0);
+    EXPECT_EQ(summary.cells[static_cast<std::size_t>(1 - failed_cell)].method("ls").n, 3);
+    const std::string out = freshDir("sweep_failed_cell");
+    std::filesystem::create_directories(out);
+    EXPECT_NO_THROW(writeSweepTables(layout, jobs, out));
+  }
 }
 
 TEST(Sweep, OneAndTwoThreadsGiveIdenticalResults) {

@@ -215,7 +215,13 @@ std::optional<StagesConsistency> stagesConsistency(const LoadedChain& loaded, co
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(errors.covariance);
   if (!errors.covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
   const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
-  StagesConsistency c{ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi), 0.0};
+  StagesConsistency c;
+  try {
+    c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi);
+  } catch (const std::invalid_argument& e) {
+    std::cout << wrapped("consistent estimate: not computed (" + std::string(e.what()) + ")") << "\n";
+    return std::nullopt;
+  }
   if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // LS itself: no distance
   const Eigen::VectorXd d = c.fit.beta - theta;
   c.mahalanobis = std::sqrt(std::max(0.0, d.dot(A * d)));

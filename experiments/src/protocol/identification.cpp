@@ -210,7 +210,11 @@ void applySegmentalConsistency(MethodOutcome& m, const ident::LegConstants& c, c
   step.significance_sigmas = options.significance_sigmas;
   step.errors = *m.segmental_errors;
   step.std_err = step.errors.reported;
-  step.fit = ident::solveConsistentLeastSquares(H, H * x, c.thigh_length_m, x, C, options);
+  try {
+    step.fit = ident::solveConsistentLeastSquares(H, H * x, c.thigh_length_m, x, C, options);
+  } catch (const std::invalid_argument&) {
+    return;  // C too ill-conditioned for the solver's rank rule: the plain plausibility rule stands
+  }
   m.x = step.fit.x;
   m.implausible = step.significant();
   m.consistency = std::move(step);

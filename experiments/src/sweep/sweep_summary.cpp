@@ -185,6 +185,7 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
       r.ok = r.status == "ok";
       if (config.chain) {
         readChainScores(job, m, r);
+        r.wall_time_s = job.at("wall_time_s").get<double>();  // a chain run's methods share one record and one time
       } else {
         readApalScores(job, m, r);
       }
@@ -195,7 +196,8 @@ std::vector<Row> rowsOf(const SweepLayout& config, const std::vector<nlohmann::j
   return rows;
 }
 
-// Each cell's parameters (and a chain's truth), from its first successful run.
+// Each cell's parameters: the APAL leg's X in every cell; a chain's base parameters (and truth)
+// from the cell's first successful run (none when every run failed).
 struct CellParameters {
   std::vector<std::string> names;
   std::vector<double> truth;
@@ -203,14 +205,16 @@ struct CellParameters {
 
 std::map<int, CellParameters> parametersOf(const SweepLayout& config, const std::vector<nlohmann::json>& jobs) {
   std::map<int, CellParameters> out;
+  if (!config.chain) {
+    CellParameters x;
+    for (int i = 0; i < ident::kNumParams; ++i) x.names.emplace_back(ident::paramName(i));
+    for (std::size_t cell = 0; cell < config.cells.size(); ++cell) out[static_cast<int>(cell)] = x;
+    return out;
+  }
   for (const nlohmann::json& job : jobs) {
     const int cell = job.at("cell").get<int>();
     if (job.at("status") != "ok" || out.count(cell)) continue;
-    if (config.chain) {
-      out[cell] = {job.at("base_parameters").get<std::vector<std::string>>(), job.at("truth").get<std::vector<double>>()};
-    } else {
-      for (int i = 0; i < ident::kNumParams; ++i) out[cell].names.emplace_back(ident::paramName(i));
-    }
+    out[cell] = {job.at("base_parameters").get<std::vector<std::string>>(), job.at("truth").get<std::vector<double>>()};
   }
   return out;
 }
@@ -313,21 +317,26 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
     for (const char* prefix : {"rel_err_", "rel_err_rigid_", "err_over_crb_", "crb_std_"}) {
       for (const std::string& n : names) out << ',' << csvField(prefix + n);
     }
-    out << ",knee_val_mean_abs,knee_val_std_abs,knee_val_rms,hip_val_mean_abs,hip_val_std_abs,hip_val_rms,message,wall_time_s\n";
+    out << ",knee_val_mean_abs,knee_val_std_abs,knee_val_rms,hip_val_mean_abs,hip_val_std_abs,hip_val_rms,torque_err_mean,val_rms";
+    for (const std::string& n : names) out << ',' << csvField("err_" + n);
+    out << ",message,wall_time_s\n";
     for (const Row& r : rows) {
       out << r.cell << ',' << r.replicate << ',' << conditionCsv(conds[static_cast<std::size_t>(r.cell)]) << ',' << r.seed << ','
           << r.method << ',' << r.status << ',' << csvNumber(r.ts_hip) << ',' << csvNumber(r.ts_knee) << ',' << csvNumber(r.median_abs_rel)
           << ',' << csvNumber(r.max_abs_rel) << ',' << csvNumber(r.err_rigid) << ',' << csvNumber(r.err_best_fit) << ',' << csvNumber(r.gap_box) << ','
           << csvNumber(r.gap_free) << ',' << csvNumber(r.plausible);
       const auto own = cells.find(r.cell);
-      for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) {
+      const auto byName = [&](const Eigen::VectorXd& v) {
         for (const std::string& n : names) {
           const std::vector<std::string>* mine = own == cells.end() ? nullptr : &own->second.names;
-          const Eigen::Index i = mine ? std::find(mine->begin(), mine->end(), n) - mine->begin() : v->size();
-          out << ',' << csvNumber(i < v->size() ? (*v)[i] : kNaN);
+          const Eigen::Index i = mine ? std::find(mine->begin(), mine->end(), n) - mine->begin() : v.size();
+          out << ',' << csvNumber(i < v.size() ? v[i] : kNaN);
         }
-      }
+      };
+      for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) byName(*v);
       for (double v : r.val) out << ',' << csvNumber(v);
+      out << ',' << csvNumber(r.ts_mean) << ',' << csvNumber(r.val_rms);
+      byName(r.abs_best_fit);
       out << ',' << csvField(r.message) << ',' << csvNumber(r.wall_time_s) << '\n';
     }
   });
@@ -486,7 +495,16 @@ void adjustVersusPaper(const std::vector<CellSummary*>& compared, std::size_t k)
     holmAdjustFamily(family);
   };
   for (const PaperPaired& p : kVersusPaper) adjust([&](TrajectoryComparison& t) -> VersusPaper& { return t.*p.field; });
-  for (std::size_t i = 0; i < compared.front()->parameters.size(); ++i) adjust([i](TrajectoryComparison& t) -> VersusPaper& { return t.parameters[i]; });
+  std::size_t most = 0;
+  for (const CellSummary* c : compared) most = std::max(most, c->methods[k].vs_paper_trajectories->parameters.size());
+  for (std::size_t i = 0; i < most; ++i) {
+    std::vector<PairedComparison*> family;  // the cells that have parameter i
+    for (CellSummary* c : compared) {
+      std::vector<VersusPaper>& p = c->methods[k].vs_paper_trajectories->parameters;
+      if (i < p.size()) family.push_back(&p[i].test);
+    }
+    holmAdjustFamily(family);
+  }
 }
 
 // Every optimised cell against its paper twin (same condition, same seeds: the sweep's common
@@ -757,7 +775,8 @@ void writeTrajectorySection(std::ostream& md, const std::vector<std::string>& me
     for (std::size_t i = 0; i < cs.front()->parameters.size(); ++i) {
       std::vector<std::string> row{cs.front()->parameters[i]};
       for (const CellSummary* c : cs) {
-        row.push_back(trajectoryPairText(c->method(method).vs_paper_trajectories->parameters[i], 100.0, 2));
+        const std::vector<VersusPaper>& p = c->method(method).vs_paper_trajectories->parameters;
+        row.push_back(i < p.size() ? trajectoryPairText(p[i], 100.0, 2) : "-");
       }
       t.addRow(row);
     }
