@@ -21,7 +21,7 @@
 namespace exoid::experiments {
 
 // Named, not anonymous: the unity build puts this file beside the APAL sweep's own helpers.
-namespace chain_sweep_run {
+namespace robot_sweep_run {
 
 sim::ChainSimConfig recordConfig(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
   sim::ChainSimConfig s;
@@ -88,10 +88,10 @@ ident::Estimate otherEstimate(ident::Method m, const ident::Robot& robot,
   return ident::estimate(m, rec.W, rec.y, mo);
 }
 
-}  // namespace chain_sweep_run
+}  // namespace robot_sweep_run
 
 nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
-  using namespace chain_sweep_run;  // this file's helpers (named, not anonymous, for the unity build)
+  using namespace robot_sweep_run;  // this file's helpers (named, not anonymous, for the unity build)
   sim::ChainSimConfig fit_config = recordConfig(c, cond, core::deriveSeed(seed, 1));
   if (cond.trajectories == "optimised") fit_config.trajectory = *c.chain_design;
   const sim::ChainSimResult fit = sim::simulateChain(fit_config);

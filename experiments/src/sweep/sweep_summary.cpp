@@ -819,8 +819,9 @@ void writeMethodTables(std::ostream& md, const std::vector<std::string>& methods
   for (const auto& [what, title] : {std::pair{CellTable::kTorque, "Torque-space error (%)"},
                                     std::pair{CellTable::kParams, "Per-parameter |error| (%): median (worst)"},
                                     std::pair{CellTable::kCrb, "Worst RMS error / CRB"}}) {
+    const CellTable table = what;  // a structured binding cannot be captured (C++17)
     const bool any = std::any_of(cs.begin(), cs.end(), [&](const CellSummary* c) {
-      return std::any_of(c->methods.begin(), c->methods.end(), [&](const MethodSummary& m) { return cellText(m, what) != "-"; });
+      return std::any_of(c->methods.begin(), c->methods.end(), [&](const MethodSummary& m) { return cellText(m, table) != "-"; });
     });
     if (!any) continue;  // a chain's runs give no CRB
     md << "\n" << title << "\n\n";

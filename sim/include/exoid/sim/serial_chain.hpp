@@ -3,7 +3,7 @@
 // the true physical parameters, in URDF's frame convention (each link's frame on its joint's axis,
 // the joint frame placed in the parent link's frame). experiments turns it into ident's
 // ChainModel and standard parameter vector; sim itself never includes ident.
-#include "exoid/core/chain_selection.hpp"
+#include "exoid/core/tree_selection.hpp"
 #include "exoid/sim/model.hpp"
 
 #include <Eigen/Core>

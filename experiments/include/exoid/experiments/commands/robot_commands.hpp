@@ -1,7 +1,7 @@
 #pragma once
 // The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
-#include "exoid/core/chain_selection.hpp"
+#include "exoid/core/tree_selection.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/design/excitation.hpp"

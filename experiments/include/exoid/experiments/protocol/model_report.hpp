@@ -1,6 +1,6 @@
 #pragma once
 // What a robot model lets anyone identify, before any record: `exoid identifiability --model`.
-#include "exoid/core/chain_selection.hpp"
+#include "exoid/core/tree_selection.hpp"
 
 #include <iosfwd>
 #include <string>

@@ -1,7 +1,7 @@
 #pragma once
 // Command-line flags shared by the identification commands (identify, identifiability,
 // reproduce, sweep), and their JSON echo for outputs.
-#include "exoid/core/chain_selection.hpp"
+#include "exoid/core/tree_selection.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/signals/preprocess.hpp"

@@ -1,4 +1,4 @@
-#include "exoid/core/chain_selection.hpp"
+#include "exoid/core/tree_selection.hpp"
 
 #include "exoid/core/format.hpp"
 
