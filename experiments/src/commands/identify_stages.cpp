@@ -294,8 +294,7 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
               << fmt(consistent->mahalanobis, 3) << " reported standard errors from LS\n";
     if (consistent->mahalanobis > a.significance_sigmas) {
-      problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(consistent->mahalanobis, 3) +
-                         " reported standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+      problems.push_back(inconsistencyProblem(consistent->mahalanobis, "reported standard errors", a.significance_sigmas));
     }
   }
   // The validation records, the model file's own parameters (CAD) and --plot, as the one fit's.

@@ -288,6 +288,11 @@ core::FourierSeries readChainExcitation(const std::string& path) {
   return f;
 }
 
+std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas) {
+  return "no physically consistent body explains the data: the nearest consistent estimate is " + fmt(distance, 3) + " " + errors +
+         " from least squares (--significance " + fmt(significance_sigmas, 3) + ")";
+}
+
 void throwIfUnusable(const std::vector<std::string>& problems) {
   if (problems.empty()) return;
   std::string all;
@@ -492,8 +497,7 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
     const Eigen::VectorXd d = est.consistent->beta - est.beta;
     v.mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
     if (v.mahalanobis > a.significance_sigmas) {
-      v.problems.push_back("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(v.mahalanobis, 3) +
-                           " standard errors from least squares (--significance " + fmt(a.significance_sigmas, 3) + ")");
+      v.problems.push_back(inconsistencyProblem(v.mahalanobis, "standard errors", a.significance_sigmas));
     }
   }
   for (const auto& [m, e] : others) {

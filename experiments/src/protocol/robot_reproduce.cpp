@@ -20,7 +20,6 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
-#include <tuple>
 
 namespace exoid::experiments {
 namespace {
@@ -145,19 +144,21 @@ void writeErrorTable(std::ostream& md, const std::vector<std::string>& names, co
 void writeSummaryTable(std::ostream& md, TextTable& t, const std::vector<double>& truth, const NamedEstimates& fits,
                        const NamedEstimates& staged, const nlohmann::json& val, const nlohmann::json& staged_val) {
   md << "\n## Summary\n\n| method | median abs error (%) | validation RMS per joint (N m) |\n|---|---|---|\n";
-  for (const auto& [estimates, v, prefix] : {std::tuple{&fits, &val, ""}, std::tuple{&staged, &staged_val, "segmental "}}) {
-    for (const auto& f : *estimates) {
+  const auto rows = [&](const NamedEstimates& estimates, const nlohmann::json& v, const std::string& prefix) {
+    for (const auto& f : estimates) {
       std::string rms;
       if (f.first == "ls") {
-        for (const auto& jv : (*v)["joints"]) rms += (rms.empty() ? "" : ", ") + fmt(jv["rms_error_Nm"].get<double>(), 4);
+        for (const auto& jv : v["joints"]) rms += (rms.empty() ? "" : ", ") + fmt(jv["rms_error_Nm"].get<double>(), 4);
       } else {
-        for (double x : (*v)["methods_rms_error_Nm"][f.first]) rms += (rms.empty() ? "" : ", ") + fmt(x, 4);
+        for (double x : v["methods_rms_error_Nm"][f.first]) rms += (rms.empty() ? "" : ", ") + fmt(x, 4);
       }
       const std::string med = fixed(medianAbsError(f.second, truth), 2);
       md << "| " << prefix << f.first << " | " << med << " | " << rms << " |\n";
       t.addRow({prefix + f.first, med, rms});
     }
-  }
+  };
+  rows(fits, val, "");
+  rows(staged, staged_val, "segmental ");
   md << "\n";
 }
 

@@ -141,12 +141,10 @@ void readApalScores(const nlohmann::json& job, const nlohmann::json& m, Row& r) 
   r.wall_time_s = m.at("wall_time_s").get<double>();
 }
 
-// A base parameter's error is relative (to |truth|) unless its truth is zero (up to rounding of
-// the combination): then only its absolute error counts.
-bool hasRelativeError(const Eigen::VectorXd& truth, Eigen::Index i) { return std::abs(truth[i]) > 1e-12 * truth.cwiseAbs().maxCoeff(); }
-
 // A chain run's scores of a method (robot_sweep.hpp): errors against the simulation's truth, the
-// validation record's torque errors per joint, LS's own standard errors.
+// validation record's torque errors per joint, LS's own standard errors. A base parameter's error
+// is relative (to |truth|) unless its truth is zero (up to rounding of the combination): then only
+// its absolute error counts.
 void readChainScores(const nlohmann::json& job, const nlohmann::json& m, Row& r) {
   const Eigen::VectorXd truth = vec(job.at("truth"));
   const Eigen::Index n = truth.size();
@@ -154,7 +152,8 @@ void readChainScores(const nlohmann::json& job, const nlohmann::json& m, Row& r)
   if (!r.ok) return;
   const Eigen::VectorXd x = vec(m.at("x"));
   r.abs_best_fit = x - truth;
-  for (Eigen::Index i = 0; i < n; ++i) r.rel_best_fit[i] = hasRelativeError(truth, i) ? r.abs_best_fit[i] / std::abs(truth[i]) : kNaN;
+  const double zero = 1e-12 * truth.cwiseAbs().maxCoeff();
+  for (Eigen::Index i = 0; i < n; ++i) r.rel_best_fit[i] = std::abs(truth[i]) > zero ? r.abs_best_fit[i] / std::abs(truth[i]) : kNaN;
   if (m.contains("std_error")) r.reported = vec(m.at("std_error"));
   r.ts_mean = jsonMean(m.at("torque_err_rel"));
   r.val_rms = jsonMean(m.at("val_rms_Nm"));
@@ -295,21 +294,31 @@ const Replicates& repsOf(const Cell& c, const std::string& method) {
   return it == c.by_method.end() ? empty : it->second;
 }
 
-// Every cell's parameters, in the order they first appear (a chain's vibrating cells add their
-// base-motion ones).
-std::vector<std::string> allNames(const std::map<int, CellParameters>& cells) {
+// The names of every list, in the order they first appear: the columns of runs.csv and
+// summary.csv (a chain's vibrating cells add their base-motion parameters).
+std::vector<std::string> allNames(const std::vector<const std::vector<std::string>*>& lists) {
   std::vector<std::string> names;
-  for (const auto& [cell, p] : cells) {
-    for (const std::string& n : p.names) {
+  for (const std::vector<std::string>* list : lists) {
+    for (const std::string& n : *list) {
       if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
     }
   }
   return names;
 }
 
+// Where each of `names` sits in a cell's own parameters (own.size() where the cell lacks it).
+std::vector<std::size_t> positions(const std::vector<std::string>& names, const std::vector<std::string>& own) {
+  std::vector<std::size_t> at;
+  for (const std::string& n : names) at.push_back(static_cast<std::size_t>(std::find(own.begin(), own.end(), n) - own.begin()));
+  return at;
+}
+
 void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const std::map<int, CellParameters>& cells, const std::string& path) {
   const std::vector<SweepCondition> conds = config.conditions();
-  const std::vector<std::string> names = allNames(cells);
+  std::vector<const std::vector<std::string>*> lists;
+  for (const auto& [cell, p] : cells) lists.push_back(&p.names);
+  const std::vector<std::string> names = allNames(lists);
+  static const std::vector<std::string> kNone;
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell,replicate," << kConditionCsvHeader
         << ",seed,method,status,torque_err_hip,torque_err_knee,median_abs_rel_err,max_abs_rel_err,"
@@ -326,12 +335,9 @@ void writeRunsCsv(const SweepLayout& config, const std::vector<Row>& rows, const
           << ',' << csvNumber(r.max_abs_rel) << ',' << csvNumber(r.err_rigid) << ',' << csvNumber(r.err_best_fit) << ',' << csvNumber(r.gap_box) << ','
           << csvNumber(r.gap_free) << ',' << csvNumber(r.plausible);
       const auto own = cells.find(r.cell);
+      const std::vector<std::size_t> at = positions(names, own == cells.end() ? kNone : own->second.names);
       const auto byName = [&](const Eigen::VectorXd& v) {
-        for (const std::string& n : names) {
-          const std::vector<std::string>* mine = own == cells.end() ? nullptr : &own->second.names;
-          const Eigen::Index i = mine ? std::find(mine->begin(), mine->end(), n) - mine->begin() : v.size();
-          out << ',' << csvNumber(i < v.size() ? v[i] : kNaN);
-        }
+        for (const std::size_t i : at) out << ',' << csvNumber(static_cast<Eigen::Index>(i) < v.size() ? v[static_cast<Eigen::Index>(i)] : kNaN);
       };
       for (const Eigen::VectorXd* v : {&r.rel_best_fit, &r.rel_rigid, &r.z, &r.crb}) byName(*v);
       for (double v : r.val) out << ',' << csvNumber(v);
@@ -648,12 +654,9 @@ nlohmann::json summaryJson(const CellSummary& c) {
 // ---- summary.csv and summary.md ----
 
 void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
-  std::vector<std::string> names;
-  for (const CellSummary& c : s.cells) {
-    for (const std::string& n : c.parameters) {
-      if (std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
-    }
-  }
+  std::vector<const std::vector<std::string>*> lists;
+  for (const CellSummary& c : s.cells) lists.push_back(&c.parameters);
+  const std::vector<std::string> names = allNames(lists);
   core::writeFileAtomically(path, [&](std::ostream& out) {
     out << "cell," << kConditionCsvHeader << ",method,n,n_failed";
     for (const Metric& m : kMetrics) {
@@ -685,13 +688,10 @@ void writeSummaryCsv(const SweepSummary& s, const std::string& path) {
           }
         }
         // A parameter this cell does not have (a chain's base-motion ones on a still base): empty.
-        const auto of = [&](const std::string& n) -> const ParameterStatistics* {
-          const auto i = static_cast<std::size_t>(std::find(c.parameters.begin(), c.parameters.end(), n) - c.parameters.begin());
-          return i < m.parameters.size() ? &m.parameters[i] : nullptr;
-        };
-        for (const std::string& n : names) out << ',' << csvNumber(of(n) ? of(n)->rms_error_over_crb : kNaN);
+        const std::vector<std::size_t> at = positions(names, c.parameters);
+        for (const std::size_t i : at) out << ',' << csvNumber(i < m.parameters.size() ? m.parameters[i].rms_error_over_crb : kNaN);
         out << ',' << csvNumber(m.rms_error_over_crb_max);
-        for (const std::string& n : names) out << ',' << csvNumber(of(n) ? of(n)->coverage.share : kNaN);
+        for (const std::size_t i : at) out << ',' << csvNumber(i < m.parameters.size() ? m.parameters[i].coverage.share : kNaN);
         for (const PaperPaired& p : kVersusPaper) {
           if (m.vs_paper_trajectories) {
             const PairedComparison& q = ((*m.vs_paper_trajectories).*p.field).test;

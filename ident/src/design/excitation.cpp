@@ -139,11 +139,10 @@ ExcitationScore scoreOnGrid(const Robot& robot, const core::FourierSeries& t, co
       }
     }
   }
-  const std::vector<std::string> names = robot.jointNames();
   const auto check = [&](double excess, const char* what, int j) {
     if (excess > s.worst_violation) {
       s.worst_violation = excess;
-      s.worst_violation_name = std::string(what) + "[" + names[static_cast<std::size_t>(j)] + "]";
+      s.worst_violation_name = std::string(what) + "[" + robot.chain.joints[static_cast<std::size_t>(j)].name + "]";
     }
   };
   for (int j = 0; j < dof; ++j) {

@@ -132,6 +132,9 @@ ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loa
 void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown);
 /// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
 nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& std_error, const Eigen::VectorXd& cad);
+/// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
+/// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
+std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas);
 /// Throws UnusableResult (exit 3) naming every problem ("; "-separated) when there are any.
 void throwIfUnusable(const std::vector<std::string>& problems);
 
