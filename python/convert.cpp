@@ -210,7 +210,7 @@ const char* const kSignalOptionsDoc =
     "Processing (as `exoid identify`): processing='parallel' (default: the regressor from the states, the same "
     "zero-phase filter on the torques and every column, decimated; exact data give exact parameters) or 'paper'; "
     "cutoff_hz=None (chosen from each record, as `exoid identify --cutoff-hz auto`; the paper's processing uses 10), "
-    "filter_order=2, decimation=0 (automatic), base_terms='auto'|'on'|'off'.";
+    "filter_order=2, decimation=0 (automatic), base_terms='auto'|'on'|'off'|'judged'.";
 
 SignalOptions signalOptions(const std::string& processing, std::optional<double> cutoff_hz, int filter_order, int decimation,
                             const std::string& base_terms) {
@@ -225,10 +225,9 @@ SignalOptions signalOptions(const std::string& processing, std::optional<double>
   }
   o.filter_order = filter_order;
   o.decimation = decimation;
-  if (base_terms != "auto" && base_terms != "on" && base_terms != "off") {
-    throw std::invalid_argument("base_terms must be 'auto', 'on' or 'off', got '" + base_terms + "'");
-  }
-  o.base_terms = base_terms == "auto" ? BaseTerms::kAuto : base_terms == "on" ? BaseTerms::kOn : BaseTerms::kOff;
+  const auto& choices = experiments::baseTermsChoices();
+  if (!choices.count(base_terms)) throw std::invalid_argument("base_terms must be 'auto', 'on', 'off' or 'judged', got '" + base_terms + "'");
+  o.base_terms = choices.at(base_terms);
   return o;
 }
 

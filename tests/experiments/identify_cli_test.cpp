@@ -204,6 +204,34 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
   EXPECT_EQ(runExoid({"identify", "--data", t3, "--method", "ls", "--json", out}), 0);
 }
 
+// --base-terms judged: the choice is printed and in the JSON per record (kept, both held-out RMS,
+// the rule), and the fit is the one of the processing it chose. A pedestal shaking at 3x the
+// nominal level: the terms predict the held-out torque several times better (0.054 against
+// 0.38 N m on this seed), so they are kept and the estimate is --base-terms on's, bit for bit.
+// auto (the default) judges nothing and uses them.
+TEST(IdentifyCli, JudgedBaseTermsArePrintedInTheJsonAndFitAsChosen) {
+  const std::string dir = ::testing::TempDir();
+  const std::string csv = dir + "/shaking_t3.csv", judged = dir + "/judged.json", on = dir + "/on.json", deflt = dir + "/auto.json";
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "1", "--vibration", "3", "--out", csv}), 0);
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--base-terms", "judged", "--json", judged}), 0);
+  const std::string printed = testing::internal::GetCapturedStdout();
+  EXPECT_NE(printed.find("base-motion terms kept: held-out torque RMS"), std::string::npos) << printed;
+  const nlohmann::json j = readJson(judged);
+  const nlohmann::json& choice = j["processing_per_record"][csv]["base_terms_choice"];
+  EXPECT_TRUE(choice["kept"].get<bool>());
+  EXPECT_LT(choice["held_out_rms_with_Nm"].get<double>(), choice["held_out_rms_without_Nm"].get<double>());
+  EXPECT_EQ(choice["folds"], 5);
+  EXPECT_TRUE(j["base_terms_used"].get<bool>());
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--base-terms", "on", "--json", on}), 0);
+  EXPECT_EQ(j["parameters"], readJson(on)["parameters"]);
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--json", deflt}), 0);
+  const nlohmann::json a = readJson(deflt);
+  EXPECT_FALSE(a["processing_per_record"][csv].contains("base_terms_choice"));
+  EXPECT_TRUE(a["base_terms_used"].get<bool>());
+  EXPECT_EQ(a["parameters"], j["parameters"]);
+}
+
 // A missing term is not called merely implausible: 3 kg m^2 of knee armature on the simulated rig,
 // which the default fit leaves out, makes the estimate violate Jt >= Js; identify says which option
 // explains it. Without the armature, no such hint.

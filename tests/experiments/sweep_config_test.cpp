@@ -125,5 +125,20 @@ TEST(SweepConfig, BadFilesNameTheKeyAndLine) {
   EXPECT_NE(syntax.find("syntax.toml:1:"), std::string::npos) << syntax;
 }
 
+// The 'default' arm's base-motion terms: unset keeps identify's (and the config JSON as before);
+// set, it is recorded; a word identify does not take is refused with the key and line.
+TEST(SweepConfig, BaseTermsReachTheDefaultArmAndTheConfigRecord) {
+  const SweepConfig plain = loadSweepConfig(writeToml("base_plain", "[grid]\ntorque_noise_Nm = [0.5]\n"));
+  EXPECT_FALSE(plain.base.default_base_terms.has_value());
+  EXPECT_FALSE(plain.toJson().contains("default_base_terms"));
+  const SweepConfig judged = loadSweepConfig(writeToml("base_judged", "[identification]\nbase_terms = \"judged\"\n"));
+  ASSERT_TRUE(judged.base.default_base_terms.has_value());
+  EXPECT_EQ(*judged.base.default_base_terms, ident::BaseTerms::kJudged);
+  EXPECT_EQ(judged.toJson()["default_base_terms"], "judged");
+  const std::string bad = errorOf("base_bad", "[identification]\nbase_terms = \"sometimes\"\n");
+  EXPECT_NE(bad.find("identification.base_terms"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("base_bad.toml:2:"), std::string::npos) << bad;
+}
+
 }  // namespace
 }  // namespace exoid::experiments

@@ -133,6 +133,14 @@ TEST(Dataset, ReadsAndWritesTheJointsOfAnyModel) {
     return c;
   }());
   EXPECT_THROW(d.requireJoints({"hip", "knee"}, "the 2-link leg"), std::invalid_argument);
+  // A window of rows keeps every column (the band's pilot and the base terms' judge read one).
+  const Dataset w = d.window(3, 5);
+  EXPECT_EQ(w.size(), 5);
+  EXPECT_EQ(w.joints, d.joints);
+  EXPECT_TRUE(w.t_s == d.t_s.segment(3, 5) && w.tau_Nm == d.tau_Nm.middleRows(3, 5) && w.extra == d.extra.middleRows(3, 5));
+  EXPECT_TRUE(*w.qd_radps == d.qd_radps->middleRows(3, 5));
+  EXPECT_THROW(d.window(21, 5), std::invalid_argument);
+  EXPECT_THROW(d.window(-1, 2), std::invalid_argument);
 }
 
 TEST(DatasetErrors, EmptyFile) { expectError("", {"empty file", "header"}, 0, 0); }

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace exoid::ident {
@@ -137,19 +138,10 @@ TEST_P(ProcessingOnEveryLeg, BlocksOnSeveralThreadsAreTheSameBytesAsOnOne) {
   EXPECT_THROW(processRecord(d, leg.robot, bad), std::invalid_argument);
 }
 
-// A shaking base (fore-aft and vertical at 3.1 and 4.7 Hz, pitch at 2.3 Hz) with its IMU columns
-// and the torques of the base-motion regressor (itself checked against MuJoCo's inverse dynamics in
-// tests/integration): exact with the base-motion terms, and wrong without them.
-TEST_P(ProcessingOnEveryLeg, ExactDataOnAShakingBaseGiveExactParametersWithTheBaseTerms) {
-  const LegCase leg = GetParam()();
-  const auto shake = [&](double t) {
-    const double w = 2 * M_PI * 2.3;
-    ChainBaseMotion b;
-    b.specific_force_mps2 = Eigen::Vector3d(0.8 * std::sin(2 * M_PI * 3.1 * t), 0.0, 9.81 + 0.6 * std::sin(2 * M_PI * 4.7 * t));
-    b.omega_radps = Eigen::Vector3d(0.0, 0.02 * std::sin(w * t), 0.0);
-    b.alpha_radps2 = Eigen::Vector3d(0.0, 0.02 * w * std::cos(w * t), 0.0);
-    return b;
-  };
+// An exact record of `leg` on a base moving as shake(t) says, with its IMU columns (specific force,
+// pitch rate) and the torques of the base-motion regressor (itself checked against MuJoCo's inverse
+// dynamics in tests/integration).
+Dataset recordOnBase(const LegCase& leg, const std::function<ChainBaseMotion(double)>& shake) {
   Dataset d = leg.record(10.0, true);
   d.extra_names = {"base_acc_x", "base_acc_z", "base_gyro_y"};
   d.extra.resize(d.size(), 3);
@@ -161,6 +153,23 @@ TEST_P(ProcessingOnEveryLeg, ExactDataOnAShakingBaseGiveExactParametersWithTheBa
     robotRowsInto(leg.robot, d.q_rad.row(i).transpose(), d.qd_radps->row(i).transpose(), d.qdd_radps2->row(i).transpose(), b, work, Y);
     d.tau_Nm.row(i) = (Y * leg.truth).transpose();
   }
+  return d;
+}
+
+// Fore-aft and vertical at 3.1 and 4.7 Hz, pitch at 2.3 Hz.
+ChainBaseMotion shaking(double t) {
+  const double w = 2 * M_PI * 2.3;
+  ChainBaseMotion b;
+  b.specific_force_mps2 = Eigen::Vector3d(0.8 * std::sin(2 * M_PI * 3.1 * t), 0.0, 9.81 + 0.6 * std::sin(2 * M_PI * 4.7 * t));
+  b.omega_radps = Eigen::Vector3d(0.0, 0.02 * std::sin(w * t), 0.0);
+  b.alpha_radps2 = Eigen::Vector3d(0.0, 0.02 * w * std::cos(w * t), 0.0);
+  return b;
+}
+
+// A shaking base: exact with the base-motion terms, and wrong without them.
+TEST_P(ProcessingOnEveryLeg, ExactDataOnAShakingBaseGiveExactParametersWithTheBaseTerms) {
+  const LegCase leg = GetParam()();
+  const Dataset d = recordOnBase(leg, shaking);
   // The gyro is differentiated (five-point, after the 50 Hz pre-filter): error (w dt)^4 / 30 =
   // 1.5e-9 relative at 2.3 Hz, and the pitch terms are ~1 % of the torque: 1e-6 is ample.
   SignalOptions o = parallel();
@@ -169,6 +178,43 @@ TEST_P(ProcessingOnEveryLeg, ExactDataOnAShakingBaseGiveExactParametersWithTheBa
   // Without them the shaking is unexplained torque, correlated with the motion's columns.
   o.base_terms = BaseTerms::kOff;
   EXPECT_GT(maxRelError(stackedLs(processRecord(d, leg.robot, o)), leg.truth), 1e-3) << leg.name;
+}
+
+// --base-terms judged keeps the terms where the base moves and drops them where it stands still.
+// Shaking, exact: with the terms every held-out block is predicted exactly (residual ~ the
+// derivatives' error), without them the shaking is left unexplained, so they are kept and the
+// parameters are exact. Still, with a noisy IMU (0.3 m/s^2, 0.05 rad/s): without the terms the
+// record is exact, with them the IMU's noise enters every row and no parameter absorbs it, so
+// they are dropped and the parameters are exact again. kAuto is never judged.
+TEST_P(ProcessingOnEveryLeg, JudgedBaseTermsAreKeptOnAShakingBaseAndDroppedOnAStillOne) {
+  const LegCase leg = GetParam()();
+  SignalOptions o = parallel();
+  o.base_terms = BaseTerms::kJudged;
+  std::optional<BaseTermsChoice> choice;
+  const Dataset shaken = recordOnBase(leg, shaking);
+  SignalOptions used = resolveSignalOptions(shaken, leg.robot, o, {}, nullptr, &choice);
+  ASSERT_TRUE(choice.has_value()) << leg.name;
+  EXPECT_TRUE(choice->use) << choice->describe();
+  EXPECT_EQ(used.base_terms, BaseTerms::kOn);
+  EXPECT_LT(choice->held_out_rms_with_Nm, 1e-3 * choice->held_out_rms_without_Nm) << choice->describe();
+  EXPECT_LT(maxScaledError(leg, stackedLs(processRecord(shaken, leg.robot, o))), 1e-6) << leg.name;
+
+  Dataset still = recordOnBase(leg, [&](double) { return ChainBaseMotion::still(leg.robot.chain); });
+  std::mt19937_64 gen(11);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (Eigen::Index i = 0; i < still.size(); ++i) still.extra.row(i) += Eigen::RowVector3d(0.3 * unit(gen), 0.3 * unit(gen), 0.05 * unit(gen));
+  used = resolveSignalOptions(still, leg.robot, o, {}, nullptr, &choice);
+  ASSERT_TRUE(choice.has_value());
+  EXPECT_FALSE(choice->use) << choice->describe();
+  EXPECT_EQ(used.base_terms, BaseTerms::kOff);
+  EXPECT_NE(choice->describe().find("dropped"), std::string::npos);
+  EXPECT_LT(maxScaledError(leg, stackedLs(processRecord(still, leg.robot, o))), 1e-6) << leg.name;
+
+  o.base_terms = BaseTerms::kAuto;
+  used = resolveSignalOptions(still, leg.robot, o, {}, nullptr, &choice);
+  EXPECT_FALSE(choice.has_value());
+  EXPECT_EQ(used.base_terms, BaseTerms::kAuto);
+  EXPECT_THROW(chooseBaseTerms(test::multisineRecord(2.0), leg.robot, parallel()), std::invalid_argument);  // no IMU columns
 }
 
 INSTANTIATE_TEST_SUITE_P(Legs, ProcessingOnEveryLeg, ::testing::Values(&apalLeg, &chainLeg),

@@ -163,6 +163,7 @@ struct Role {
   /// Each record's processing as used: the options with every choice made from the data.
   std::vector<ident::SignalOptions> signals;
   std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
+  std::vector<std::optional<ident::BaseTermsChoice>> base_terms;  ///< whether each record's base-motion terms were kept, if judged
 };
 
 // How well a role's records excite the parameters: the condition number of the column-scaled
@@ -249,14 +250,17 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
       try {
         // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
         std::optional<ident::BandChoice> band;
+        std::optional<ident::BaseTermsChoice> base;
         ident::BandRule rule;
         rule.first_moving_joint = role == &knee ? 1 : 0;
         // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
-        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band);
+        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band, &base);
         if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
+        if (base) std::cout << "  base-motion terms " << base->describe() << " (--base-terms on|off overrides)\n";
         rows.push_back(ident::processRecord(role->data[k], robot, o));
         role->signals.push_back(o);
         role->bands.push_back(band);
+        role->base_terms.push_back(base);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
       }
@@ -457,8 +461,9 @@ nlohmann::json processingJson(const Role& primary, const Role& knee) {
       const ident::SignalOptions& o = role->signals[k];
       nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
                           {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
-                          {"chosen_from_data", role->bands[k].has_value()}};
+                          {"chosen_from_data", role->bands[k].has_value()}, {"base_terms_used", usesBaseMotion(role->data[k], o)}};
       if (const auto& band = role->bands[k]) addBandChoice(*band, b);
+      if (const auto& base = role->base_terms[k]) b["base_terms_choice"] = toJson(*base);
       bands[role->files[k]] = b;
     }
   }
@@ -503,10 +508,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
   j["inputs"]["sampling"] = samplingJson(primary, knee);
   j["processing_per_record"] = processingJson(primary, knee);
-  // Whether the base-motion terms were in the rows (base_terms auto uses them when present).
-  j["base_terms_used"] = a.signals.processing == ident::Processing::kParallel &&
-                         (a.signals.base_terms == ident::BaseTerms::kOn ||
-                          (a.signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(primary.data.front())));
+  // Whether the base-motion terms were in the first record's rows (processing_per_record: each record's, and why).
+  j["base_terms_used"] = usesBaseMotion(primary.data.front(), primary.signals.front());
   j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
   j["signal_options"] = toJson(a.signals);
   j["method_options"] = toJson(mo);

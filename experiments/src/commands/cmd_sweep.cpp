@@ -27,6 +27,7 @@ struct SweepArgs {
   std::vector<std::string> trajectories;
   std::optional<double> duration_s;
   std::optional<long> pso_iterations;
+  std::optional<ident::BaseTerms> base_terms;
   std::string shard;
 };
 
@@ -63,6 +64,10 @@ void runSweepCommand(const SweepArgs& a) {
   if (!a.methods.empty()) c.setMethods(a.methods, "--methods");
   if (a.duration_s) c.base.sim.duration_s = *a.duration_s;
   if (a.pso_iterations) c.base.methods.rls_pso.pso.max_iterations = *a.pso_iterations;
+  if (a.base_terms) {
+    c.base.default_base_terms = *a.base_terms;
+    c.origin["identification.base_terms"] = "--base-terms";
+  }
   c.validate();
   SweepRunOptions o = a.run;
   if (!a.shard.empty()) {
@@ -117,6 +122,9 @@ void addSweepCommand(CLI::App& app) {
       ->delimiter(',')->group(o);
   cmd->add_option("--duration", a->duration_s, "[simulation] duration_s of each record")->check(positiveNumber())->group(o);
   cmd->add_option("--pso-iterations", a->pso_iterations, "[identification] pso_iterations (G)")->check(positiveNumber())->group(o);
+  cmd->add_option("--base-terms", a->base_terms, "[identification] base_terms: the 'default' arm's (a chain's every method's) "
+                                                 "base-motion terms, as identify --base-terms: auto, on, off or judged")
+      ->transform(CLI::CheckedTransformer(baseTermsChoices(), CLI::ignore_case))->group(o);
   cmd->callback([a] { runSweepCommand(*a); });
 }
 

@@ -6,6 +6,7 @@
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/segmental_errors.hpp"
@@ -81,13 +82,19 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     for (std::size_t r = 0; r < in.files.size(); ++r) {
       const std::string& file = in.files[r];
       std::optional<ident::BandChoice> band;
-      records.push_back(ident::processRecord(data[s][r], loaded.robot, a.signals, rule, &band));
+      std::optional<ident::BaseTermsChoice> base;
+      const ident::SignalOptions used = ident::resolveSignalOptions(data[s][r], loaded.robot, a.signals, rule, &band, &base);
+      records.push_back(ident::processRecord(data[s][r], loaded.robot, used));
       if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
+      if (base) std::cout << wrapped(file + ": base-motion terms " + base->describe() + " (--base-terms on|off overrides)") << "\n";
       if (s + 1 == inputs.size() && r == 0) {
         out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+        if (base) out.fit_signals.base_terms = used.base_terms;
         out.fit_rows = records.back();
       }
-      files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz}});
+      files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz},
+                       {"base_terms_used", usesBaseMotion(data[s][r], used)}});
+      if (base) files.back()["base_terms_choice"] = toJson(*base);
     }
     out.stages.push_back({in.first_joint, ident::stackRecords(records)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},

@@ -6,6 +6,7 @@
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
@@ -320,8 +321,9 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
     const std::string& file = a.data[r];
     const ident::Dataset& d = data[r];
     std::optional<ident::BandChoice> band;
-    fit.records.push_back(ident::processRecord(d, loaded.robot, a.signals, {}, &band));
-    const ident::SignalOptions used = band ? ident::withBand(a.signals, *band) : ident::resolveSignalOptions(d, loaded.robot, a.signals);
+    std::optional<ident::BaseTermsChoice> base;
+    const ident::SignalOptions used = ident::resolveSignalOptions(d, loaded.robot, a.signals, {}, &band, &base);
+    fit.records.push_back(ident::processRecord(d, loaded.robot, used));
     fit.signals.push_back(used);
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
@@ -335,12 +337,20 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
       }
       fit.closed_loop.push_back(closedLoopRecord(d, file, fit.records.back(), used, a.controller));
     }
-    if (!fit.fit_signals) fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}};
+    if (!fit.fit_signals) {
+      // The validation records: the fit's band and its base-motion terms' choice.
+      fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+      if (base) fit.fit_signals->base_terms = used.base_terms;
+    }
+    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}, {"base_terms_used", usesBaseMotion(d, used)}};
     if (band) {
       std::cout << wrapped(file + ": " + band->describe()) << "\n";
       rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
                     {"limited_by", band->limited_by}, {"reason", band->describe()}};
+    }
+    if (base) {
+      std::cout << wrapped(file + ": base-motion terms " + base->describe() + " (--base-terms on|off overrides)") << "\n";
+      rj["base_terms_choice"] = toJson(*base);
     }
     fit.json.push_back(rj);
   }
@@ -622,7 +632,10 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
 
 }  // namespace
 
-int identifyChain(const ChainIdentifyArgs& a) {
+int identifyChain(const ChainIdentifyArgs& given) {
+  ChainIdentifyArgs a = given;
+  // A moving base's parameters are told apart by the base's motion alone: its terms are not judged.
+  if (a.moving_base_parameters && a.signals.base_terms == ident::BaseTerms::kJudged) a.signals.base_terms = ident::BaseTerms::kAuto;
   if (!a.stages.empty()) return identifyChainStages(a);
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   core::prepareOutputFile(a.json_out);

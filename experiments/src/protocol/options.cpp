@@ -106,12 +106,11 @@ void addSignalOptions(CLI::App& app, ident::SignalOptions& o) {
   addAutoOrNumber(app, "--derivative-cutoff-hz", o.derivative_cutoff_from_data, o.derivative_cutoff_hz, true,
                   "Parallel processing: the angles' pre-filter before differentiating, Hz (0 = none), or auto: 5 x the\n"
                   "cutoff in use");
-  static const std::map<std::string, ident::BaseTerms> kBase = {
-      {"off", ident::BaseTerms::kOff}, {"auto", ident::BaseTerms::kAuto}, {"on", ident::BaseTerms::kOn}};
   app.add_option("--base-terms", o.base_terms,
                  "Parallel processing: pedestal-motion terms from the IMU columns base_acc_x, base_acc_z (specific force "
-                 "at the hip axis, m/s^2), base_gyro_y (rad/s): off, auto (when the columns are there) or on (required)")
-      ->transform(CLI::CheckedTransformer(kBase, CLI::ignore_case))
+                 "at the hip axis, m/s^2), base_gyro_y (rad/s): off, auto (when the columns are there), on (required) or judged (when the columns are there and "
+                 "they predict held-out torque no worse: 5 contiguous blocks, each by least squares on the others)")
+      ->transform(CLI::CheckedTransformer(baseTermsChoices(), CLI::ignore_case))
       ->default_str(ident::toString(o.base_terms))
       ->group("Signal processing");
   static const std::map<std::string, ident::Differentiation> kDiff = {
@@ -248,6 +247,28 @@ ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Datas
   c.validate();
   if (origin) *origin = how;
   return c;
+}
+
+const std::map<std::string, ident::BaseTerms>& baseTermsChoices() {
+  static const std::map<std::string, ident::BaseTerms> kChoices = {
+      {"off", ident::BaseTerms::kOff}, {"auto", ident::BaseTerms::kAuto}, {"on", ident::BaseTerms::kOn}, {"judged", ident::BaseTerms::kJudged}};
+  return kChoices;
+}
+
+nlohmann::json toJson(const ident::BaseTermsChoice& c) {
+  return {{"kept", c.use},
+          {"held_out_rms_with_Nm", c.held_out_rms_with_Nm},
+          {"held_out_rms_without_Nm", c.held_out_rms_without_Nm},
+          {"folds", c.folds},
+          {"samples", c.samples},
+          {"reason", c.describe()},
+          {"rule", "kept unless they make the torque RMS of contiguous held-out blocks, each predicted by least squares on the "
+                   "others, larger (--base-terms on or off overrides)"}};
+}
+
+bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals) {
+  return signals.processing == ident::Processing::kParallel &&
+         (signals.base_terms == ident::BaseTerms::kOn || (ident::whenPresent(signals.base_terms) && ident::hasBaseColumns(d)));
 }
 
 nlohmann::json toJson(const ident::SignalOptions& o) {

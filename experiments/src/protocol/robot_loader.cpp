@@ -1,5 +1,6 @@
 #include "exoid/experiments/protocol/robot_loader.hpp"
 
+#include "exoid/experiments/protocol/options.hpp"
 #include "exoid/sim/model.hpp"
 
 #include <nlohmann/json.hpp>
@@ -70,11 +71,6 @@ LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::st
   c.robot = ident::chainRobot(c.model);
   c.base = c.robot.basis;
   return c;
-}
-
-bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals) {
-  return signals.processing == ident::Processing::kParallel &&
-         (signals.base_terms == ident::BaseTerms::kOn || (signals.base_terms == ident::BaseTerms::kAuto && ident::hasBaseColumns(d)));
 }
 
 LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& records, const ident::SignalOptions& signals) {

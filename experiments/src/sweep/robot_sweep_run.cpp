@@ -97,15 +97,17 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const sim::ChainSimResult fit = sim::simulateChain(fit_config);
   const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
   const ident::Dataset d = chainDataset(fit);
-  const ident::SignalOptions signals = defaultIdentifySignals();
+  ident::SignalOptions signals = defaultIdentifySignals();
+  if (c.base.default_base_terms) signals.base_terms = *c.base.default_base_terms;
   const LoadedChain loaded = loadChain(c.chain_model_path);
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;
   const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
 
   std::optional<ident::BandChoice> band;
-  const ident::RecordRows rec = ident::processRecord(d, loaded.robot, signals, c.base.band_rule, &band);
-  const ident::SignalOptions fit_signals = band ? ident::withBand(signals, *band) : signals;
+  // The record's band and base-motion terms chosen from it; the check record is processed the same way.
+  const ident::SignalOptions fit_signals = ident::resolveSignalOptions(d, loaded.robot, signals, c.base.band_rule, &band);
+  const ident::RecordRows rec = ident::processRecord(d, loaded.robot, fit_signals);
   ident::ChainEstimateOptions eo;
   eo.ls = c.base.methods.ls;
   eo.consistent = false;
@@ -122,6 +124,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   j["rows"] = est.rows;
   j["condition_number"] = est.ls.condition_number;
   if (band) j["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation}};
+  j["base_terms_used"] = usesBaseMotion(d, fit_signals);
   j["methods"] = nlohmann::json::array();
   for (ident::Method m : c.chain_methods) {
     if (m == ident::Method::kLs) {

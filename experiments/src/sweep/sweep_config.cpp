@@ -375,7 +375,9 @@ nlohmann::json SweepConfig::chainJson() const {
     simj["excitation"] = chainFourierJson(*chain_design);
   }
   j["simulation"] = simj;
-  j["signal_options"] = experiments::toJson(defaultIdentifySignals());
+  ident::SignalOptions signals = defaultIdentifySignals();
+  if (base.default_base_terms) signals.base_terms = *base.default_base_terms;
+  j["signal_options"] = experiments::toJson(signals);
   j["band_rule"] = bandRuleJson(base.band_rule);
   j["method_options"] = experiments::toJson(base.methods);
   j["method_options"]["pso_box"] = origin.count("identification.wide_box") ? "wide_box" : "10 x the largest |LS estimate|";
@@ -400,6 +402,7 @@ nlohmann::json SweepConfig::toJson() const {
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
   j["band_rule"] = bandRuleJson(base.band_rule);  // the 'default' arm's
+  if (base.default_base_terms) j["default_base_terms"] = ident::toString(*base.default_base_terms);
   j["method_options"] = experiments::toJson(base.methods);
   return j;
 }
@@ -518,6 +521,13 @@ void readIdentificationKey(Reader& r, const std::string& full, const toml::node&
     c.base.signals.cutoff_hz = r.number(v, full);
   } else if (full == "identification.filter") {
     c.base.signals.filter = r.boolean(v, full);
+  } else if (full == "identification.base_terms") {
+    r.c.origin[full] = r.loc(v);
+    const auto text = v.value<std::string>();
+    if (!text || !baseTermsChoices().count(*text)) {
+      throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected \"off\", \"auto\", \"on\" or \"judged\"");
+    }
+    c.base.default_base_terms = baseTermsChoices().at(*text);
   } else {
     // The band rule's constants (band_*), for the study that chose them (docs/findings.md).
     ident::BandRule& b = c.base.band_rule;
@@ -546,7 +556,7 @@ const std::map<std::string, SectionReader>& sectionReaders() {
       {"simulation", {{"duration_s", "ramp_s", "dt_s", "feedforward", "excitation_knee", "excitation_both", "excitation"}, readSimulationKey}},
       {"identification",
        {{"pso_iterations", "swarm", "pso_tolerance", "optimality_gap", "wide_box", "cutoff_hz", "filter", "band_motion_fraction",
-         "band_pilot_factor", "band_scan_hz", "band_inconsistency_ratio", "band_max_factor", "band_derivative_factor"},
+         "band_pilot_factor", "band_scan_hz", "band_inconsistency_ratio", "band_max_factor", "band_derivative_factor", "base_terms"},
         readIdentificationKey}}};
   return kSections;
 }

@@ -94,6 +94,31 @@ std::optional<std::string> Dataset::metadata(const std::string& key) const {
   return std::nullopt;
 }
 
+Dataset Dataset::window(Eigen::Index from, Eigen::Index n) const {
+  if (from < 0 || n < 0 || from + n > size()) {
+    throw std::invalid_argument("Dataset::window: rows [" + core::toText(from) + ", " + core::toText(from + n) + ") of " + core::toText(size()));
+  }
+  const Dataset& d = *this;
+  Dataset w;
+  w.comments = d.comments;
+  w.joints = d.joints;
+  w.t_s = d.t_s.segment(from, n);
+  w.q_rad = d.q_rad.middleRows(from, n);
+  w.tau_Nm = d.tau_Nm.middleRows(from, n);
+  if (d.qd_radps) w.qd_radps = d.qd_radps->middleRows(from, n);
+  if (d.qdd_radps2) w.qdd_radps2 = d.qdd_radps2->middleRows(from, n);
+  w.extra_names = d.extra_names;
+  // No extra columns: no data pointer to offset (a block of it is undefined behaviour, UBSan says).
+  if (d.extra.cols() > 0) {
+    w.extra = d.extra.middleRows(from, n);
+  } else {
+    w.extra.resize(n, 0);
+  }
+  w.text_columns = d.text_columns;
+  w.sampling = d.sampling;
+  return w;
+}
+
 Eigen::VectorXd Dataset::extraColumn(const std::string& name) const {
   const auto it = std::find(extra_names.begin(), extra_names.end(), name);
   if (it == extra_names.end()) throw std::invalid_argument("dataset has no column '" + name + "'");

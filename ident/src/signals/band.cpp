@@ -120,27 +120,6 @@ double pooledBandwidth(const std::vector<PowerSpectrum>& spectra, double fractio
   return bandwidthAt(pooled, fraction);
 }
 
-// Rows [from, from + n) of d, every column.
-Dataset rowWindow(const Dataset& d, Eigen::Index from, Eigen::Index n) {
-  Dataset w;
-  w.comments = d.comments;
-  w.joints = d.joints;
-  w.t_s = d.t_s.segment(from, n);
-  w.q_rad = d.q_rad.middleRows(from, n);
-  w.tau_Nm = d.tau_Nm.middleRows(from, n);
-  if (d.qd_radps) w.qd_radps = d.qd_radps->middleRows(from, n);
-  if (d.qdd_radps2) w.qdd_radps2 = d.qdd_radps2->middleRows(from, n);
-  w.extra_names = d.extra_names;
-  // No extra columns: no data pointer to offset (a block of it is undefined behaviour, UBSan says).
-  if (d.extra.cols() > 0) {
-    w.extra = d.extra.middleRows(from, n);
-  } else {
-    w.extra.resize(n, 0);
-  }
-  w.text_columns = d.text_columns;
-  w.sampling = d.sampling;
-  return w;
-}
 
 }  // namespace
 
@@ -195,7 +174,7 @@ BandChoice chooseBandWith(const Dataset& d, const SignalOptions& base, const Ban
   }
   const PilotTorques torques = out.pilot_samples == d.size()
                                    ? pilot_fit(d, pilot)
-                                   : pilot_fit(rowWindow(d, (d.size() - out.pilot_samples) / 2, out.pilot_samples), pilot);
+                                   : pilot_fit(d.window((d.size() - out.pilot_samples) / 2, out.pilot_samples), pilot);
   // Every joint's predicted and measured torque spectrum on its own thread, summed in joint order.
   const Eigen::Index joints = torques.predicted_Nm.cols();
   std::vector<PowerSpectrum> spectra(static_cast<std::size_t>(2 * joints));

@@ -19,6 +19,7 @@ const char* toString(BaseTerms b) {
     case BaseTerms::kOff: return "off";
     case BaseTerms::kAuto: return "auto";
     case BaseTerms::kOn: return "on";
+    case BaseTerms::kJudged: return "judged";
   }
   return "unknown";
 }
@@ -160,7 +161,7 @@ JointSignals parallelStates(const Dataset& d, const SignalOptions& o, double fs,
   s.tau_Nm = d.tau_Nm.middleRows(from, len);
   const double dt = 1.0 / fs;
   const bool prefilter = o.derivative_cutoff_hz > 0.0 && o.derivative_cutoff_hz < 0.5 * fs;
-  const bool base = o.base_terms == BaseTerms::kOn || (o.base_terms == BaseTerms::kAuto && hasBaseColumns(d));
+  const bool base = o.base_terms == BaseTerms::kOn || (whenPresent(o.base_terms) && hasBaseColumns(d));
   if (base) {
     if (!hasBaseColumns(d)) {
       throw std::invalid_argument("base-motion terms requested but the dataset lacks base_acc_x, base_acc_z or base_gyro_y");

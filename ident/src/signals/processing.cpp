@@ -3,6 +3,7 @@
 #include "exoid/core/format.hpp"
 #include "exoid/core/parallel_for.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
+#include "exoid/ident/signals/base_terms.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -250,7 +251,11 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
   }
   // The pilot: least squares of the moving joints' equations at the pilot band (the locked joints'
   // torque is the lock's), its torque predicted from the measured states.
-  return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot) {
+  return chooseBandWith(d, base, rule, [&](const Dataset& record, const SignalOptions& pilot_asked) {
+    // The pilot is the full model: the base-motion terms whenever the record has them (they are
+    // judged afterwards, in the band chosen).
+    SignalOptions pilot = pilot_asked;
+    if (pilot.base_terms == BaseTerms::kJudged) pilot.base_terms = BaseTerms::kAuto;
     const RecordRows rows = processRecord(record, robot, pilot);
     LsOptions ls;
     ls.max_condition = std::numeric_limits<double>::max();  // a pilot: its prediction is used, not its parameters
@@ -266,9 +271,10 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
   });
 }
 
-SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule,
-                                   std::optional<BandChoice>* chosen) {
-  if (chosen) chosen->reset();
+namespace {
+
+// The band's and the derivative pre-filter's choices.
+SignalOptions resolveBand(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule, std::optional<BandChoice>* chosen) {
   if (o.processing != Processing::kParallel || !(o.cutoff_from_data || o.derivative_cutoff_from_data)) return o;
   if (o.cutoff_from_data && o.filter) {
     const BandChoice band = chooseBand(d, robot, o, rule);
@@ -280,6 +286,22 @@ SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const S
   if (o.derivative_cutoff_from_data) {
     r.derivative_cutoff_from_data = false;
     r.derivative_cutoff_hz = derivativeCutoffFor(o.cutoff_hz, 1.0 / d.sampleInterval_s(), rule);
+  }
+  return r;
+}
+
+}  // namespace
+
+SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule,
+                                   std::optional<BandChoice>* chosen, std::optional<BaseTermsChoice>* base_terms) {
+  if (chosen) chosen->reset();
+  if (base_terms) base_terms->reset();
+  SignalOptions r = resolveBand(d, robot, o, rule, chosen);
+  // The terms are judged in the band chosen with them (the full model's).
+  if (r.processing == Processing::kParallel && r.base_terms == BaseTerms::kJudged && hasBaseColumns(d)) {
+    const BaseTermsChoice c = chooseBaseTerms(d, robot, r, rule);
+    r.base_terms = c.use ? BaseTerms::kOn : BaseTerms::kOff;
+    if (base_terms) *base_terms = c;
   }
   return r;
 }

@@ -4,11 +4,13 @@
 #include "exoid/core/tree_selection.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/signals/base_terms.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <optional>
 
 namespace exoid::experiments {
@@ -46,5 +48,12 @@ ident::LegConstants resolveConstants(const ConstantsFlags& f, const ident::Datas
 
 nlohmann::json toJson(const ident::SignalOptions& o);
 nlohmann::json toJson(const ident::MethodOptions& o);
+/// --base-terms' (and a sweep's base_terms') words: off, auto, on, judged.
+const std::map<std::string, ident::BaseTerms>& baseTermsChoices();
+/// The base-motion terms' choice from a record (ident::chooseBaseTerms): kept, its numbers, the rule.
+nlohmann::json toJson(const ident::BaseTermsChoice& c);
+/// True when a record processed with `signals` carries base-motion terms (its IMU columns, and
+/// base_terms on, or auto: resolved, or unjudged).
+bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals);
 
 }  // namespace exoid::experiments

@@ -50,6 +50,8 @@ struct ProtocolConfig {
   ident::IvOptions iv;             ///< IDIM-IV's stopping rule
   /// The 'default' arm's band rule (its constants: a sweep's [identification] band_* keys).
   ident::BandRule band_rule;
+  /// The 'default' arm's base-motion terms (a sweep's [identification] base_terms); unset: identify's.
+  std::optional<ident::BaseTerms> default_base_terms;
   std::vector<Variant> variants = allVariants();
   /// Designed excitations (exoid excite) replacing the identification records: trajectory 1 (knee
   /// only, the hip locked) and trajectory 3 (both joints). Validation stays on the paper's 2 and 4.

@@ -41,9 +41,6 @@ struct LoadedChain {
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {},
                       const core::ChainSelection& selection = {});
 
-/// True when a record processed with `signals` carries base-motion terms (its IMU columns, and
-/// base_terms on, or auto).
-bool usesBaseMotion(const ident::Dataset& d, const ident::SignalOptions& signals);
 /// The chain in the base parameters of a moving base (a planar base: a link's inertia and its
 /// joint's armature, which a still base regroups, separate), for records with base-motion terms.
 /// They separate only through the base's pitch acceleration: an IMU's noise there biases the split

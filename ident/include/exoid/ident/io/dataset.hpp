@@ -66,6 +66,8 @@ struct Dataset {
 
   Eigen::Index size() const { return t_s.size(); }
   Eigen::Index dof() const { return static_cast<Eigen::Index>(joints.size()); }
+  /// Rows [from, from + n), every column. Throws std::invalid_argument outside the record.
+  Dataset window(Eigen::Index from, Eigen::Index n) const;
   /// Throws std::invalid_argument unless the joints are exactly these (e.g. the APAL leg's
   /// hip, knee for the hand-written 2-link path), naming both lists.
   void requireJoints(const std::vector<std::string>& expected, const std::string& who) const;

@@ -34,8 +34,13 @@ enum class BaseTerms {
   kOff,   ///< a still base under gravity (the paper's model)
   kAuto,  ///< when the dataset has the three columns
   kOn,    ///< required: a dataset without them is an error
+  /// when the dataset has the three columns and they predict its torque no worse: processRecord
+  /// and resolveSignalOptions judge (chooseBaseTerms) and make it kOn or kOff; unjudged, as kAuto
+  kJudged,
 };
-const char* toString(BaseTerms b);  ///< "off", "auto", "on"
+const char* toString(BaseTerms b);  ///< "off", "auto", "on", "judged"
+/// kAuto or kJudged: the terms whenever the dataset has the columns, unless judged otherwise.
+inline bool whenPresent(BaseTerms b) { return b == BaseTerms::kAuto || b == BaseTerms::kJudged; }
 /// The IMU's columns: base_acc_x, base_acc_z, base_gyro_y.
 extern const char* const kBaseColumns[3];
 /// True when the dataset has kBaseColumns.

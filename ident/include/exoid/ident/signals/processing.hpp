@@ -6,6 +6,7 @@
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/model/robot.hpp"
 #include "exoid/ident/signals/band.hpp"
+#include "exoid/ident/signals/base_terms.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 
 #include <Eigen/Core>
@@ -67,10 +68,12 @@ RecordRows stackRecords(const std::vector<RecordRows>& records);
 BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions& base, const BandRule& rule = {});
 
 /// o with the choices it leaves to the data made for record d: the band (cutoff_from_data, parallel
-/// processing, filtering on; chooseBand with `rule`) and the derivative pre-filter
-/// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use). o itself when it leaves
-/// none or uses the paper's processing. chosen, when given, receives the band (or is reset).
+/// processing, filtering on; chooseBand with `rule`), the derivative pre-filter
+/// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use) and the base-motion terms
+/// (base_terms kJudged with the IMU columns: chooseBaseTerms in that band, then kOn or kOff). o
+/// itself when it leaves none or uses the paper's processing. chosen and base_terms, when given,
+/// receive the choices made (or are reset).
 SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule = {},
-                                   std::optional<BandChoice>* chosen = nullptr);
+                                   std::optional<BandChoice>* chosen = nullptr, std::optional<BaseTermsChoice>* base_terms = nullptr);
 
 }  // namespace exoid::ident
