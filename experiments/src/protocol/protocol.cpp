@@ -168,7 +168,13 @@ MethodOutcome runVariant(Variant v, const std::array<Record, 4>& r, const Protoc
     case Variant::kIdimIv: return identifySegmentedIdimIv(robot, r[0].closed_loop, r[2].closed_loop, c.iv);
     case Variant::kLsBase: return segmented(ident::Method::kLs, r[0].closed_loop_base.measured, r[2].closed_loop_base.measured);
     case Variant::kIdimIvBase: return identifySegmentedIdimIv(robot, r[0].closed_loop_base, r[2].closed_loop_base, c.iv);
-    case Variant::kDefault: return segmented(ident::Method::kLs, r[0].default_rows, r[2].default_rows);
+    case Variant::kDefault: {
+      // identify --knee-data --both-data with no options: the segmental LS estimate, moved to the
+      // nearest physically consistent one in its reported errors' metric.
+      MethodOutcome m = segmented(ident::Method::kLs, r[0].default_rows, r[2].default_rows);
+      if (m.segmental_errors) applySegmentalConsistency(m, *robot.two_link, ident::ConsistencyOptions{});
+      return m;
+    }
     case Variant::kLs: return segmented(ident::Method::kLs, r[0].processed_rows, r[2].processed_rows);
     case Variant::kRls: return segmented(ident::Method::kRls, r[0].processed_rows, r[2].processed_rows);
     case Variant::kPso: return segmented(ident::Method::kPso, r[0].processed_rows, r[2].processed_rows);

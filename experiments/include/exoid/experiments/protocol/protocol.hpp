@@ -31,9 +31,10 @@ enum class Variant {
   kIdimIv,      ///< IDIM-IV on the parallel-processed records, segmental
   kLsBase,      ///< ls-parallel with the pedestal IMU's base-motion terms (ident::BaseMotion)
   kIdimIvBase,  ///< idim-iv with the base-motion terms in the measured rows
-  /// exoid identify's defaults (identifyDefaultSignals): parallel processing in the band chosen
-  /// from each record (ident::chooseBand), base-motion terms when the IMU columns are there, LS;
-  /// segmental like the others
+  /// exoid identify's defaults (defaultIdentifySignals): parallel processing in the band chosen
+  /// from each record (ident::chooseBand), base-motion terms when the IMU columns are there, LS,
+  /// segmental like the others, made physically consistent in its reported errors
+  /// (applySegmentalConsistency, as identify --knee-data --both-data)
   kDefault,
 };
 /// "ls", "rls", "pso", "rls-pso", "lad", "ls-exact", "ls-stacked", "ls-parallel", "idim-iv",
