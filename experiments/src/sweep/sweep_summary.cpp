@@ -863,11 +863,11 @@ void writeVersusLsTable(std::ostream& md, const std::vector<std::string>& method
 }
 
 // Per cell: how often each method's nominal 95 % intervals held the truth, per parameter, and the
-// verdict naming every parameter short of kCoverageShortfall: with -+ 1.96 CRB std (every method),
-// then with -+ 1.96 of the standard errors a method reports (those that report them:
-// every_method false leaves out a method with no interval for any parameter).
+// verdict naming every parameter short of kCoverageShortfall: with -+ 1.96 CRB std, then with
+// -+ 1.96 of the standard errors a method reports. A method with no interval for any parameter is
+// left out, and a table with none at all (a chain's runs give no CRB; a noise-free cell's) too.
 void writeCoverageTable(std::ostream& md, const std::vector<std::string>& methods, const CellSummary& c, stats::Coverage ParameterStatistics::*which,
-                        bool every_method, const std::string& sigma, const std::string& unit) {
+                        const std::string& sigma, const std::string& unit) {
   const std::vector<std::string>& names = c.parameters;
   std::vector<std::string> header{"method"};
   header.insert(header.end(), names.begin(), names.end());
@@ -883,15 +883,12 @@ void writeCoverageTable(std::ostream& md, const std::vector<std::string>& method
       row.push_back(k.n ? fixed(100.0 * k.share, 0) : "-");
       coverage.push_back(k);
     }
-    if (!every_method && std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; })) continue;
+    if (std::all_of(coverage.begin(), coverage.end(), [](const stats::Coverage& k) { return k.n == 0; })) continue;
     t.addRow(row);
     ++shown;
     if (const std::string short_of = coverageShortfall(names, coverage); !short_of.empty()) verdict += "- " + v + ": " + short_of + "\n";
   }
-  const bool any = std::any_of(c.methods.begin(), c.methods.end(), [&](const MethodSummary& m) {
-    return std::any_of(m.parameters.begin(), m.parameters.end(), [&](const ParameterStatistics& p) { return (p.*which).n > 0; });
-  });
-  if (shown == 0 || !any) return;  // a chain's runs give no CRB
+  if (shown == 0) return;
   md << "\nCoverage: seeds (%) whose estimate -+ 1.96 " << sigma << " held the truth, torque noise " << fmt(c.condition.torque_noise_Nm, 4)
      << " N m (nominal 95 %)\n\n";
   t.printMarkdown(md);
@@ -902,8 +899,8 @@ void writeCoverageTable(std::ostream& md, const std::vector<std::string>& method
 
 void writeCoverageTables(std::ostream& md, const std::vector<std::string>& methods, const std::vector<const CellSummary*>& cs) {
   for (const CellSummary* c : cs) {
-    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, true, "CRB std", "CRB stds");
-    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, false, "reported standard errors", "reported standard errors");
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage, "CRB std", "CRB stds");
+    writeCoverageTable(md, methods, *c, &ParameterStatistics::coverage_reported, "reported standard errors", "reported standard errors");
   }
 }
 
