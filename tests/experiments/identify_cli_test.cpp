@@ -208,7 +208,8 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
 // the rule), and the fit is the one of the processing it chose. A pedestal shaking at 3x the
 // nominal level: the terms predict the held-out torque several times better (0.054 against
 // 0.38 N m on this seed), so they are kept and the estimate is --base-terms on's, bit for bit.
-// auto (the default) judges nothing and uses them.
+// auto (the default) judges nothing and uses them. Records judged differently and fitted together
+// share one choice.
 TEST(IdentifyCli, JudgedBaseTermsArePrintedInTheJsonAndFitAsChosen) {
   const std::string dir = ::testing::TempDir();
   const std::string csv = dir + "/shaking_t3.csv", judged = dir + "/judged.json", on = dir + "/on.json", deflt = dir + "/auto.json";
@@ -230,6 +231,19 @@ TEST(IdentifyCli, JudgedBaseTermsArePrintedInTheJsonAndFitAsChosen) {
   EXPECT_FALSE(a["processing_per_record"][csv].contains("base_terms_choice"));
   EXPECT_TRUE(a["base_terms_used"].get<bool>());
   EXPECT_EQ(a["parameters"], j["parameters"]);
+  // With a record of a still pedestal, whose IMU reads noise (judged alone: dropped, 0.0654 against
+  // 0.0637 N m), the two are fitted together with one choice, pooled: kept, as the shaking record's
+  // much larger gain says; each record's own choice stays in the JSON.
+  const std::string still = dir + "/still_t3.csv", both = dir + "/both.json";
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "1", "--out", still}), 0);
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--data", still, "--method", "ls", "--base-terms", "judged", "--json", both}), 0);
+  const std::string shared = testing::internal::GetCapturedStdout();
+  EXPECT_NE(shared.find("judged differently; fitted together they share one choice, base-motion terms kept"), std::string::npos) << shared;
+  const nlohmann::json p = readJson(both)["processing_per_record"];
+  EXPECT_FALSE(p[still]["base_terms_choice"]["kept"].get<bool>());
+  EXPECT_TRUE(p[still]["base_terms_used"].get<bool>());
+  EXPECT_TRUE(p[csv]["base_terms_used"].get<bool>());
 }
 
 // A missing term is not called merely implausible: 3 kg m^2 of knee armature on the simulated rig,

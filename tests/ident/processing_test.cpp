@@ -195,7 +195,7 @@ TEST_P(ProcessingOnEveryLeg, JudgedBaseTermsAreKeptOnAShakingBaseAndDroppedOnASt
   SignalOptions used = resolveSignalOptions(shaken, leg.robot, o, {}, nullptr, &choice);
   ASSERT_TRUE(choice.has_value()) << leg.name;
   EXPECT_TRUE(choice->use) << choice->describe();
-  EXPECT_EQ(used.base_terms, BaseTerms::kOn);
+  EXPECT_EQ(used.base_terms, BaseTerms::kAuto);  // kept: as the default, whenever a record has the columns
   EXPECT_LT(choice->held_out_rms_with_Nm, 1e-3 * choice->held_out_rms_without_Nm) << choice->describe();
   EXPECT_LT(maxScaledError(leg, stackedLs(processRecord(shaken, leg.robot, o))), 1e-6) << leg.name;
 
@@ -215,6 +215,34 @@ TEST_P(ProcessingOnEveryLeg, JudgedBaseTermsAreKeptOnAShakingBaseAndDroppedOnASt
   EXPECT_FALSE(choice.has_value());
   EXPECT_EQ(used.base_terms, BaseTerms::kAuto);
   EXPECT_THROW(chooseBaseTerms(test::multisineRecord(2.0), leg.robot, parallel()), std::invalid_argument);  // no IMU columns
+  // Judged without IMU columns: nothing to judge, the default's kAuto (not judged again later).
+  o.base_terms = BaseTerms::kJudged;
+  used = resolveSignalOptions(leg.record(2.0, true), leg.robot, o, {}, nullptr, &choice);
+  EXPECT_FALSE(choice.has_value());
+  EXPECT_EQ(used.base_terms, BaseTerms::kAuto);
+}
+
+// Records fitted together share one choice: their held-out squared errors pooled over their
+// equations (the RMS of all of them), a record too short to judge not counted.
+TEST(BaseTermsChoice, RecordsFittedTogetherPoolTheirHeldOutErrors) {
+  BaseTermsChoice kept, dropped, unjudged;
+  kept.folds = dropped.folds = 5;
+  kept.equations = 300;
+  kept.held_out_rms_with_Nm = 1.0;
+  kept.held_out_rms_without_Nm = 2.0;
+  dropped.equations = 100;
+  dropped.held_out_rms_with_Nm = 5.0;
+  dropped.held_out_rms_without_Nm = 3.0;
+  dropped.use = false;
+  unjudged.equations = 0;
+  unjudged.held_out_rms_with_Nm = 100.0;
+  const std::optional<BaseTermsChoice> p = pooledBaseTerms({kept, std::nullopt, dropped, unjudged});
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->equations, 400);
+  EXPECT_DOUBLE_EQ(p->held_out_rms_with_Nm, std::sqrt((300 * 1.0 + 100 * 25.0) / 400));    // 2.65
+  EXPECT_DOUBLE_EQ(p->held_out_rms_without_Nm, std::sqrt((300 * 4.0 + 100 * 9.0) / 400));  // 2.29
+  EXPECT_FALSE(p->use);
+  EXPECT_FALSE(pooledBaseTerms({unjudged, std::nullopt}).has_value());
 }
 
 INSTANTIATE_TEST_SUITE_P(Legs, ProcessingOnEveryLeg, ::testing::Values(&apalLeg, &chainLeg),

@@ -244,7 +244,9 @@ void checkThighLengths(const IdentifyArgs& a, const LogInput& log, const ident::
 void processRoles(const LogInput& log, const ident::Robot& robot, const ident::SignalOptions& signals, bool segmental, Role& primary,
                   Role& knee) {
   for (Role* role : {&knee, &primary}) {
-    std::vector<ident::RecordRows> rows;
+    const auto naming = [&](std::size_t k, const std::invalid_argument& e) {
+      return std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
+    };
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
       try {
@@ -254,15 +256,22 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
         ident::BandRule rule;
         rule.first_moving_joint = role == &knee ? 1 : 0;
         // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
-        const ident::SignalOptions o = ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band, &base);
+        role->signals.push_back(ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band, &base));
         if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
         if (base) std::cout << "  base-motion terms " << base->describe() << " (--base-terms on|off overrides)\n";
-        rows.push_back(ident::processRecord(role->data[k], robot, o));
-        role->signals.push_back(o);
         role->bands.push_back(band);
         role->base_terms.push_back(base);
       } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
+        throw naming(k, e);
+      }
+    }
+    if (const auto shared = shareBaseTerms(role->signals, role->base_terms)) std::cout << sharedBaseTermsNote(*shared) << '\n';
+    std::vector<ident::RecordRows> rows;
+    for (std::size_t k = 0; k < role->files.size(); ++k) {
+      try {
+        rows.push_back(ident::processRecord(role->data[k], robot, role->signals[k]));
+      } catch (const std::invalid_argument& e) {
+        throw naming(k, e);
       }
     }
     if (rows.empty()) continue;

@@ -79,23 +79,32 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     rule.first_moving_joint = in.first_joint;
     std::vector<ident::RecordRows> records;
     nlohmann::json files = nlohmann::json::array();
+    // The stage's records are stacked into one fit: one choice of the base-motion terms for them.
+    std::vector<ident::SignalOptions> signals;
+    std::vector<std::optional<ident::BandChoice>> bands(in.files.size());
+    std::vector<std::optional<ident::BaseTermsChoice>> bases(in.files.size());
+    for (std::size_t r = 0; r < in.files.size(); ++r) {
+      signals.push_back(ident::resolveSignalOptions(data[s][r], loaded.robot, a.signals, rule, &bands[r], &bases[r]));
+    }
+    const std::optional<ident::BaseTermsChoice> shared = shareBaseTerms(signals, bases);
     for (std::size_t r = 0; r < in.files.size(); ++r) {
       const std::string& file = in.files[r];
-      std::optional<ident::BandChoice> band;
-      std::optional<ident::BaseTermsChoice> base;
-      const ident::SignalOptions used = ident::resolveSignalOptions(data[s][r], loaded.robot, a.signals, rule, &band, &base);
+      const std::optional<ident::BandChoice>& band = bands[r];
+      const std::optional<ident::BaseTermsChoice>& base = bases[r];
+      const ident::SignalOptions& used = signals[r];
       records.push_back(ident::processRecord(data[s][r], loaded.robot, used));
       if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
       if (base) std::cout << wrapped(file + ": base-motion terms " + base->describe() + " (--base-terms on|off overrides)") << "\n";
       if (s + 1 == inputs.size() && r == 0) {
         out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-        if (base) out.fit_signals.base_terms = used.base_terms;
+        out.fit_signals.base_terms = used.base_terms;  // judged: as made for the fit
         out.fit_rows = records.back();
       }
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz},
                        {"base_terms_used", usesBaseMotion(data[s][r], used)}});
       if (base) files.back()["base_terms_choice"] = toJson(*base);
     }
+    if (shared) std::cout << wrapped(sharedBaseTermsNote(*shared)) << "\n";
     out.stages.push_back({in.first_joint, ident::stackRecords(records)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
                         {"locked", lockedJoints(model, in.first_joint)},

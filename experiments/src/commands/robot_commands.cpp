@@ -317,14 +317,17 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
   const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
   ChainFitRecords fit;
+  std::vector<std::optional<ident::BandChoice>> bands(data.size());
+  std::vector<std::optional<ident::BaseTermsChoice>> bases(data.size());
+  for (std::size_t r = 0; r < data.size(); ++r) fit.signals.push_back(ident::resolveSignalOptions(data[r], loaded.robot, a.signals, {}, &bands[r], &bases[r]));
+  const std::optional<ident::BaseTermsChoice> shared = shareBaseTerms(fit.signals, bases);
   for (std::size_t r = 0; r < data.size(); ++r) {
     const std::string& file = a.data[r];
     const ident::Dataset& d = data[r];
-    std::optional<ident::BandChoice> band;
-    std::optional<ident::BaseTermsChoice> base;
-    const ident::SignalOptions used = ident::resolveSignalOptions(d, loaded.robot, a.signals, {}, &band, &base);
+    const std::optional<ident::BandChoice>& band = bands[r];
+    const std::optional<ident::BaseTermsChoice>& base = bases[r];
+    const ident::SignalOptions& used = fit.signals[r];
     fit.records.push_back(ident::processRecord(d, loaded.robot, used));
-    fit.signals.push_back(used);
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
@@ -338,9 +341,9 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
       fit.closed_loop.push_back(closedLoopRecord(d, file, fit.records.back(), used, a.controller));
     }
     if (!fit.fit_signals) {
-      // The validation records: the fit's band and its base-motion terms' choice.
+      // The validation records: the fit's band and its base-motion terms' choice (judged: made).
       fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-      if (base) fit.fit_signals->base_terms = used.base_terms;
+      fit.fit_signals->base_terms = used.base_terms;
     }
     nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}, {"base_terms_used", usesBaseMotion(d, used)}};
     if (band) {
@@ -354,6 +357,7 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
     }
     fit.json.push_back(rj);
   }
+  if (shared) std::cout << wrapped(sharedBaseTermsNote(*shared)) << "\n";
   return fit;
 }
 
@@ -635,7 +639,11 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
 int identifyChain(const ChainIdentifyArgs& given) {
   ChainIdentifyArgs a = given;
   // A moving base's parameters are told apart by the base's motion alone: its terms are not judged.
-  if (a.moving_base_parameters && a.signals.base_terms == ident::BaseTerms::kJudged) a.signals.base_terms = ident::BaseTerms::kAuto;
+  if (a.moving_base_parameters && a.signals.base_terms == ident::BaseTerms::kJudged) {
+    a.signals.base_terms = ident::BaseTerms::kAuto;
+    std::cout << "--base-terms judged: the base-motion terms are kept whenever a record has its IMU columns (a moving base's "
+                 "parameters are told apart by its motion alone)\n";
+  }
   if (!a.stages.empty()) return identifyChainStages(a);
   if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
   core::prepareOutputFile(a.json_out);

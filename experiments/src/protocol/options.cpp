@@ -255,10 +255,34 @@ const std::map<std::string, ident::BaseTerms>& baseTermsChoices() {
   return kChoices;
 }
 
+std::optional<ident::BaseTermsChoice> shareBaseTerms(std::vector<ident::SignalOptions>& signals,
+                                                     const std::vector<std::optional<ident::BaseTermsChoice>>& choices) {
+  std::optional<bool> first;
+  bool differ = false;
+  for (const std::optional<ident::BaseTermsChoice>& c : choices) {
+    if (!c) continue;
+    if (first && *first != c->use) differ = true;
+    if (!first) first = c->use;
+  }
+  if (!differ) return std::nullopt;
+  std::optional<ident::BaseTermsChoice> pooled = ident::pooledBaseTerms(choices);
+  if (!pooled) return pooled;  // none judged (a choice that drops them always is)
+  for (std::size_t k = 0; k < choices.size() && k < signals.size(); ++k) {
+    if (choices[k]) signals[k].base_terms = pooled->use ? ident::BaseTerms::kAuto : ident::BaseTerms::kOff;
+  }
+  return pooled;
+}
+
+std::string sharedBaseTermsNote(const ident::BaseTermsChoice& pooled) {
+  return "  the records were judged differently; fitted together they share one choice, base-motion terms " + pooled.describe() +
+         " pooled over their " + core::toText(pooled.equations) + " held-out equations";
+}
+
 nlohmann::json toJson(const ident::BaseTermsChoice& c) {
+  const auto rms = [&c](double v) { return c.folds ? nlohmann::json(v) : nlohmann::json(nullptr); };  // unjudged: no RMS
   return {{"kept", c.use},
-          {"held_out_rms_with_Nm", c.held_out_rms_with_Nm},
-          {"held_out_rms_without_Nm", c.held_out_rms_without_Nm},
+          {"held_out_rms_with_Nm", rms(c.held_out_rms_with_Nm)},
+          {"held_out_rms_without_Nm", rms(c.held_out_rms_without_Nm)},
           {"folds", c.folds},
           {"samples", c.samples},
           {"reason", c.describe()},

@@ -53,11 +53,31 @@ BaseTermsChoice chooseBaseTerms(const Dataset& d, const Robot& robot, const Sign
   const Eigen::Index first = rule.first_moving_joint, equations = robot.dof() - first;
   if (c.samples * equations * (folds - 1) / folds < 2 * static_cast<Eigen::Index>(robot.parameters())) return c;
   c.folds = folds;
-  const double count = static_cast<double>(c.samples * equations);
+  c.equations = c.samples * equations;
+  const double count = static_cast<double>(c.equations);
   c.held_out_rms_with_Nm = std::sqrt(heldOutSquaredError(rows_with, first, folds) / count);
   c.held_out_rms_without_Nm = std::sqrt(heldOutSquaredError(rows_without, first, folds) / count);
   c.use = !(c.held_out_rms_with_Nm > c.held_out_rms_without_Nm);
   return c;
+}
+
+std::optional<BaseTermsChoice> pooledBaseTerms(const std::vector<std::optional<BaseTermsChoice>>& choices) {
+  std::optional<BaseTermsChoice> pooled;
+  double with = 0.0, without = 0.0;
+  for (const std::optional<BaseTermsChoice>& c : choices) {
+    if (!c || c->folds == 0) continue;
+    if (!pooled) pooled = BaseTermsChoice{};
+    pooled->folds = c->folds;
+    pooled->samples += c->samples;
+    pooled->equations += c->equations;
+    with += c->held_out_rms_with_Nm * c->held_out_rms_with_Nm * static_cast<double>(c->equations);
+    without += c->held_out_rms_without_Nm * c->held_out_rms_without_Nm * static_cast<double>(c->equations);
+  }
+  if (!pooled) return pooled;
+  pooled->held_out_rms_with_Nm = std::sqrt(with / static_cast<double>(pooled->equations));
+  pooled->held_out_rms_without_Nm = std::sqrt(without / static_cast<double>(pooled->equations));
+  pooled->use = !(pooled->held_out_rms_with_Nm > pooled->held_out_rms_without_Nm);
+  return pooled;
 }
 
 }  // namespace exoid::ident

@@ -297,11 +297,16 @@ SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const S
   if (chosen) chosen->reset();
   if (base_terms) base_terms->reset();
   SignalOptions r = resolveBand(d, robot, o, rule, chosen);
-  // The terms are judged in the band chosen with them (the full model's).
-  if (r.processing == Processing::kParallel && r.base_terms == BaseTerms::kJudged && hasBaseColumns(d)) {
-    const BaseTermsChoice c = chooseBaseTerms(d, robot, r, rule);
-    r.base_terms = c.use ? BaseTerms::kOn : BaseTerms::kOff;
-    if (base_terms) *base_terms = c;
+  // The terms are judged in the band chosen with them (the full model's). Kept, or nothing to judge:
+  // kAuto, so a record processed with these options later (a validation record) uses its IMU
+  // columns when it has them, as the default does, and is not judged again.
+  if (r.processing == Processing::kParallel && r.base_terms == BaseTerms::kJudged) {
+    r.base_terms = BaseTerms::kAuto;
+    if (hasBaseColumns(d)) {
+      const BaseTermsChoice c = chooseBaseTerms(d, robot, r, rule);
+      if (!c.use) r.base_terms = BaseTerms::kOff;
+      if (base_terms) *base_terms = c;
+    }
   }
   return r;
 }

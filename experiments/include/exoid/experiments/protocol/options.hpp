@@ -12,6 +12,8 @@
 
 #include <map>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace exoid::experiments {
 
@@ -50,6 +52,14 @@ nlohmann::json toJson(const ident::SignalOptions& o);
 nlohmann::json toJson(const ident::MethodOptions& o);
 /// --base-terms' (and a sweep's base_terms') words: off, auto, on, judged.
 const std::map<std::string, ident::BaseTerms>& baseTermsChoices();
+/// Records fitted together (their rows stacked: one model) share one choice of the base-motion
+/// terms: when the records' own choices (one per record, as resolveSignalOptions made them)
+/// disagree, every judged record's options take the pooled one (ident::pooledBaseTerms), which is
+/// returned; nullopt when they agree (nothing changes).
+std::optional<ident::BaseTermsChoice> shareBaseTerms(std::vector<ident::SignalOptions>& signals,
+                                                     const std::vector<std::optional<ident::BaseTermsChoice>>& choices);
+/// The line saying so.
+std::string sharedBaseTermsNote(const ident::BaseTermsChoice& pooled);
 /// The base-motion terms' choice from a record (ident::chooseBaseTerms): kept, its numbers, the rule.
 nlohmann::json toJson(const ident::BaseTermsChoice& c);
 /// True when a record processed with `signals` carries base-motion terms (its IMU columns, and

@@ -8,7 +8,9 @@
 #include "exoid/ident/signals/band.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace exoid::ident {
 
@@ -16,6 +18,7 @@ struct BaseTermsChoice {
   bool use = true;
   int folds = 0;                         ///< 0: the record was too short to judge (the terms kept)
   Eigen::Index samples = 0;              ///< processed samples judged
+  Eigen::Index equations = 0;            ///< held-out equations (samples x moving joints); 0 unjudged
   double held_out_rms_with_Nm = 0.0;     ///< torque RMS of every held-out block, predicted with the terms
   double held_out_rms_without_Nm = 0.0;  ///< the same on a still base
   std::string describe() const;
@@ -28,5 +31,10 @@ struct BaseTermsChoice {
 /// record with fewer than 2 x parameters rows outside each block keeps them unjudged. Throws
 /// std::invalid_argument when d lacks the IMU columns or o is not the parallel processing.
 BaseTermsChoice chooseBaseTerms(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule = {}, int folds = 5);
+
+/// One choice for records fitted together (their rows stacked into one model): the held-out
+/// squared errors of the records judged, pooled over their equations; records too short to judge
+/// do not count. nullopt when none was judged.
+std::optional<BaseTermsChoice> pooledBaseTerms(const std::vector<std::optional<BaseTermsChoice>>& choices);
 
 }  // namespace exoid::ident

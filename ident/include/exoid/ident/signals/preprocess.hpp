@@ -35,7 +35,7 @@ enum class BaseTerms {
   kAuto,  ///< when the dataset has the three columns
   kOn,    ///< required: a dataset without them is an error
   /// when the dataset has the three columns and they predict its torque no worse: processRecord
-  /// and resolveSignalOptions judge (chooseBaseTerms) and make it kOn or kOff; unjudged, as kAuto
+  /// and resolveSignalOptions judge (chooseBaseTerms) and make it kAuto or kOff; unjudged, as kAuto
   kJudged,
 };
 const char* toString(BaseTerms b);  ///< "off", "auto", "on", "judged"

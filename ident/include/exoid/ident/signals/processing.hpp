@@ -70,7 +70,8 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
 /// o with the choices it leaves to the data made for record d: the band (cutoff_from_data, parallel
 /// processing, filtering on; chooseBand with `rule`), the derivative pre-filter
 /// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use) and the base-motion terms
-/// (base_terms kJudged with the IMU columns: chooseBaseTerms in that band, then kOn or kOff). o
+/// (base_terms kJudged: with the IMU columns chooseBaseTerms in that band, then kAuto when kept or
+/// kOff; without them kAuto). o
 /// itself when it leaves none or uses the paper's processing. chosen and base_terms, when given,
 /// receive the choices made (or are reset).
 SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule = {},
