@@ -258,14 +258,14 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
         // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
         role->signals.push_back(ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band, &base));
         if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-        if (base) std::cout << "  base-motion terms " << base->describe() << " (--base-terms on|off overrides)\n";
+        if (base) std::cout << "  " << baseTermsNote(*base) << '\n';
         role->bands.push_back(band);
         role->base_terms.push_back(base);
       } catch (const std::invalid_argument& e) {
         throw naming(k, e);
       }
     }
-    if (const auto shared = shareBaseTerms(role->signals, role->base_terms)) std::cout << sharedBaseTermsNote(*shared) << '\n';
+    if (const auto shared = ident::shareBaseTerms(role->signals, role->base_terms)) std::cout << sharedBaseTermsNote(*shared) << '\n';
     std::vector<ident::RecordRows> rows;
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       try {

@@ -80,21 +80,15 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     std::vector<ident::RecordRows> records;
     nlohmann::json files = nlohmann::json::array();
     // The stage's records are stacked into one fit: one choice of the base-motion terms for them.
-    std::vector<ident::SignalOptions> signals;
-    std::vector<std::optional<ident::BandChoice>> bands(in.files.size());
-    std::vector<std::optional<ident::BaseTermsChoice>> bases(in.files.size());
-    for (std::size_t r = 0; r < in.files.size(); ++r) {
-      signals.push_back(ident::resolveSignalOptions(data[s][r], loaded.robot, a.signals, rule, &bands[r], &bases[r]));
-    }
-    const std::optional<ident::BaseTermsChoice> shared = shareBaseTerms(signals, bases);
+    const ident::ResolvedRecords resolved = ident::resolveRecords(data[s], loaded.robot, a.signals, rule);
     for (std::size_t r = 0; r < in.files.size(); ++r) {
       const std::string& file = in.files[r];
-      const std::optional<ident::BandChoice>& band = bands[r];
-      const std::optional<ident::BaseTermsChoice>& base = bases[r];
-      const ident::SignalOptions& used = signals[r];
+      const std::optional<ident::BandChoice>& band = resolved.bands[r];
+      const std::optional<ident::BaseTermsChoice>& base = resolved.base_terms[r];
+      const ident::SignalOptions& used = resolved.signals[r];
       records.push_back(ident::processRecord(data[s][r], loaded.robot, used));
       if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
-      if (base) std::cout << wrapped(file + ": base-motion terms " + base->describe() + " (--base-terms on|off overrides)") << "\n";
+      if (base) std::cout << wrapped(file + ": " + baseTermsNote(*base)) << "\n";
       if (s + 1 == inputs.size() && r == 0) {
         out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
         out.fit_signals.base_terms = used.base_terms;  // judged: as made for the fit
@@ -104,7 +98,7 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
                        {"base_terms_used", usesBaseMotion(data[s][r], used)}});
       if (base) files.back()["base_terms_choice"] = toJson(*base);
     }
-    if (shared) std::cout << wrapped(sharedBaseTermsNote(*shared)) << "\n";
+    if (resolved.shared) std::cout << wrapped(sharedBaseTermsNote(*resolved.shared)) << "\n";
     out.stages.push_back({in.first_joint, ident::stackRecords(records)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
                         {"locked", lockedJoints(model, in.first_joint)},

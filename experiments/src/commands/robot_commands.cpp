@@ -317,15 +317,13 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
   const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
   ChainFitRecords fit;
-  std::vector<std::optional<ident::BandChoice>> bands(data.size());
-  std::vector<std::optional<ident::BaseTermsChoice>> bases(data.size());
-  for (std::size_t r = 0; r < data.size(); ++r) fit.signals.push_back(ident::resolveSignalOptions(data[r], loaded.robot, a.signals, {}, &bands[r], &bases[r]));
-  const std::optional<ident::BaseTermsChoice> shared = shareBaseTerms(fit.signals, bases);
+  const ident::ResolvedRecords resolved = ident::resolveRecords(data, loaded.robot, a.signals);
+  fit.signals = resolved.signals;
   for (std::size_t r = 0; r < data.size(); ++r) {
     const std::string& file = a.data[r];
     const ident::Dataset& d = data[r];
-    const std::optional<ident::BandChoice>& band = bands[r];
-    const std::optional<ident::BaseTermsChoice>& base = bases[r];
+    const std::optional<ident::BandChoice>& band = resolved.bands[r];
+    const std::optional<ident::BaseTermsChoice>& base = resolved.base_terms[r];
     const ident::SignalOptions& used = fit.signals[r];
     fit.records.push_back(ident::processRecord(d, loaded.robot, used));
     if (band_iv) {
@@ -352,12 +350,12 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
                     {"limited_by", band->limited_by}, {"reason", band->describe()}};
     }
     if (base) {
-      std::cout << wrapped(file + ": base-motion terms " + base->describe() + " (--base-terms on|off overrides)") << "\n";
+      std::cout << wrapped(file + ": " + baseTermsNote(*base)) << "\n";
       rj["base_terms_choice"] = toJson(*base);
     }
     fit.json.push_back(rj);
   }
-  if (shared) std::cout << wrapped(sharedBaseTermsNote(*shared)) << "\n";
+  if (resolved.shared) std::cout << wrapped(sharedBaseTermsNote(*resolved.shared)) << "\n";
   return fit;
 }
 

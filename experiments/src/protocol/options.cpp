@@ -255,22 +255,8 @@ const std::map<std::string, ident::BaseTerms>& baseTermsChoices() {
   return kChoices;
 }
 
-std::optional<ident::BaseTermsChoice> shareBaseTerms(std::vector<ident::SignalOptions>& signals,
-                                                     const std::vector<std::optional<ident::BaseTermsChoice>>& choices) {
-  std::optional<bool> first;
-  bool differ = false;
-  for (const std::optional<ident::BaseTermsChoice>& c : choices) {
-    if (!c) continue;
-    if (first && *first != c->use) differ = true;
-    if (!first) first = c->use;
-  }
-  if (!differ) return std::nullopt;
-  std::optional<ident::BaseTermsChoice> pooled = ident::pooledBaseTerms(choices);
-  if (!pooled) return pooled;  // none judged (a choice that drops them always is)
-  for (std::size_t k = 0; k < choices.size() && k < signals.size(); ++k) {
-    if (choices[k]) signals[k].base_terms = pooled->use ? ident::BaseTerms::kAuto : ident::BaseTerms::kOff;
-  }
-  return pooled;
+std::string baseTermsNote(const ident::BaseTermsChoice& c) {
+  return "base-motion terms " + c.describe() + " (--base-terms on|off overrides)";
 }
 
 std::string sharedBaseTermsNote(const ident::BaseTermsChoice& pooled) {

@@ -130,12 +130,16 @@ std::array<Record, 4> simulateRecords(const ProtocolConfig& c) {
     // Record 1's hip is held by the rig's lock: no hip torque is measured, its knee equation judges.
     ident::BandRule rule = c.band_rule;
     rule.first_moving_joint = k == 0 ? 1 : 0;
-    ident::SignalOptions defaults = defaultIdentifySignals();
-    if (c.default_base_terms) defaults.base_terms = *c.default_base_terms;
-    r.default_signals = ident::resolveSignalOptions(r.data, r.robot, defaults, rule);
+    r.default_signals = ident::resolveSignalOptions(r.data, r.robot, defaultArmSignals(c), rule);
     r.default_rows = ident::processRecord(r.data, r.robot, r.default_signals);
   }
   return out;
+}
+
+ident::SignalOptions defaultArmSignals(const ProtocolConfig& c) {
+  ident::SignalOptions o = defaultIdentifySignals();
+  if (c.default_base_terms) o.base_terms = *c.default_base_terms;
+  return o;
 }
 
 Truths truthsOf(const std::array<Record, 4>& r, const ident::LegConstants& lc) {

@@ -97,8 +97,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const sim::ChainSimResult fit = sim::simulateChain(fit_config);
   const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
   const ident::Dataset d = chainDataset(fit);
-  ident::SignalOptions signals = defaultIdentifySignals();
-  if (c.base.default_base_terms) signals.base_terms = *c.base.default_base_terms;
+  const ident::SignalOptions signals = defaultArmSignals(c.base);
   const LoadedChain loaded = loadChain(c.chain_model_path);
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;

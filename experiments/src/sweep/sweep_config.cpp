@@ -375,9 +375,7 @@ nlohmann::json SweepConfig::chainJson() const {
     simj["excitation"] = chainFourierJson(*chain_design);
   }
   j["simulation"] = simj;
-  ident::SignalOptions signals = defaultIdentifySignals();
-  if (base.default_base_terms) signals.base_terms = *base.default_base_terms;
-  j["signal_options"] = experiments::toJson(signals);
+  j["signal_options"] = experiments::toJson(defaultArmSignals(base));
   j["band_rule"] = bandRuleJson(base.band_rule);
   j["method_options"] = experiments::toJson(base.methods);
   j["method_options"]["pso_box"] = origin.count("identification.wide_box") ? "wide_box" : "10 x the largest |LS estimate|";

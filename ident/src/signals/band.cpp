@@ -120,7 +120,6 @@ double pooledBandwidth(const std::vector<PowerSpectrum>& spectra, double fractio
   return bandwidthAt(pooled, fraction);
 }
 
-
 }  // namespace
 
 double motionBandwidth(const Dataset& d, double fraction) { return pooledBandwidth(angleSpectra(d), fraction); }

@@ -80,4 +80,21 @@ std::optional<BaseTermsChoice> pooledBaseTerms(const std::vector<std::optional<B
   return pooled;
 }
 
+std::optional<BaseTermsChoice> shareBaseTerms(std::vector<SignalOptions>& signals, const std::vector<std::optional<BaseTermsChoice>>& choices) {
+  std::optional<bool> first;
+  bool differ = false;
+  for (const std::optional<BaseTermsChoice>& c : choices) {
+    if (!c) continue;
+    if (first && *first != c->use) differ = true;
+    if (!first) first = c->use;
+  }
+  if (!differ) return std::nullopt;
+  std::optional<BaseTermsChoice> pooled = pooledBaseTerms(choices);
+  if (!pooled) return pooled;  // none judged (a choice that drops them always is)
+  for (std::size_t k = 0; k < choices.size() && k < signals.size(); ++k) {
+    if (choices[k]) signals[k].base_terms = pooled->use ? BaseTerms::kAuto : BaseTerms::kOff;
+  }
+  return pooled;
+}
+
 }  // namespace exoid::ident

@@ -52,13 +52,9 @@ nlohmann::json toJson(const ident::SignalOptions& o);
 nlohmann::json toJson(const ident::MethodOptions& o);
 /// --base-terms' (and a sweep's base_terms') words: off, auto, on, judged.
 const std::map<std::string, ident::BaseTerms>& baseTermsChoices();
-/// Records fitted together (their rows stacked: one model) share one choice of the base-motion
-/// terms: when the records' own choices (one per record, as resolveSignalOptions made them)
-/// disagree, every judged record's options take the pooled one (ident::pooledBaseTerms), which is
-/// returned; nullopt when they agree (nothing changes).
-std::optional<ident::BaseTermsChoice> shareBaseTerms(std::vector<ident::SignalOptions>& signals,
-                                                     const std::vector<std::optional<ident::BaseTermsChoice>>& choices);
-/// The line saying so.
+/// A record's base-motion terms' choice, as identify prints it.
+std::string baseTermsNote(const ident::BaseTermsChoice& c);
+/// The line saying that records judged differently share one (ident::shareBaseTerms).
 std::string sharedBaseTermsNote(const ident::BaseTermsChoice& pooled);
 /// The base-motion terms' choice from a record (ident::chooseBaseTerms): kept, its numbers, the rule.
 nlohmann::json toJson(const ident::BaseTermsChoice& c);

@@ -60,6 +60,10 @@ struct ProtocolConfig {
   void validate() const;
 };
 
+/// The 'default' arm's processing: identify's defaults (defaultIdentifySignals) with the config's
+/// base-motion terms, when it sets them.
+ident::SignalOptions defaultArmSignals(const ProtocolConfig& c);
+
 /// One simulated record, as the identification sees it.
 struct Record {
   int trajectory = 0;

@@ -37,4 +37,9 @@ BaseTermsChoice chooseBaseTerms(const Dataset& d, const Robot& robot, const Sign
 /// do not count. nullopt when none was judged.
 std::optional<BaseTermsChoice> pooledBaseTerms(const std::vector<std::optional<BaseTermsChoice>>& choices);
 
+/// Records stacked into one fit share one choice (stackRecords refuses a mix): when the records'
+/// own choices (one per record, as resolveSignalOptions made them) disagree, every judged record's
+/// options take the pooled one, which is returned; nullopt when they agree (nothing changes).
+std::optional<BaseTermsChoice> shareBaseTerms(std::vector<SignalOptions>& signals, const std::vector<std::optional<BaseTermsChoice>>& choices);
+
 }  // namespace exoid::ident

@@ -71,10 +71,20 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
 /// processing, filtering on; chooseBand with `rule`), the derivative pre-filter
 /// (derivative_cutoff_from_data: derivativeCutoffFor the cutoff in use) and the base-motion terms
 /// (base_terms kJudged: with the IMU columns chooseBaseTerms in that band, then kAuto when kept or
-/// kOff; without them kAuto). o
-/// itself when it leaves none or uses the paper's processing. chosen and base_terms, when given,
-/// receive the choices made (or are reset).
+/// kOff; without them kAuto). o itself when it leaves none or uses the paper's processing. chosen
+/// and base_terms, when given, receive the choices made (or are reset).
 SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule = {},
                                    std::optional<BandChoice>* chosen = nullptr, std::optional<BaseTermsChoice>* base_terms = nullptr);
+
+/// Records to be stacked into one fit, their choices made: each record's options
+/// (resolveSignalOptions with `rule`), band and base-motion terms' choice; records judged
+/// differently take the pooled choice (shareBaseTerms), kept in `shared`.
+struct ResolvedRecords {
+  std::vector<SignalOptions> signals;
+  std::vector<std::optional<BandChoice>> bands;
+  std::vector<std::optional<BaseTermsChoice>> base_terms;
+  std::optional<BaseTermsChoice> shared;
+};
+ResolvedRecords resolveRecords(const std::vector<Dataset>& records, const Robot& robot, const SignalOptions& o, const BandRule& rule = {});
 
 }  // namespace exoid::ident
