@@ -3,6 +3,7 @@
 // record (every method, IDIM-IV with the controller the record carries); what the chain path does
 // not take is refused by name.
 #include "cli_test_support.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/report/table.hpp"
 
@@ -427,6 +428,90 @@ TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
   testing::internal::CaptureStdout();
   EXPECT_EQ(runExoid({"identify", "--model", urdf, "--data", csv, "--armature", "knee,ankle"}), 0);
   testing::internal::GetCapturedStdout();
+}
+
+// What identify reports as the band sensitivity, on both legs: each parameter's change, in its
+// reported standard errors, when the record is refitted with the chosen cutoff a quarter wider;
+// the same as a user's own refit with that cutoff given (--cutoff-hz), to rounding.
+TEST(ChainCli, TheBandSensitivityIsTheRefitInAQuarterWiderBandOnEveryLeg) {
+  const std::string dir = ::testing::TempDir();
+  struct Leg {
+    std::vector<std::string> model;  ///< --model M, or none (the APAL leg)
+    std::string name;
+  };
+  for (const Leg& leg : {Leg{{}, "apal"}, Leg{{"--model", "leg3"}, "leg3"}}) {
+    const std::string csv = dir + "/sensitivity_" + leg.name + ".csv", out = dir + "/sensitivity_" + leg.name + ".json",
+                      wider_out = dir + "/sensitivity_" + leg.name + "_wider.json";
+    const auto args = [&](std::vector<std::string> a) {
+      a.insert(a.begin() + 1, leg.model.begin(), leg.model.end());
+      return a;
+    };
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(runExoid(args({"simulate", "--duration", "10", "--seed", "4", "--out", csv})), 0);
+    const int code = runExoid(args({"identify", "--data", csv, "--json", out}));
+    const std::string printed = testing::internal::GetCapturedStdout();
+    ASSERT_TRUE(code == 0 || code == 3) << leg.name;
+    EXPECT_NE(printed.find("band sensitivity (every record's cutoff x1.25"), std::string::npos) << leg.name;
+    const nlohmann::json j = readJson(out);
+    const nlohmann::json& s = j["band_sensitivity"];
+    ASSERT_EQ(s["cutoff_factor"].get<double>(), 1.25) << leg.name;
+    const bool apal = leg.model.empty();
+    const double cutoff = apal ? j["processing_per_record"][csv]["cutoff_hz"].get<double>() : j["records"][0]["band"]["cutoff_hz"].get<double>();
+    // The chosen band is well below the cap of a fifth of the 1 kHz rate.
+    ASSERT_LT(1.25 * cutoff, 200.0) << leg.name;
+    testing::internal::CaptureStdout();
+    const int wider_code = runExoid(args({"identify", "--data", csv, "--cutoff-hz", core::formatNumber(1.25 * cutoff, 17), "--no-consistency", "--json", wider_out}));
+    testing::internal::GetCapturedStdout();
+    ASSERT_TRUE(wider_code == 0 || wider_code == 3) << leg.name;
+    const nlohmann::json w = readJson(wider_out);
+    std::vector<std::string> names;
+    std::vector<double> fitted, wider, errors;
+    if (apal) {
+      const nlohmann::json& c = j["methods"]["ls"]["consistency"];
+      for (const auto& [name, v] : c["unconstrained_parameters"].items()) {
+        names.push_back(name);
+        fitted.push_back(v.get<double>());
+        errors.push_back(c["standard_errors"][name].get<double>());
+        wider.push_back(w["parameters"][name].get<double>());
+      }
+    } else {
+      names = j["base_parameters"]["names"].get<std::vector<std::string>>();
+      fitted = j["base_parameters"]["ls"].get<std::vector<double>>();
+      errors = j["base_parameters"]["std_error"].get<std::vector<double>>();
+      wider = w["base_parameters"]["ls"].get<std::vector<double>>();
+    }
+    ASSERT_EQ(s["shift_standard_errors"].size(), names.size()) << leg.name;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const double expected = (wider[i] - fitted[i]) / errors[i];
+      EXPECT_NEAR(s["shift_standard_errors"][names[i]].get<double>(), expected, 1e-12 * std::max(1.0, std::abs(expected))) << leg.name << " " << names[i];
+    }
+  }
+}
+
+// identifiability --data on a chain, as on the APAL leg: every equation with every base parameter,
+// then each joint's equation with what no joint below it has; relative to the simulation's
+// sidecar. With the hip held, the knee's armature column is its link's inertia column (the knee
+// accelerates only with itself): named as not identifiable, with the motion that would separate them.
+TEST(ChainCli, IdentifiabilityOfARecordNamesWhatItCannotSeparate) {
+  const std::string dir = ::testing::TempDir();
+  const std::string csv = dir + "/leg3_held_hip.csv", out = dir + "/leg3_held_hip_identifiability.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--lock", "hip", "--duration", "6", "--seed", "2", "--out", csv}), 0);
+  ASSERT_EQ(runExoid({"identifiability", "--model", "leg3", "--data", csv, "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json j = readJson(out);
+  EXPECT_NE(j["reference"]["origin"].get<std::string>().find("leg3_held_hip.json"), std::string::npos);
+  ASSERT_EQ(j["blocks"].size(), 4u);
+  EXPECT_EQ(j["blocks"][0]["block"], "all 3 equations, all 17");
+  EXPECT_EQ(j["blocks"][2]["block"], "knee equation, params 6-11");
+  EXPECT_EQ(j["blocks"][2]["unidentifiable"], nlohmann::json::array({"knee.Ia"}));
+  EXPECT_EQ(j["blocks"][3]["unidentifiable"], nlohmann::json::array());
+  std::string advice;
+  for (const auto& line : j["blocks"][2]["advice"]) advice += line.get<std::string>() + "\n";
+  EXPECT_NE(advice.find("knee.Ia cannot be identified from this record"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("accelerating differently from the joints above it"), std::string::npos) << advice;
+  // Only a chain's options go with --model; the APAL leg takes none of them.
+  EXPECT_NE(stderrOf({"identifiability", "--data", csv, "--armature", "knee"}, 105).find("--armature: is for a chain model"), std::string::npos);
 }
 
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {

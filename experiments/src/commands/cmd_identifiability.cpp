@@ -1,11 +1,14 @@
 // `exoid identifiability`: what a record can identify, before anyone runs an experiment.
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/report/cells.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #ifdef EXOID_WITH_MUJOCO
 #include "exoid/experiments/protocol/model_report.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
+#include "exoid/sim/model.hpp"
 #endif
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/table.hpp"
@@ -15,12 +18,15 @@
 #include "exoid/ident/design/identifiability_advice.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace exoid::experiments {
 
@@ -44,10 +50,10 @@ struct Block {
 };
 
 // What the relative stds are relative to: --reference, else the truth exoid simulate stored beside
-// the record, else nothing (a record's own estimate is no yardstick: when it is absurd, any std
-// looks small against it).
+// the record, else (a chain model) the model file's own parameters, else nothing (a record's own
+// estimate is no yardstick: when it is absurd, any std looks small against it).
 struct Reference {
-  ident::ParamVector x = ident::ParamVector::Constant(std::numeric_limits<double>::quiet_NaN());
+  Eigen::VectorXd x;  ///< NaN: none
   std::string origin;  // empty: none
 };
 
@@ -57,13 +63,41 @@ Reference pickReference(const std::map<std::string, ident::ParamVector>& truths,
   static const std::pair<const char*, const char*> kPreferred[] = {
       {"truth", "the parameters"}, {"rigid", "the rigid-link truth"}, {"best_fit", "the best-fit truth"}};
   for (const auto& [key, label] : kPreferred) {
-    if (const auto it = truths.find(key); it != truths.end()) return {it->second, std::string(label) + " in " + file};
+    if (const auto it = truths.find(key); it != truths.end()) return {Eigen::VectorXd(it->second), std::string(label) + " in " + file};
   }
   throw std::invalid_argument(file + ": no parameters found (expected {\"parameters\": {...}} or exoid's sidecar with "
                               "truth.rigid / truth.best_fit)");
 }
 
-Reference resolveReference(const Args& a) {
+Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
+  Eigen::MatrixXd out(H.rows(), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = H.col(cols[k]);
+  return out;
+}
+
+// A chain model other than the APAL leg (the APAL leg is the 2-link leg of the record's constants).
+bool chainModel(const Args& a) {
+#ifdef EXOID_WITH_MUJOCO
+  return !a.model.empty() && (!sim::isApalLegModel(sim::modelPathFor(a.model)) || !a.selection.empty());
+#else
+  return !a.model.empty();
+#endif
+}
+
+// The record, processed as identify would (in the band chosen from it unless the flags fix it),
+// with the robot it is read as and the reference its relative stds are relative to.
+struct ProcessedInput {
+  ident::Dataset d;
+  ident::Robot robot;
+  std::optional<ident::LegConstants> c;  ///< the APAL leg's constants
+  ident::SignalOptions signals;
+  std::optional<ident::BandChoice> band;
+  ident::RecordRows s;
+  Reference reference;
+};
+
+// The APAL leg's reference: --reference, else the truth exoid simulate stored beside the record.
+Reference legReference(const Args& a) {
   if (!a.reference.empty()) return pickReference(readTruthFile(a.reference), a.reference);
   for (const std::string ext : {".csv.gz", ".csv"}) {
     if (a.data.size() <= ext.size() || !endsWith(a.data, ext)) continue;
@@ -82,82 +116,117 @@ Reference resolveReference(const Args& a) {
   return {};
 }
 
-Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
-  Eigen::MatrixXd out(H.rows(), static_cast<Eigen::Index>(cols.size()));
-  for (std::size_t k = 0; k < cols.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = H.col(cols[k]);
-  return out;
-}
-
-// --model: what the model lets any record identify.
-void reportModelOnly(const Args& a) {
-  if (!a.data.empty()) {
-    throw std::invalid_argument("--model with --data: a record's identifiability is reported for the built-in APAL leg "
-                                "only so far; give --model alone for what the model lets anyone identify");
+ProcessedInput processInput(const Args& a) {
+  ProcessedInput in;
+  std::vector<std::string> joints = {"hip", "knee"};
+#ifdef EXOID_WITH_MUJOCO
+  std::optional<LoadedChain> loaded;
+  if (chainModel(a)) {
+    loaded = loadChain(a.model, a.armature, a.selection);
+    joints = loaded->model.jointNames();
+    in.robot = loaded->robot;
+  }
+#else
+  if (chainModel(a)) throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
+#endif
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, joints);
+  in.d = readLog(a.data, log);
+  if (!chainModel(a)) {
+    in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);
+    in.robot = ident::twoLinkLeg(*in.c);
+    in.reference = legReference(a);
   }
 #ifdef EXOID_WITH_MUJOCO
-  reportModel(a.model, a.json_out, std::cout, a.armature, a.selection);
-#else
-  throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
+  if (loaded) {
+    // --reference, else the sidecar of a chain simulation beside the record, else the model file's own parameters.
+    std::string sidecar = a.reference;
+    for (const std::string ext : {".csv.gz", ".csv"}) {
+      if (!sidecar.empty() || a.data.size() <= ext.size() || !endsWith(a.data, ext)) continue;
+      sidecar = a.data.substr(0, a.data.size() - ext.size()) + ".json";
+      if (!std::filesystem::exists(sidecar)) sidecar.clear();
+    }
+    try {
+      if (!sidecar.empty()) in.reference = {truthFromSidecar(sidecar, *loaded), "the parameters in " + sidecar};
+    } catch (const std::invalid_argument& e) {
+      if (!a.reference.empty()) throw std::invalid_argument(std::string("--reference: ") + e.what());
+    }
+    if (in.reference.origin.empty()) in.reference = {loaded->base.combination * loaded->phi, "the model file's own parameters (" + loaded->path + ")"};
+  }
 #endif
-}
-
-// The record, processed as identify would: in the band chosen from it unless the flags fix it.
-struct ProcessedInput {
-  ident::Dataset d;
-  ident::LegConstants c;
-  ident::SignalOptions signals;
-  std::optional<ident::BandChoice> band;
-  ident::RecordRows s;
-};
-
-ProcessedInput processInput(const Args& a) {
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0);
-  ProcessedInput in;
-  in.d = readLog(a.data, log);
-  in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);
   in.signals = a.signals;
   try {
-    const ident::Robot robot = ident::twoLinkLeg(in.c);
-    in.signals = ident::resolveSignalOptions(in.d, robot, in.signals, {}, &in.band);
+    in.signals = ident::resolveSignalOptions(in.d, in.robot, in.signals, {}, &in.band);
     if (in.band) std::cout << "band: " << in.band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-    in.s = ident::processRecord(in.d, robot, in.signals);
+    in.s = ident::processRecord(in.d, in.robot, in.signals);
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(a.data + ": " + e.what() + timeUnitHint(in.d));
   }
+  if (in.reference.x.size() == 0) in.reference.x = Eigen::VectorXd::Constant(in.robot.parameters(), std::numeric_limits<double>::quiet_NaN());
   return in;
 }
 
-// Both equations with all 10 parameters, the hip's with the thigh's 5, the knee's with the shank's 5.
+// "params 1-5" (1-based, contiguous), else the names.
+std::string paramsText(const ident::Robot& robot, const std::vector<int>& columns) {
+  bool contiguous = true;
+  for (std::size_t k = 1; k < columns.size(); ++k) contiguous = contiguous && columns[k] == columns[k - 1] + 1;
+  if (contiguous) return "params " + core::toText(columns.front() + 1) + "-" + core::toText(columns.back() + 1);
+  std::string s;
+  for (int c : columns) s += (s.empty() ? "" : ", ") + robot.names()[static_cast<std::size_t>(c)];
+  return s;
+}
+
+// Every equation with every parameter; then each joint's equation with the parameters no joint
+// below it has (what it determines once the distal ones are known: the APAL leg's hip with the
+// thigh's 5, its knee with the shank's 5).
 std::vector<Block> blocksOf(const ProcessedInput& in, double noise_tau_Nm) {
-  const std::vector<int> all{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, thigh{0, 1, 2, 3, 4}, shank{5, 6, 7, 8, 9};
+  const ident::Robot& robot = in.robot;
   const ident::RecordRows& s = in.s;
-  const Eigen::MatrixXd Hh = s.jointW(0);
-  const Eigen::MatrixXd Hk = s.jointW(1);
-  const Eigen::VectorXd tau_hip = s.jointY(0), tau_knee = s.jointY(1);
+  const int dof = robot.dof(), p = robot.parameters();
   // White torque noise of std noise_tau reaches the fit through this record's processing.
   const ident::TorqueNoisePath path = ident::torqueNoisePath(in.signals, 1.0 / in.d.sampleInterval_s(), in.d.size());
   const double sg = noise_tau_Nm;
-  Eigen::VectorXd y_all(2 * s.samples());
-  y_all << tau_hip, tau_knee;
-  return {
-      {"both equations, all 10", all, {{Hh, path, sg}, {Hk, path, sg}}, y_all},
-      {"hip equation, params 1-5", thigh, {{pick(Hh, thigh), path, sg}}, tau_hip},
-      {"knee equation, params 6-10", shank, {{pick(Hk, shank), path, sg}}, tau_knee},
-  };
+  Block all{std::string(dof == 2 ? "both equations" : "all " + core::toText(dof) + " equations") + ", all " + core::toText(p), {}, {},
+            Eigen::VectorXd(dof * s.samples())};
+  for (int i = 0; i < p; ++i) all.columns.push_back(i);
+  std::vector<Block> out;
+  for (int j = 0; j < dof; ++j) {
+    all.channels.push_back({s.jointW(j), path, sg});
+    all.y.segment(j * s.samples(), s.samples()) = s.jointY(j);
+  }
+  out.push_back(all);
+  for (int j = 0; j < dof; ++j) {
+    std::vector<int> own;
+    for (int c : robot.joint_columns[static_cast<std::size_t>(j)]) {
+      bool below = false;
+      for (int k = j + 1; k < dof; ++k) {
+        const std::vector<int>& b = robot.joint_columns[static_cast<std::size_t>(k)];
+        below = below || std::find(b.begin(), b.end(), c) != b.end();
+      }
+      if (!below) own.push_back(c);
+    }
+    if (own.empty()) continue;
+    out.push_back({robot.jointNames()[static_cast<std::size_t>(j)] + " equation, " + paramsText(robot, own), own,
+                   {{pick(s.jointW(j), own), path, sg}}, s.jointY(j)});
+  }
+  return out;
 }
 
-nlohmann::json reportJson(const Args& a, const ProcessedInput& in, const Reference& ref) {
+nlohmann::json reportJson(const Args& a, const ProcessedInput& in) {
+  const Reference& ref = in.reference;
   nlohmann::json j;
   j["tool"] = toolJson();
   j["command"] = "identifiability";
   j["data"] = a.data;
   j["noise_tau_Nm"] = a.noise_tau_Nm;
-  j["constants"] = {{"thigh_length_m", in.c.thigh_length_m}, {"gravity_mps2", in.c.gravity_mps2}};
+  if (in.c) j["constants"] = {{"thigh_length_m", in.c->thigh_length_m}, {"gravity_mps2", in.c->gravity_mps2}};
+  if (!a.model.empty()) j["model"] = a.model;
   j["signal_options"] = toJson(in.signals);
   if (in.band) {
     j["band"] = {{"motion_bandwidth_hz", in.band->motion_bandwidth_hz}, {"limited_by", in.band->limited_by}, {"reason", in.band->describe()}};
   }
-  j["reference"] = ref.origin.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"origin", ref.origin}, {"parameters", paramsJson(ref.x)}};
+  nlohmann::json values = nlohmann::json::object();
+  for (Eigen::Index i = 0; i < ref.x.size(); ++i) values[in.robot.names()[static_cast<std::size_t>(i)]] = jsonNumber(ref.x[i]);
+  j["reference"] = ref.origin.empty() ? nlohmann::json(nullptr) : nlohmann::json{{"origin", ref.origin}, {"parameters", values}};
   return j;
 }
 
@@ -175,11 +244,11 @@ Eigen::MatrixXd stackedRows(const Block& b) {
 }
 
 // Per parameter of the block: CRB std (absolute, relative) and collinearity, printed and into bj.
-void reportParameters(const Block& b, const ident::IdentifiabilityReport& r, nlohmann::json& bj) {
+void reportParameters(const ident::Robot& robot, const Block& b, const ident::IdentifiabilityReport& r, nlohmann::json& bj) {
   TextTable t({"param", "CRB std", "CRB rel std", "R^2 on others"});
   for (std::size_t k = 0; k < b.columns.size(); ++k) {
     const auto i = static_cast<Eigen::Index>(k);
-    const std::string n(ident::paramName(b.columns[k]));
+    const std::string& n = robot.names()[static_cast<std::size_t>(b.columns[k])];
     const bool finite = std::isfinite(r.crb_rel_std[i]);
     t.addRow({n, std::isfinite(r.crb_std[i]) ? fmt(r.crb_std[i], 3) : "inf",
               std::isnan(r.crb_rel_std[i]) ? "-" : finite ? fixed(100.0 * r.crb_rel_std[i], 2) + " %" : "inf",
@@ -193,7 +262,7 @@ void reportParameters(const Block& b, const ident::IdentifiabilityReport& r, nlo
 
 // One block: rank, condition, what it cannot identify, each parameter's bound, and the same in
 // words (what is missing and what motion would supply it); printed and returned as JSON.
-nlohmann::json reportBlock(const Block& b, const Reference& ref) {
+nlohmann::json reportBlock(const ident::Robot& robot, const Block& b, const Reference& ref) {
   const ident::IdentifiabilityReport r = ident::analyzeIdentifiability(b.channels, b.y, ref.x(b.columns));
   std::cout << '\n' << b.name << ": rank " << r.rank << " of " << b.columns.size() << ", condition (scaled) "
             << (std::isfinite(r.condition_number) ? fmt(r.condition_number, 4) : std::string("inf"));
@@ -202,35 +271,48 @@ nlohmann::json reportBlock(const Block& b, const Reference& ref) {
   nlohmann::json unid = nlohmann::json::array();
   std::string names;
   for (Eigen::Index k : r.unidentifiable) {
-    const std::string n(ident::paramName(b.columns[static_cast<std::size_t>(k)]));
+    const std::string& n = robot.names()[static_cast<std::size_t>(b.columns[static_cast<std::size_t>(k)])];
     unid.push_back(n);
     names += (names.empty() ? "" : ", ") + n;
   }
   bj["unidentifiable"] = unid;
   if (!names.empty()) std::cout << "; NOT identifiable: " << names;
   std::cout << '\n';
-  reportParameters(b, r, bj);
-  bj["advice"] = ident::identifiabilityAdvice(stackedRows(b), r, b.columns);
+  reportParameters(robot, b, r, bj);
+  bj["advice"] = ident::identifiabilityAdvice(stackedRows(b), r, robot, b.columns);
   for (const std::string& line : bj["advice"].get<std::vector<std::string>>()) std::cout << "- " << line << '\n';
   return bj;
 }
 
 void run(const Args& a) {
-  if (!a.model.empty()) return reportModelOnly(a);
-  if (!a.selection.empty()) throw std::invalid_argument("--base/--tip/--lock pick a chain out of --model FILE: give --model");
+  if (!a.model.empty() && a.data.empty()) {
+#ifdef EXOID_WITH_MUJOCO
+    return reportModel(a.model, a.json_out, std::cout, a.armature, a.selection);  // what the model lets any record identify
+#else
+    throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
+#endif
+  }
+  if (!a.selection.empty() && a.model.empty()) throw std::invalid_argument("--base/--tip/--lock pick a chain out of --model FILE: give --model");
+  if (chainModel(a) && (a.constants.thigh_length_m || a.constants.gravity_mps2)) {
+    throw CLI::ValidationError(a.constants.thigh_length_m ? "--thigh-length" : "--gravity",
+                               "is the APAL leg's; a chain model (--model " + a.model + ") takes its lengths and gravity from its file");
+  }
+  if (!a.armature.empty() && !chainModel(a)) {
+    throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's X has no armature here");
+  }
   if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
   const ProcessedInput in = processInput(a);
   const std::vector<Block> blocks = blocksOf(in, a.noise_tau_Nm);
-  const Reference ref = resolveReference(a);
-  nlohmann::json j = reportJson(a, in, ref);
+  const Reference& ref = in.reference;
+  nlohmann::json j = reportJson(a, in);
   std::cout << "Record " << a.data << ": " << in.s.samples() << " samples; torque noise " << a.noise_tau_Nm
             << " N m through this processing (Cramer-Rao std of the filtered, trimmed fit).\n"
             << (ref.origin.empty() ? "Relative stds: not shown, no reference (--reference FILE: the truth or your leg's "
                                      "nominal parameters); the advice judges by collinearity."
                                    : "Relative stds: relative to " + ref.origin + ".")
             << '\n';
-  for (const Block& b : blocks) j["blocks"].push_back(reportBlock(b, ref));
+  for (const Block& b : blocks) j["blocks"].push_back(reportBlock(in.robot, b, ref));
   if (!a.json_out.empty()) writeJsonFile(a.json_out, j);
 }
 
@@ -244,11 +326,12 @@ void addIdentifiabilityCommand(CLI::App& app) {
       "and of each joint's regressor, unidentifiable parameters, Cramer-Rao std at a torque noise\n"
       "level (relative to --reference or the record's simulated truth when known), and each\n"
       "column's collinearity (R^2 on the others).");
-  cmd->add_option("--data", args->data, "Dataset CSV (the APAL leg's columns)")->check(CLI::ExistingFile);
+  cmd->add_option("--data", args->data, "Dataset CSV (the APAL leg's columns; with --model, the model's q_<joint>, tau_<joint>)")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--model", args->model,
-                  "A robot model instead of a record: 'apal', 'leg3' (built in) or an MJCF / URDF file. Prints its\n"
-                  "serial chain and base parameters: rank, each identifiable combination of the standard parameters\n"
-                  "in words with its true value, what no torque shows, what is regrouped");
+                  "The robot: 'apal', 'leg3' (built in) or an MJCF / URDF file. Alone, prints its serial chain and base\n"
+                  "parameters: rank, each identifiable combination of the standard parameters in words with its true\n"
+                  "value, what no torque shows, what is regrouped; with --data, what that record identifies of them");
 #ifdef EXOID_WITH_MUJOCO
   addChainSelectionOptions(*cmd, args->selection);
   cmd->add_option("--armature", args->armature,
@@ -261,8 +344,9 @@ void addIdentifiabilityCommand(CLI::App& app) {
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");
   cmd->add_option("--reference", args->reference,
                   "Parameters the relative stds are relative to: JSON {\"parameters\": {\"Mxt\": ..}} (your leg's\n"
-                  "nominal values) or an exoid sidecar / truth file. Default: the sidecar exoid simulate wrote\n"
-                  "beside the record (its rigid-link truth), else none (absolute stds only)")
+                  "nominal values) or an exoid sidecar / truth file (--model: a chain simulation's sidecar). Default: the\n"
+                  "sidecar exoid simulate wrote beside the record (its rigid-link truth), else with --model the model\n"
+                  "file's own parameters, else none (absolute stds only)")
       ->check(CLI::ExistingFile);
   addConstantsOptions(*cmd, args->constants);
   addLogInputOptions(*cmd, args->log);

@@ -5,7 +5,9 @@
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/sim/model.hpp"
 #endif
+#include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -166,31 +168,6 @@ struct Role {
   std::vector<std::optional<ident::BaseTermsChoice>> base_terms;  ///< whether each record's base-motion terms were kept, if judged
 };
 
-// How well a role's records excite the parameters: the condition number of the column-scaled
-// regressor (both equations, or the knee's shank columns for the segmental knee role), and each
-// column's R^2 on the others (1 - 1 / [(Hs^T Hs)^-1]_jj for unit columns): a model error along
-// a column is amplified 1 / sqrt(1 - R^2) times in its parameter.
-struct Excitation {
-  double condition = 0.0;
-  std::vector<std::pair<int, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
-};
-Excitation excitationOf(const ident::RecordRows& r, bool knee_only) {
-  // The ten parameters of X (the knee armature's column, when fitted, is left out here).
-  const Eigen::MatrixXd H = knee_only ? Eigen::MatrixXd(r.jointW(1).middleCols(ident::kShankFirst, ident::kGroupSize))
-                                      : Eigen::MatrixXd(r.W.leftCols(ident::kNumParams));
-  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(H, knee_only ? r.jointY(1) : r.y, 0.0);
-  Excitation e;
-  e.condition = report.condition_number;
-  if (!std::isfinite(e.condition)) return e;  // rank deficient: the stages say which columns
-  const int first = knee_only ? ident::kShankFirst : 0;
-  for (Eigen::Index j = 0; j < report.collinearity_r2.size(); ++j) {
-    const double r2 = report.collinearity_r2[j];
-    if (r2 > 0.95) e.collinear.emplace_back(first + static_cast<int>(j), r2);
-  }
-  std::sort(e.collinear.begin(), e.collinear.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
-  return e;
-}
-
 // The command line's combinations: one kind of input, what each method needs of it.
 void checkArguments(const IdentifyArgs& a, const std::vector<ident::Method>& methods) {
   if (std::find(a.methods.begin(), a.methods.end(), "ls-parallel") != a.methods.end() && a.signals.processing != ident::Processing::kParallel) {
@@ -277,19 +254,14 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
     if (rows.empty()) continue;
     role->rows = ident::stackRecords(rows);
     const bool knee_role = role == &knee;
-    const Excitation ex = excitationOf(role->rows, knee_role);
-    std::cout << "excitation of " << (knee_role ? "the knee records (shank columns)" : segmental ? "the both-joint records" : "the records")
-              << ": condition number " << (std::isfinite(ex.condition) ? fmt(ex.condition, 4) : std::string("inf"));
-    if (!ex.collinear.empty()) {
-      std::cout << "; nearly collinear (R^2 on the other columns > 0.95, model errors amplified):";
-      for (const auto& [p, r2] : ex.collinear) {
-        std::cout << ' ' << ident::paramName(p) << " R^2 " << fixed(r2, 4) << " (x" << fmt(1.0 / std::sqrt(1.0 - r2), 3) << ")";
-      }
-    }
-    if (ex.condition > 100.0 || !ex.collinear.empty()) {
-      std::cout << ". `exoid identifiability --data FILE` says what motion would separate them; `exoid excite` designs one";
-    }
-    std::cout << '\n';
+    // X's ten parameters (a fitted knee armature's column left out), or the knee role's shank columns.
+    const int first = knee_role ? ident::kShankFirst : 0, count = knee_role ? ident::kGroupSize : ident::kNumParams;
+    const Eigen::MatrixXd H = knee_role ? Eigen::MatrixXd(role->rows.jointW(1).middleCols(first, count)) : Eigen::MatrixXd(role->rows.W.leftCols(count));
+    const std::vector<std::string> names(robot.names().begin() + first, robot.names().begin() + first + count);
+    std::cout << describe(excitationOf(H, knee_role ? role->rows.jointY(1) : role->rows.y, names),
+                          knee_role ? "the knee records (shank columns)" : segmental ? "the both-joint records" : "the records",
+                          "`exoid identifiability --data FILE` says what motion would separate them; `exoid excite` designs one")
+              << '\n';
   }
 }
 
@@ -336,67 +308,15 @@ std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
 }
 
 
-// How much the LS estimate depends on the band chosen from the data: every record refitted with
-// its cutoff one ladder step wider, the change in standard errors of the chosen fit (the
-// errors-in-variables bias a wider band would add, measured). Absent when no band was chosen.
-struct BandSensitivity {
-  double factor = 0.0;
-  Eigen::VectorXd shift_se;  ///< per parameter, (x_wider - x) / std_err
-  std::vector<std::string> over_one;  ///< parameters moved by more than one standard error
-};
-
-std::optional<BandSensitivity> bandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::Robot& robot,
-                                               const std::vector<MethodOutcome>& outcomes) {
-  const MethodOutcome* ls = nullptr;
-  for (const MethodOutcome& m : outcomes) {
-    if (m.method == ident::Method::kLs && m.consistency) ls = &m;
+// The band sensitivity of LS over --data (its unconstrained estimate, its reported errors).
+std::optional<BandSensitivity> lsBandSensitivity(const IdentifyArgs& a, const Role& primary, const ident::Robot& robot,
+                                                 const std::vector<MethodOutcome>& outcomes) {
+  for (auto m = outcomes.rbegin(); m != outcomes.rend(); ++m) {  // the last LS (ls, ls-parallel)
+    if (m->method != ident::Method::kLs || !m->consistency) continue;
+    return bandSensitivity(primary.data, primary.signals, primary.bands, a.signals.derivative_cutoff_from_data, robot, m->consistency->unconstrained,
+                           m->consistency->std_err);
   }
-  if (!ls) return std::nullopt;
-  bool any = false;
-  for (const auto& b : primary.bands) any = any || b.has_value();
-  if (!any) return std::nullopt;
-  BandSensitivity out;
-  out.factor = 1.25;  // a quarter wider
-  std::vector<ident::RecordRows> rows;
-  for (std::size_t k = 0; k < primary.data.size(); ++k) {
-    ident::SignalOptions o = primary.signals[k];
-    if (primary.bands[k]) {
-      const double fs = 1.0 / primary.data[k].sampleInterval_s();
-      o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
-      if (a.signals.derivative_cutoff_from_data) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs);
-    }
-    rows.push_back(ident::processRecord(primary.data[k], robot, o));
-  }
-  const ident::RecordRows p = ident::stackRecords(rows);
-  ident::LsOptions lo;
-  lo.max_condition = std::numeric_limits<double>::max();
-  const Eigen::VectorXd wider = ident::solveLeastSquares(p.W, p.y, lo).x;
-  const ConsistencyStep& cs = *ls->consistency;
-  out.shift_se.resize(wider.size());
-  for (Eigen::Index i = 0; i < wider.size(); ++i) {
-    const double se = cs.std_err[i], change = wider[i] - cs.unconstrained[i];
-    // A parameter without a finite, positive standard error has no scale to judge a change by.
-    out.shift_se[i] = se > 0.0 && std::isfinite(se) ? change / se : 0.0;
-  }
-  for (Eigen::Index i = 0; i < out.shift_se.size(); ++i) {
-    if (std::abs(out.shift_se[i]) > 1.0) out.over_one.emplace_back(ident::paramName(static_cast<int>(i)));
-  }
-  return out;
-}
-
-void printSensitivity(const BandSensitivity& s) {
-  std::cout << "band sensitivity (every record's cutoff x" << fmt(s.factor, 3)
-            << ", LS refitted; change in standard errors):";
-  for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) {
-    std::cout << ' ' << ident::paramName(static_cast<int>(i)) << ' ' << fixed(s.shift_se[i], 2);
-  }
-  std::cout << '\n';
-  if (!s.over_one.empty()) {
-    std::string names;
-    for (const std::string& n : s.over_one) names += (names.empty() ? "" : ", ") + n;
-    std::cout << "warning: a wider band moves " << names
-              << " by more than one standard error: their errors-in-variables bias may exceed their noise\n";
-  }
+  return std::nullopt;
 }
 
 void printErrors(ident::Method m, const ident::ReportedErrors& e, const char* how) {
@@ -494,12 +414,6 @@ nlohmann::json methodsJson(const IdentifyArgs& a, const std::vector<MethodOutcom
   return methods;
 }
 
-nlohmann::json sensitivityJson(const BandSensitivity& s) {
-  nlohmann::json sh = nlohmann::json::object();
-  for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) sh[std::string(ident::paramName(static_cast<int>(i)))] = s.shift_se[i];
-  return {{"cutoff_factor", s.factor}, {"shift_standard_errors", sh}, {"over_one_standard_error", s.over_one}};
-}
-
 void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::LegConstants& c, const std::string& constants_origin,
                        const Role& primary, const Role& knee, const ident::MethodOptions& mo,
                        const std::vector<MethodOutcome>& outcomes,
@@ -530,7 +444,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["determination"] = determinationJson(robot, determination);
   if (!optional_terms.is_null()) j["optional_terms"] = optional_terms;
   j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
-  if (sensitivity) j["band_sensitivity"] = sensitivityJson(*sensitivity);
+  if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
     j["truth"] = nlohmann::json::object();
@@ -766,12 +680,14 @@ void run(const IdentifyArgs& a) {
   std::optional<OptionalTerm> armature;
   const bool implausible = std::any_of(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return !m.implausible.empty(); });
   if (single && !a.knee_armature && implausible) armature = kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas);
-  const std::optional<BandSensitivity> sensitivity = single ? bandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
+  const std::optional<BandSensitivity> sensitivity = single ? lsBandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
   const std::vector<std::pair<std::string, std::vector<Validation>>> validations = validateOutcomes(a, log, r, outcomes);
 
   printResults(a.timing, outcomes, validations, truths);
   printConsistency(outcomes);
-  if (sensitivity) printSensitivity(*sensitivity);
+  if (sensitivity) {
+    for (const std::string& line : describe(*sensitivity)) std::cout << line << '\n';
+  }
   if (armature && armature->significant) std::cout << "implausible: " << optionalTermHint(*armature) << '\n';
   if (!a.json_out.empty()) {
     nlohmann::json optional_terms;

@@ -5,6 +5,8 @@
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/excitation_report.hpp"
+#include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
@@ -309,6 +311,7 @@ struct ChainFitRecords {
   nlohmann::json json = nlohmann::json::array();
   std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
   std::vector<ident::SignalOptions> signals;         ///< each record's, its band chosen
+  std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
   std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
@@ -319,6 +322,7 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
   ChainFitRecords fit;
   const ident::ResolvedRecords resolved = ident::resolveRecords(data, loaded.robot, a.signals);
   fit.signals = resolved.signals;
+  fit.bands = resolved.bands;
   for (std::size_t r = 0; r < data.size(); ++r) {
     const std::string& file = a.data[r];
     const ident::Dataset& d = data[r];
@@ -656,15 +660,21 @@ int identifyChain(const ChainIdentifyArgs& given) {
   core::prepareOutputFile(a.plot);
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
   const ident::RecordRows stacked = ident::stackRecords(fit.records);
+  std::cout << wrapped(describe(excitationOf(stacked.W, stacked.y, base.names), "the records",
+                                "`exoid identifiability --model " + a.model + " --data FILE` says what motion would separate them; `exoid excite --model " +
+                                    a.model + "` designs one"))
+            << "\n";
   std::vector<int> every(static_cast<std::size_t>(base.rank));
   for (int i = 0; i < base.rank; ++i) every[static_cast<std::size_t>(i)] = i;
   const ident::Determination determination = ident::determination(loaded.robot, data, stacked, every);
   if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) std::cout << p << '\n';
-  data.clear();
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
+  const std::optional<BandSensitivity> sensitivity =
+      bandSensitivity(data, fit.signals, fit.bands, a.signals.derivative_cutoff_from_data, loaded.robot, est.beta, est.std_error);
+  data.clear();
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
   const Eigen::VectorXd cad = base.combination * loaded.phi;
@@ -690,9 +700,13 @@ int identifyChain(const ChainIdentifyArgs& given) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   }
   printChainEstimates(base, est, others, truth, verdict.mahalanobis, cad);
+  if (sensitivity) {
+    for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";
+  }
   if (!a.json_out.empty()) {
     nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict, cad);
     j["determination"] = determinationJson(loaded.robot, determination);
+    if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
     if (armature) j["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
     writeJsonFile(a.json_out, j);
   }

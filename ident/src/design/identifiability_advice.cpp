@@ -2,8 +2,6 @@
 
 #include "exoid/core/format.hpp"
 
-#include "exoid/ident/leg/params.hpp"
-
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -13,32 +11,35 @@ namespace exoid::ident {
 namespace {
 
 // What motion informs a parameter, by its kind.
-std::string needs(int param) {
-  switch (param) {
-    case kMxt: case kMyt: case kMxs: case kMys:
+std::string needs(ParameterKind kind) {
+  switch (kind) {
+    case ParameterKind::kMass:
+    case ParameterKind::kFirstMoment:
       return "the link angles to sweep a wide range (gravity's sine and cosine terms must both vary)";
-    case kJt: case kJs:
+    case ParameterKind::kInertia:
       return "large joint accelerations, at more than one frequency";
-    case kFc1: case kFc2:
+    case ParameterKind::kCoulomb:
       return "the joint to reverse direction often, at speed";
-    case kFv1: case kFv2:
+    case ParameterKind::kViscous:
       return "a wide range of joint speeds";
-    case kKneeArmature:
-      return "the knee accelerating differently from the hip (its column differs from Js's only then)";
-    default:
-      return "more varied motion";
+    case ParameterKind::kArmature:
+      return "the joint accelerating differently from the joints above it (its column differs from its link's inertia only then)";
   }
+  return "more varied motion";
 }
 
 std::string percent(double v) { return core::formatNumber(100.0 * v, 3) + " %"; }
 
 }  // namespace
 
-std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const IdentifiabilityReport& r,
+std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const IdentifiabilityReport& r, const Robot& robot,
                                                const std::vector<int>& params, const AdviceOptions& o) {
   const Eigen::Index p = H.cols();
   if (static_cast<Eigen::Index>(params.size()) != p || r.crb_rel_std.size() != p || r.collinearity_r2.size() != p) {
     throw std::invalid_argument("identifiability advice: the report, the regressor and the parameter list disagree in size");
+  }
+  for (int i : params) {
+    if (i < 0 || i >= robot.parameters()) throw std::invalid_argument("identifiability advice: parameter " + core::toText(i) + " is not the robot's");
   }
   // The column each one is most nearly parallel to: largest |cos| between unit columns.
   Eigen::MatrixXd U = H;
@@ -54,30 +55,31 @@ std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const I
     }
     return best;
   };
-  const auto name = [&](Eigen::Index j) { return std::string(paramName(params[static_cast<std::size_t>(j)])); };
+  const std::vector<ParameterKind> kinds = parameterKinds(robot);
+  const auto name = [&](Eigen::Index j) { return robot.names()[static_cast<std::size_t>(params[static_cast<std::size_t>(j)])]; };
 
   std::vector<std::string> out;
   std::vector<bool> unidentifiable(static_cast<std::size_t>(p), false);
   for (Eigen::Index j : r.unidentifiable) unidentifiable[static_cast<std::size_t>(j)] = true;
   for (Eigen::Index j = 0; j < p; ++j) {
-    const int param = params[static_cast<std::size_t>(j)];
+    const ParameterKind kind = kinds[static_cast<std::size_t>(params[static_cast<std::size_t>(j)])];
     if (p < 2) break;
     const Eigen::Index q = partner(j);
     if (unidentifiable[static_cast<std::size_t>(j)]) {
       out.push_back(name(j) + " cannot be identified from this record: its column is a combination of the others (most "
-                    "nearly " + name(q) + "'s, |cos| = " + core::formatFixed(std::abs(G(j, q)), 6) + "). It needs " + needs(param) + ".");
+                    "nearly " + name(q) + "'s, |cos| = " + core::formatFixed(std::abs(G(j, q)), 6) + "). It needs " + needs(kind) + ".");
     } else if (std::isnan(r.crb_rel_std[j])) {  // no reference to be relative to: collinearity alone
       if (r.collinearity_r2[j] > o.poor_collinearity) {
         out.push_back(name(j) + " is poorly determined: " + core::formatNumber(100.0 * r.collinearity_r2[j], 4) +
                       " % of its column is explained by the others (most by " + name(q) + ", |cos| = " +
                       core::formatFixed(std::abs(G(j, q)), 4) + "), so its std is " +
                       core::formatNumber(1.0 / std::sqrt(1.0 - r.collinearity_r2[j]), 3) +
-                      "x an unconfounded column's. It needs " + needs(param) + ".");
+                      "x an unconfounded column's. It needs " + needs(kind) + ".");
       }
     } else if (!(r.crb_rel_std[j] <= o.poor_relative_std)) {
       out.push_back(name(j) + " is poorly determined: relative std " + percent(r.crb_rel_std[j]) + " at this noise; " +
                     core::formatNumber(100.0 * r.collinearity_r2[j], 4) + " % of its column is explained by the others (most by " +
-                    name(q) + ", |cos| = " + core::formatFixed(std::abs(G(j, q)), 4) + "). It needs " + needs(param) + ".");
+                    name(q) + ", |cos| = " + core::formatFixed(std::abs(G(j, q)), 4) + "). It needs " + needs(kind) + ".");
     }
   }
   if (!std::isfinite(r.condition_number) || r.condition_number > o.poor_condition) {

@@ -29,6 +29,16 @@ std::string standardUnit(const std::string& name) {
   return "kg m^2";  // Ixx .. Izz, Ia
 }
 
+ParameterKind standardKind(const std::string& name) {
+  const std::string p = name.substr(name.rfind('.') + 1);
+  if (p == "m") return ParameterKind::kMass;
+  if (p == "mx" || p == "my" || p == "mz") return ParameterKind::kFirstMoment;
+  if (p == "fc") return ParameterKind::kCoulomb;
+  if (p == "fv") return ParameterKind::kViscous;
+  if (p == "Ia") return ParameterKind::kArmature;
+  return ParameterKind::kInertia;  // Ixx .. Izz
+}
+
 // Random states (and base motions) enough to find every column that is not zero by construction:
 // an entry that is nonzero somewhere is nonzero at almost every state.
 constexpr int kStructureStates = 8;
@@ -81,6 +91,21 @@ const Eigen::VectorXd& standardOf(const Robot& robot, const Eigen::VectorXd& the
 }
 
 }  // namespace
+
+std::vector<ParameterKind> parameterKinds(const Robot& robot) {
+  const std::vector<std::string> standard = robot.chain.standardParameterNames();
+  std::vector<ParameterKind> out;
+  for (int i = 0; i < robot.parameters(); ++i) {
+    int lead = 0;
+    if (!robot.basis.independent.empty()) {
+      lead = robot.basis.independent[static_cast<std::size_t>(i)];
+    } else {
+      while (robot.basis.combination(i, lead) == 0.0) ++lead;  // a named basis: its row's first standard parameter
+    }
+    out.push_back(standardKind(standard[static_cast<std::size_t>(lead)]));
+  }
+  return out;
+}
 
 Robot chainRobot(const ChainModel& model, const BaseParameterOptions& options) {
   Robot r;

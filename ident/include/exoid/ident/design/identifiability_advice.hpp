@@ -3,6 +3,7 @@
 // undetermined or poorly determined, which other parameter each is confused with, and what
 // motion would separate them.
 #include "exoid/ident/design/identifiability.hpp"
+#include "exoid/ident/model/robot.hpp"
 
 #include <string>
 #include <vector>
@@ -17,9 +18,10 @@ struct AdviceOptions {
   double poor_condition = 100.0;    ///< the regressor is "poorly conditioned" above this (scaled)
 };
 
-/// Sentences about the report of regressor H, whose columns are the parameters `params` (indices
-/// into X, or kKneeArmature). Names the column each parameter is most nearly parallel to.
-std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const IdentifiabilityReport& report,
+/// Sentences about the report of regressor H, whose columns are robot's parameters `params`
+/// (indices into robot.names()). Names the column each parameter is most nearly parallel to, and
+/// the motion that informs its kind.
+std::vector<std::string> identifiabilityAdvice(const Eigen::MatrixXd& H, const IdentifiabilityReport& report, const Robot& robot,
                                                const std::vector<int>& params, const AdviceOptions& options = {});
 
 }  // namespace exoid::ident

@@ -45,6 +45,11 @@ struct Robot {
   Eigen::Index structuralColumnCount() const;
 };
 
+/// The kind of quantity a parameter is: its leading standard parameter's (a base parameter's name,
+/// the first one of a named basis's combination), which says what motion informs it.
+enum class ParameterKind { kMass, kFirstMoment, kInertia, kCoulomb, kViscous, kArmature };
+std::vector<ParameterKind> parameterKinds(const Robot& robot);
+
 /// The chain in its base parameters. Throws std::invalid_argument on an invalid model or options.
 Robot chainRobot(const ChainModel& model, const BaseParameterOptions& options = {});
 

@@ -1,0 +1,25 @@
+#pragma once
+// How well a fit's records excite its parameters, for any leg: the condition number of the
+// column-scaled regressor and each column's R^2 on the others (1 - 1 / [(Hs^T Hs)^-1]_jj for unit
+// columns): a model error along a column is amplified 1 / sqrt(1 - R^2) times in its parameter.
+#include <Eigen/Core>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace exoid::experiments {
+
+struct Excitation {
+  double condition = 0.0;
+  std::vector<std::pair<std::string, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
+};
+
+/// H's columns are the parameters `names`; y the torques they are fitted to.
+Excitation excitationOf(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<std::string>& names);
+
+/// "excitation of <of>: condition number ...; nearly collinear ...", with `advice` (what would
+/// separate them) when the condition exceeds 100 or a column is nearly collinear.
+std::string describe(const Excitation& e, const std::string& of, const std::string& advice);
+
+}  // namespace exoid::experiments

@@ -1,0 +1,34 @@
+#include "exoid/experiments/protocol/excitation_report.hpp"
+
+#include "exoid/experiments/report/table.hpp"
+#include "exoid/ident/design/identifiability.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace exoid::experiments {
+
+Excitation excitationOf(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<std::string>& names) {
+  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(H, y, 0.0);
+  Excitation e;
+  e.condition = report.condition_number;
+  if (!std::isfinite(e.condition)) return e;  // rank deficient: the determination says which columns
+  for (Eigen::Index j = 0; j < report.collinearity_r2.size(); ++j) {
+    const double r2 = report.collinearity_r2[j];
+    if (r2 > 0.95) e.collinear.emplace_back(names[static_cast<std::size_t>(j)], r2);
+  }
+  std::stable_sort(e.collinear.begin(), e.collinear.end(), [](const auto& x, const auto& y) { return x.second > y.second; });
+  return e;
+}
+
+std::string describe(const Excitation& e, const std::string& of, const std::string& advice) {
+  std::string s = "excitation of " + of + ": condition number " + (std::isfinite(e.condition) ? fmt(e.condition, 4) : std::string("inf"));
+  if (!e.collinear.empty()) {
+    s += "; nearly collinear (R^2 on the other columns > 0.95, model errors amplified):";
+    for (const auto& [name, r2] : e.collinear) s += " " + name + " R^2 " + fixed(r2, 4) + " (x" + fmt(1.0 / std::sqrt(1.0 - r2), 3) + ")";
+  }
+  if (e.condition > 100.0 || !e.collinear.empty()) s += ". " + advice;
+  return s;
+}
+
+}  // namespace exoid::experiments
