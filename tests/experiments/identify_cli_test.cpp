@@ -125,6 +125,28 @@ TEST(IdentifyCli, EveryChoiceMadeFromTheDataIsPrintedAndInTheJsonAndTheBytesRepe
   EXPECT_EQ(jsons[0].find("wall_time_s"), std::string::npos);
 }
 
+// A log longer than a processing block (65,536 samples) is processed a block at a time and is still
+// one record: it identifies (before, the blocks were counted as records and identify failed with
+// "determination: 1 records but rows of N records", exit 1), exactly on exact data, with finite errors.
+TEST(IdentifyCli, ALogLongerThanAProcessingBlockIsOneRecord) {
+  ident::Dataset d = test::multisineRecord(70.0, true, false);
+  d.comments = {" thigh_length_m: 0.45"};
+  const std::string csv = ::testing::TempDir() + "/long_multisine.csv", out = ::testing::TempDir() + "/long_multisine.json";
+  ident::writeDatasetCsv(d, csv);
+  testing::internal::CaptureStdout();
+  const int code = runExoid({"identify", "--data", csv, "--json", out});
+  testing::internal::GetCapturedStdout();
+  ASSERT_EQ(code, 0);
+  const nlohmann::json j = readJson(out);
+  const ident::ParamVector truth = ident::toParamVector(ident::defaultLeg());
+  for (int i = 0; i < ident::kNumParams; ++i) {
+    const std::string name(ident::paramName(i));
+    EXPECT_NEAR(j["parameters"][name].get<double>(), truth[i], 1e-6 * std::max(1.0, std::abs(truth[i]))) << name;
+    EXPECT_TRUE(std::isfinite(j["methods"]["ls"]["consistency"]["standard_errors"][name].get<double>())) << name;
+    EXPECT_TRUE(j["methods"]["ls"]["consistency"]["standard_errors_record_jackknife"][name].is_null()) << name;  // one record
+  }
+}
+
 TEST(IdentifyCli, PhysicallyImplausibleEstimateExitsThree) {
   // A "leg" whose knee friction feeds energy in (fv2 = -0.2): LS recovers it exactly, and the
   // result is flagged as no physical leg's, named, with exit code 3 and the JSON still written.

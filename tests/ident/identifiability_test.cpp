@@ -1,5 +1,6 @@
 #include "exoid/ident/design/identifiability.hpp"
 
+#include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "test_support.hpp"
 
@@ -50,6 +51,27 @@ TEST(Identifiability, SingleFrequencyMakesInertiaNearlyCollinearWithGravity) {
   H << Hk.col(kMxs), Hk.col(kMys), Hk.col(kJs);  // qdd2 vs [g s12, g c12] (+ Lt terms, zero here)
   const auto r = analyzeIdentifiability(H, s.tau_Nm.col(1), 0.5);
   EXPECT_GT(r.collinearity_r2[2], 0.999);  // paper.md: R^2 = 0.9999
+}
+
+// Least squares reports each column's collinearity from its own pivoted factor (what identify's
+// excitation line prints); the identifiability report computes it from an unpivoted QR of its
+// own: the two agree to rounding, on a well and on a poorly conditioned record.
+TEST(Identifiability, LeastSquaresGivesTheSameCollinearityFromItsOwnFactor) {
+  for (int trajectory : {1, 3}) {
+    const JointSignals s = test::exactRecord(trajectory, defaultLeg(), test::kLeg.gravity_mps2);
+    const Eigen::MatrixXd H = jointRegressor(s, Joint::kKnee, test::kLeg).middleCols(kShankFirst, kGroupSize);
+    const IdentifiabilityReport r = analyzeIdentifiability(H, s.tau_Nm.col(1), 0.5);
+    LsOptions lo;
+    lo.max_condition = 1e300;
+    const LsResult ls = solveLeastSquares(H, s.tau_Nm.col(1), lo);
+    ASSERT_EQ(ls.rank, H.cols());
+    EXPECT_DOUBLE_EQ(ls.condition_number, r.condition_number);
+    for (Eigen::Index j = 0; j < H.cols(); ++j) {
+      // 1 - R^2 = 1 / [(Hs^T Hs)^-1]_jj: both inverse diagonals to 1e-10 relative (the condition
+      // number, <= 1e4 here, times the rounding of two different factorisations).
+      EXPECT_NEAR(1.0 - ls.collinearity_r2[j], 1.0 - r.collinearity_r2[j], 1e-10 * (1.0 - r.collinearity_r2[j]) + 1e-15) << trajectory << " " << j;
+    }
+  }
 }
 
 TEST(Identifiability, CramerRaoMatchesMonteCarloLsScatter) {

@@ -9,6 +9,7 @@
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/estimators/noise_covariance.hpp"
 #include "exoid/ident/signals/processing.hpp"
+#include "exoid/ident/model/determination.hpp"
 #include "random_chain.hpp"
 #include "test_support.hpp"
 
@@ -115,6 +116,11 @@ TEST_P(ProcessingOnEveryLeg, BlocksOfALongLogGiveTheWholeRecordsRows) {
   EXPECT_TRUE(a.states.t_s == b.states.t_s);
   EXPECT_LT((a.states.qdd_radps2 - b.states.qdd_radps2).cwiseAbs().maxCoeff(), 1e-9);
   EXPECT_LT(maxScaledError(leg, stackedLs(b)), 1e-6) << leg.name;
+  // Still one record (its residual's correlation, its jackknife blocks, what its motion determines).
+  EXPECT_EQ(b.record_rows, a.record_rows) << leg.name;
+  std::vector<int> every(static_cast<std::size_t>(leg.robot.parameters()));
+  for (int i = 0; i < leg.robot.parameters(); ++i) every[static_cast<std::size_t>(i)] = i;
+  EXPECT_TRUE(determination(leg.robot, {d}, b, every).undetermined.empty()) << leg.name;
 }
 
 // The blocks on several threads: each is computed alone and stacked in order, so the rows are

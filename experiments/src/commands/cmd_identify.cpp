@@ -258,7 +258,9 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
     const int first = knee_role ? ident::kShankFirst : 0, count = knee_role ? ident::kGroupSize : ident::kNumParams;
     const Eigen::MatrixXd H = knee_role ? Eigen::MatrixXd(role->rows.jointW(1).middleCols(first, count)) : Eigen::MatrixXd(role->rows.W.leftCols(count));
     const std::vector<std::string> names(robot.names().begin() + first, robot.names().begin() + first + count);
-    std::cout << describe(excitationOf(H, knee_role ? role->rows.jointY(1) : role->rows.y, names),
+    ident::LsOptions lo;
+    lo.max_condition = std::numeric_limits<double>::max();
+    std::cout << describe(excitationOf(ident::solveLeastSquares(H, knee_role ? role->rows.jointY(1) : role->rows.y, lo), names),
                           knee_role ? "the knee records (shank columns)" : segmental ? "the both-joint records" : "the records",
                           "`exoid identifiability --data FILE` says what motion would separate them; `exoid excite` designs one")
               << '\n';
@@ -313,8 +315,10 @@ std::optional<BandSensitivity> lsBandSensitivity(const IdentifyArgs& a, const Ro
                                                  const std::vector<MethodOutcome>& outcomes) {
   for (auto m = outcomes.rbegin(); m != outcomes.rend(); ++m) {  // the last LS (ls, ls-parallel)
     if (m->method != ident::Method::kLs || !m->consistency) continue;
-    return bandSensitivity(primary.data, primary.signals, primary.bands, a.signals.derivative_cutoff_from_data, robot, m->consistency->unconstrained,
-                           m->consistency->std_err);
+    const std::optional<BandRefit> refit =
+        refitInAWiderBand(primary.data, primary.signals, primary.bands, a.signals.derivative_cutoff_from_data, robot, primary.rows);
+    if (!refit) return std::nullopt;
+    return bandSensitivity(*refit, robot, m->consistency->unconstrained, m->consistency->std_err);
   }
   return std::nullopt;
 }

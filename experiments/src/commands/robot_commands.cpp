@@ -30,6 +30,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -660,10 +661,6 @@ int identifyChain(const ChainIdentifyArgs& given) {
   core::prepareOutputFile(a.plot);
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
   const ident::RecordRows stacked = ident::stackRecords(fit.records);
-  std::cout << wrapped(describe(excitationOf(stacked.W, stacked.y, base.names), "the records",
-                                "`exoid identifiability --model " + a.model + " --data FILE` says what motion would separate them; `exoid excite --model " +
-                                    a.model + "` designs one"))
-            << "\n";
   std::vector<int> every(static_cast<std::size_t>(base.rank));
   for (int i = 0; i < base.rank; ++i) every[static_cast<std::size_t>(i)] = i;
   const ident::Determination determination = ident::determination(loaded.robot, data, stacked, every);
@@ -671,9 +668,21 @@ int identifyChain(const ChainIdentifyArgs& given) {
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
+  // The band sensitivity's refit needs only the records: beside the estimate, on one core of its own
+  // (the same bytes on any number of threads).
+  std::vector<ident::SignalOptions> one_thread = fit.signals;
+  for (ident::SignalOptions& o : one_thread) o.threads = 1;
+  std::future<std::optional<BandRefit>> refit = std::async(std::launch::async, [&] {
+    return refitInAWiderBand(data, one_thread, fit.bands, a.signals.derivative_cutoff_from_data, loaded.robot, stacked);
+  });
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
+  const std::optional<BandRefit> wider = refit.get();
+  std::cout << wrapped(describe(excitationOf(est.ls, base.names), "the records",
+                                "`exoid identifiability --model " + a.model + " --data FILE` says what motion would separate them; `exoid excite --model " +
+                                    a.model + "` designs one"))
+            << "\n";
   const std::optional<BandSensitivity> sensitivity =
-      bandSensitivity(data, fit.signals, fit.bands, a.signals.derivative_cutoff_from_data, loaded.robot, est.beta, est.std_error);
+      wider ? std::optional<BandSensitivity>(bandSensitivity(*wider, loaded.robot, est.beta, est.std_error)) : std::nullopt;
   data.clear();
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);

@@ -1,20 +1,19 @@
 #include "exoid/experiments/protocol/excitation_report.hpp"
 
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/ident/design/identifiability.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace exoid::experiments {
 
-Excitation excitationOf(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<std::string>& names) {
-  const ident::IdentifiabilityReport report = ident::analyzeIdentifiability(H, y, 0.0);
+Excitation excitationOf(const ident::LsResult& ls, const std::vector<std::string>& names) {
   Excitation e;
-  e.condition = report.condition_number;
+  e.condition = ls.rank < ls.collinearity_r2.size() ? std::numeric_limits<double>::infinity() : ls.condition_number;
   if (!std::isfinite(e.condition)) return e;  // rank deficient: the determination says which columns
-  for (Eigen::Index j = 0; j < report.collinearity_r2.size(); ++j) {
-    const double r2 = report.collinearity_r2[j];
+  for (Eigen::Index j = 0; j < ls.collinearity_r2.size(); ++j) {
+    const double r2 = ls.collinearity_r2[j];
     if (r2 > 0.95) e.collinear.emplace_back(names[static_cast<std::size_t>(j)], r2);
   }
   std::stable_sort(e.collinear.begin(), e.collinear.end(), [](const auto& x, const auto& y) { return x.second > y.second; });

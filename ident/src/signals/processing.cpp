@@ -193,7 +193,10 @@ RecordRows processRecord(const Dataset& d, const Robot& robot, const SignalOptio
     if (o.filter) filtfiltInPlace(lowpass, all);
     keptRows(robot, all, bk.first - bk.lo, r, parts[k]);
   });
-  return stackRecords(parts);
+  // The blocks are the processing's, not the record's: still one record.
+  RecordRows out = stackRecords(parts);
+  out.record_rows = {out.W.rows()};
+  return out;
 }
 
 RecordRows stackRecords(const std::vector<RecordRows>& records) {

@@ -2,7 +2,7 @@
 // How well a fit's records excite its parameters, for any leg: the condition number of the
 // column-scaled regressor and each column's R^2 on the others (1 - 1 / [(Hs^T Hs)^-1]_jj for unit
 // columns): a model error along a column is amplified 1 / sqrt(1 - R^2) times in its parameter.
-#include <Eigen/Core>
+#include "exoid/ident/estimators/least_squares.hpp"
 
 #include <string>
 #include <utility>
@@ -15,8 +15,8 @@ struct Excitation {
   std::vector<std::pair<std::string, double>> collinear;  ///< (parameter, R^2) with R^2 > 0.95, worst first
 };
 
-/// H's columns are the parameters `names`; y the torques they are fitted to.
-Excitation excitationOf(const Eigen::MatrixXd& H, const Eigen::VectorXd& y, const std::vector<std::string>& names);
+/// From the least-squares fit of the parameters `names` (its factor's condition and collinearity).
+Excitation excitationOf(const ident::LsResult& ls, const std::vector<std::string>& names);
 
 /// "excitation of <of>: condition number ...; nearly collinear ...", with `advice` (what would
 /// separate them) when the condition exceeds 100 or a column is nearly collinear.

@@ -31,6 +31,9 @@ struct LsResult {
   /// Condition number (ratio of extreme singular values) of the column-scaled regressor.
   double condition_number = 0.0;
   std::vector<Eigen::Index> unidentifiable;  ///< column indices beyond the numerical rank
+  /// Each column's R^2 on the others, 1 - 1 / [(Hs^T Hs)^-1]_jj for unit columns Hs (a model error
+  /// along it is amplified 1 / sqrt(1 - R^2) times); all 1 on rank deficiency.
+  Eigen::VectorXd collinearity_r2;
   double residual_rms = 0.0;                 ///< sqrt(mean((y - H x)^2))
   Summary summary;
 };
