@@ -52,6 +52,7 @@ TEST(ChainCli, ExciteSimulateIdentifyTheHipKneeAnkleLeg) {
     EXPECT_NEAR(ls, truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
   }
   EXPECT_EQ(r["consistent"]["status"], "least_squares_consistent");
+  EXPECT_EQ(r["status"], "usable");
   // The paper's other methods over the same base-parameter rows: on exact data LAD is exact too,
   // RLS (P0 = 1e6 I) within its prior's pull, 1e-6 of the largest parameter.
   const std::string out3 = dir + "/leg3_methods.json";
@@ -144,6 +145,7 @@ TEST(ChainCli, AHipLockedRecordExitsThreeNamingTheHipsBaseParameters) {
   }
   EXPECT_FALSE(j["determination"]["records"][0]["joints_rad"][0]["moved"].get<bool>());
   EXPECT_NE(j["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << j["problems"];
+  EXPECT_EQ(j["status"], "not_usable");  // as the APAL leg's identify says it
 }
 
 TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
@@ -518,6 +520,9 @@ TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--knee-data", dir + "/x.csv"}, 105).find("--knee-data"), std::string::npos);
+  // Refused, never ignored: the APAL leg's wall-time and PSO-history outputs.
+  const std::string leg3_urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
+  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", leg3_urdf, "--timing"}, 105).find("--timing"), std::string::npos);
   // IDIM-IV fits one record whole (its instruments simulate that record's closed loop): not stage by stage.
   const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--method", "idim-iv", "--stage", "knee=" + urdf, "--data", urdf}, 105)

@@ -463,7 +463,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 bool runChainModel(const IdentifyArgs& a) {
   if (a.model.empty() && !a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
   if (a.model.empty() || (sim::isApalLegModel(sim::modelPathFor(a.model)) && a.selection.empty())) return false;
-  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
+  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity", "--timing", "--history"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
     }

@@ -116,7 +116,7 @@ void addSweepCommand(CLI::App& app) {
   cmd->add_option("--vibration", a->vibration, "[grid] vibration_level levels")->delimiter(',')->group(o);
   cmd->add_option("--cylinder-mass-scale", a->cylinder, "[grid] cylinder_mass_scale levels")->delimiter(',')->group(o);
   cmd->add_option("--encoder-backlash-deg", a->backlash,
-                  "[grid] encoder_backlash_deg levels: play between each joint and its encoder, deg (as simulate --encoder-backlash-deg; the APAL leg only)")
+                  "[grid] encoder_backlash_deg levels: play between each joint and its encoder, deg (as simulate --encoder-backlash-deg; any leg)")
       ->delimiter(',')->group(o);
   cmd->add_option("--trajectories", a->trajectories, "[grid] trajectories levels: paper, optimised (the config's designs); a chain's: optimised, default")
       ->delimiter(',')->group(o);

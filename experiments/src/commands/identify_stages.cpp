@@ -260,7 +260,7 @@ nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stage
     j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->mahalanobis},
                        {"metric", "LS's reported covariance"}};
   }
-  j["status"] = problems.empty() ? "usable" : "not usable";
+  j["status"] = problems.empty() ? "usable" : "not_usable";  // as every identify JSON says it
   j["problems"] = problems;
   return j;
 }

@@ -634,6 +634,7 @@ nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json
     j["methods"][ident::toString(m)] = mj;
   }
   j["problems"] = verdict.problems;
+  j["status"] = verdict.problems.empty() ? "usable" : "not_usable";
   return j;
 }
 
