@@ -326,6 +326,21 @@ TEST(IdentifiabilityCli, ReportsRankDeficientHipOnTrajectory1) {
   for (const auto& line : j["blocks"][1]["advice"]) advice += line.get<std::string>() + "\n";
   EXPECT_NE(advice.find("cannot be identified from this record"), std::string::npos) << advice;
   EXPECT_NE(advice.find("It needs"), std::string::npos) << advice;
+  // With the knee's armature among the parameters (as on a chain, ChainCli.IdentifiabilityOfARecord...):
+  // with the hip fixed its column is Js's, named in the knee block with the motion that separates them.
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identifiability", "--data", csv, "--no-filter", "--knee-armature", "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json k = readJson(out);
+  ASSERT_EQ(k["blocks"].size(), 3u);
+  EXPECT_EQ(k["blocks"][0]["block"], "both equations, all 11");
+  EXPECT_EQ(k["blocks"][2]["block"], "knee equation, params 6-11");
+  const nlohmann::json& knee_out = k["blocks"][2]["unidentifiable"];
+  ASSERT_EQ(knee_out.size(), 1u) << knee_out;
+  EXPECT_TRUE(knee_out[0] == "Ia2" || knee_out[0] == "Js") << knee_out;
+  std::string knee_advice;
+  for (const auto& line : k["blocks"][2]["advice"]) knee_advice += line.get<std::string>() + "\n";
+  EXPECT_NE(knee_advice.find("accelerating differently from the joints above it"), std::string::npos) << knee_advice;
 }
 
 std::string writeTruthFile(const std::string& name) {

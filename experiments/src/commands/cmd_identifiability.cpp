@@ -35,6 +35,7 @@ namespace {
 struct Args {
   std::string data, json_out, reference, model;
   std::vector<std::string> armature;  ///< --model: joints given an armature parameter the file lacks
+  bool knee_armature = false;         ///< the APAL leg: Ia2 among the parameters (identify --knee-armature)
   core::ChainSelection selection;     ///< --model: --base, --tip, --lock
   double noise_tau_Nm = 0.5;
   ConstantsFlags constants;
@@ -133,8 +134,13 @@ ProcessedInput processInput(const Args& a) {
   in.d = readLog(a.data, log);
   if (!chainModel(a)) {
     in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);
-    in.robot = ident::twoLinkLeg(*in.c);
+    in.robot = ident::twoLinkLeg(*in.c, a.knee_armature);
     in.reference = legReference(a);
+    // A reference of X gives none for the armature.
+    if (a.knee_armature && in.reference.x.size() == ident::kNumParams) {
+      in.reference.x.conservativeResize(in.robot.parameters());
+      in.reference.x[ident::kKneeArmature] = std::numeric_limits<double>::quiet_NaN();
+    }
   }
 #ifdef EXOID_WITH_MUJOCO
   if (loaded) {
@@ -298,7 +304,10 @@ void run(const Args& a) {
                                "is the APAL leg's; a chain model (--model " + a.model + ") takes its lengths and gravity from its file");
   }
   if (!a.armature.empty() && !chainModel(a)) {
-    throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's X has no armature here");
+    throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
+  }
+  if (a.knee_armature && chainModel(a)) {
+    throw CLI::ValidationError("--knee-armature", "is the APAL leg's; a chain model's armatures are --armature JOINT,...");
   }
   if (a.data.empty()) throw std::invalid_argument("give --data (a record: what it identifies) or --model (a robot model: what any record can)");
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
@@ -339,6 +348,8 @@ void addIdentifiabilityCommand(CLI::App& app) {
                   "inertia) where the file has none, as identify --armature")
       ->delimiter(',');
 #endif
+  cmd->add_flag("--knee-armature", args->knee_armature,
+               "The APAL leg: Ia2, the knee's armature, among the parameters (as identify --knee-armature)");
   cmd->add_option("--noise-tau", args->noise_tau_Nm, "Torque noise std for the Cramer-Rao bound, N m")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   cmd->add_option("--json", args->json_out, "Write the report as JSON here");
