@@ -97,23 +97,29 @@ struct ProcessedInput {
   Reference reference;
 };
 
+// The JSON beside a record (x.csv or x.csv.gz: x.json) when there is one, else "".
+std::string sidecarBeside(const std::string& data) {
+  for (const std::string ext : {".csv.gz", ".csv"}) {
+    if (data.size() <= ext.size() || !endsWith(data, ext)) continue;
+    const std::string sidecar = data.substr(0, data.size() - ext.size()) + ".json";
+    return std::filesystem::exists(sidecar) ? sidecar : "";
+  }
+  return "";
+}
+
 // The APAL leg's reference: --reference, else the truth exoid simulate stored beside the record.
 Reference legReference(const Args& a) {
   if (!a.reference.empty()) return pickReference(readTruthFile(a.reference), a.reference);
-  for (const std::string ext : {".csv.gz", ".csv"}) {
-    if (a.data.size() <= ext.size() || !endsWith(a.data, ext)) continue;
-    const std::string sidecar = a.data.substr(0, a.data.size() - ext.size()) + ".json";
-    if (!std::filesystem::exists(sidecar)) break;
-    // Only exoid's sidecar counts; any other JSON of that name is not a reference.
-    std::map<std::string, ident::ParamVector> truths;
-    try {
-      truths = readTruthFile(sidecar);
-    } catch (const std::invalid_argument&) {
-      break;
-    }
-    if (truths.count("rigid") || truths.count("best_fit")) return pickReference(truths, sidecar);
-    break;
+  const std::string sidecar = sidecarBeside(a.data);
+  if (sidecar.empty()) return {};
+  // Only exoid's sidecar counts; any other JSON of that name is not a reference.
+  std::map<std::string, ident::ParamVector> truths;
+  try {
+    truths = readTruthFile(sidecar);
+  } catch (const std::invalid_argument&) {
+    return {};
   }
+  if (truths.count("rigid") || truths.count("best_fit")) return pickReference(truths, sidecar);
   return {};
 }
 
@@ -145,12 +151,7 @@ ProcessedInput processInput(const Args& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (loaded) {
     // --reference, else the sidecar of a chain simulation beside the record, else the model file's own parameters.
-    std::string sidecar = a.reference;
-    for (const std::string ext : {".csv.gz", ".csv"}) {
-      if (!sidecar.empty() || a.data.size() <= ext.size() || !endsWith(a.data, ext)) continue;
-      sidecar = a.data.substr(0, a.data.size() - ext.size()) + ".json";
-      if (!std::filesystem::exists(sidecar)) sidecar.clear();
-    }
+    const std::string sidecar = a.reference.empty() ? sidecarBeside(a.data) : a.reference;
     try {
       if (!sidecar.empty()) in.reference = {truthFromSidecar(sidecar, *loaded), "the parameters in " + sidecar};
     } catch (const std::invalid_argument& e) {

@@ -29,7 +29,9 @@ std::optional<BandRefit> refitInAWiderBand(const std::vector<ident::Dataset>& da
     const Eigen::Index m = std::min(n, bands[k] ? bands[k]->pilot_samples : ident::BandRule{}.pilot_max_samples);
     const bool window = m > 0 && m < n;
     windowed = windowed || window;
-    const ident::Dataset d = window ? data[k].window((n - m) / 2, m) : data[k];
+    std::optional<ident::Dataset> central;  // a window's copy; a whole record is read in place
+    if (window) central = data[k].window((n - m) / 2, m);
+    const ident::Dataset& d = central ? *central : data[k];
     ident::SignalOptions o = signals[k];
     if (bands[k]) {
       const double fs = 1.0 / d.sampleInterval_s();

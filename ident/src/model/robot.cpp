@@ -19,16 +19,7 @@ Eigen::Index Robot::structuralColumnCount() const {
 
 namespace {
 
-// The unit of a standard parameter, by its name's suffix ("thigh.mx" -> "kg m").
-std::string standardUnit(const std::string& name) {
-  const std::string p = name.substr(name.rfind('.') + 1);
-  if (p == "m") return "kg";
-  if (p == "mx" || p == "my" || p == "mz") return "kg m";
-  if (p == "fc") return "N m";
-  if (p == "fv") return "N m s/rad";
-  return "kg m^2";  // Ixx .. Izz, Ia
-}
-
+// The kind of a standard parameter, by its name's suffix ("thigh.mx" -> a first moment).
 ParameterKind standardKind(const std::string& name) {
   const std::string p = name.substr(name.rfind('.') + 1);
   if (p == "m") return ParameterKind::kMass;
@@ -37,6 +28,19 @@ ParameterKind standardKind(const std::string& name) {
   if (p == "fv") return ParameterKind::kViscous;
   if (p == "Ia") return ParameterKind::kArmature;
   return ParameterKind::kInertia;  // Ixx .. Izz
+}
+
+// The unit of a standard parameter, by its kind.
+std::string standardUnit(const std::string& name) {
+  switch (standardKind(name)) {
+    case ParameterKind::kMass: return "kg";
+    case ParameterKind::kFirstMoment: return "kg m";
+    case ParameterKind::kCoulomb: return "N m";
+    case ParameterKind::kViscous: return "N m s/rad";
+    case ParameterKind::kInertia:
+    case ParameterKind::kArmature: return "kg m^2";
+  }
+  return "kg m^2";
 }
 
 // Random states (and base motions) enough to find every column that is not zero by construction:
@@ -100,7 +104,8 @@ std::vector<ParameterKind> parameterKinds(const Robot& robot) {
     if (!robot.basis.independent.empty()) {
       lead = robot.basis.independent[static_cast<std::size_t>(i)];
     } else {
-      while (robot.basis.combination(i, lead) == 0.0) ++lead;  // a named basis: its row's first standard parameter
+      // A named basis: its row's first standard parameter.
+      while (lead + 1 < robot.basis.combination.cols() && robot.basis.combination(i, lead) == 0.0) ++lead;
     }
     out.push_back(standardKind(standard[static_cast<std::size_t>(lead)]));
   }
