@@ -206,6 +206,31 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
       EXPECT_NEAR(x[i].get<double>(), truth, 1e-6 * std::max(1.0, std::abs(truth))) << m << " " << b["names"][i].get<std::string>();
     }
   }
+  // One report for both strategies: the one fit of the same --data writes the same common part
+  // (inputs with each record's sampling, the options as run, the seed, the CAD comparison, every
+  // other method's error against the truth) as the stages do.
+  const std::string once = dir + "/once.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--data", dir + "/all.csv", "--truth", dir + "/all.json", "--method", "ls,lad", "--json", once}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json o = readJson(once);
+  for (const nlohmann::json* j : {&r, &o}) {
+    EXPECT_EQ((*j)["command"], "identify");
+    EXPECT_EQ((*j)["inputs"]["data"], nlohmann::json({dir + "/all.csv"}));
+    EXPECT_EQ((*j)["inputs"]["sampling"][dir + "/all.csv"]["rows_used"], 10000);  // 10 s at 1 kHz
+    EXPECT_EQ((*j)["signal_options"], o["signal_options"]);
+    // The PSO box as the methods ran: 10 x the largest |LS estimate| (no --wide-box given).
+    double biggest = 0.0;
+    for (const auto& x : (*j)["base_parameters"]["ls"]) biggest = std::max(biggest, std::abs(x.get<double>()));
+    EXPECT_NEAR((*j)["method_options"]["pso"]["wide_box_half_width"].get<double>(), 10.0 * biggest, 1e-12 * biggest);
+    EXPECT_EQ((*j)["seed"], o["seed"]);
+    EXPECT_EQ((*j)["base_parameters"]["ls_minus_cad_std_errors"].size(), 17u);
+    EXPECT_EQ((*j)["methods"]["lad"]["error_rel"].size(), 17u);
+    EXPECT_EQ((*j)["model"]["joints"], nlohmann::json({"hip", "knee", "ankle"}));
+  }
+  EXPECT_EQ(r["inputs"]["stages"].size(), 2u);
+  EXPECT_EQ(r["inputs"]["sampling"].size(), 3u);
+  EXPECT_EQ(o["strategy"], "all_parameters_one_record");
   // What cannot work is refused by name.
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--stage", "toe=" + dir + "/ankle.csv", "--data", dir + "/all.csv"}, 1).find("'toe' is not a joint"),
             std::string::npos);

@@ -357,15 +357,10 @@ void printConsistency(const std::vector<MethodOutcome>& outcomes) {
 }
 
 // Each record's sampling as read and used, by file.
-nlohmann::json samplingJson(const Role& primary, const Role& knee) {
+nlohmann::json rolesSamplingJson(const Role& primary, const Role& knee) {
   nlohmann::json sampling = nlohmann::json::object();
   for (const Role* role : {&knee, &primary}) {
-    for (std::size_t k = 0; k < role->files.size(); ++k) {
-      const ident::SamplingReport& sr = role->data[k].sampling;
-      sampling[role->files[k]] = {{"rows_read", sr.rows_read}, {"median_dt_s", sr.median_dt_s}, {"min_dt_s", sr.min_dt_s},
-                                  {"max_dt_s", sr.max_dt_s}, {"intervals_off", sr.intervals_off}, {"resampled", sr.resampled},
-                                  {"rows_used", role->data[k].size()}};
-    }
+    for (std::size_t k = 0; k < role->files.size(); ++k) sampling[role->files[k]] = samplingJson(role->data[k]);
   }
   return sampling;
 }
@@ -433,7 +428,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   j["inputs"] = single ? nlohmann::json{{"data", a.data}}
                        : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
   if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
-  j["inputs"]["sampling"] = samplingJson(primary, knee);
+  j["inputs"]["sampling"] = rolesSamplingJson(primary, knee);
   j["processing_per_record"] = processingJson(primary, knee);
   // Whether the base-motion terms were in the first record's rows (processing_per_record: each record's, and why).
   j["base_terms_used"] = usesBaseMotion(primary.data.front(), primary.signals.front());

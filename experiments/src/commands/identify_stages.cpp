@@ -1,6 +1,5 @@
 // `exoid identify --model M --stage JOINT=FILE ... --data FILE`: the segmental strategy down a
 // chain (ident/estimators/segmental.hpp), every method stage by stage.
-#include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
@@ -22,15 +21,8 @@
 #include <optional>
 
 namespace exoid::experiments {
-namespace {
 
-struct StageInput {
-  Eigen::Index first_joint = 0;
-  std::vector<std::string> files;
-};
-
-// The stages, distal first: --stage records grouped by their first moving joint, then --data.
-std::vector<StageInput> stageInputs(const ChainIdentifyArgs& a, const ident::ChainModel& model) {
+std::vector<ChainStageInput> stageInputs(const ChainIdentifyArgs& a, const ident::ChainModel& model) {
   const std::vector<std::string> names = model.jointNames();
   std::map<Eigen::Index, std::vector<std::string>, std::greater<>> by_joint;
   for (const auto& [joint, file] : a.stages) {
@@ -46,12 +38,13 @@ std::vector<StageInput> stageInputs(const ChainIdentifyArgs& a, const ident::Cha
     }
     by_joint[j].push_back(file);
   }
-  if (a.data.empty()) throw std::invalid_argument("--stage: the last stage, every joint moving, needs --data (repeatable)");
-  std::vector<StageInput> out;
+  std::vector<ChainStageInput> out;
   for (const auto& [j, files] : by_joint) out.push_back({j, files});
   out.push_back({0, a.data});
   return out;
 }
+
+namespace {
 
 std::string lockedJoints(const ident::ChainModel& model, Eigen::Index first) {
   std::string s;
@@ -66,15 +59,15 @@ struct StageRecords {
   /// The last stage's (every joint moving) first record: its processing, for the validation
   /// records, and its rows, for --plot without them.
   ident::SignalOptions fit_signals;
-  ident::RecordRows fit_rows;
+  std::optional<ident::RecordRows> shown;
 };
 
-StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<StageInput>& inputs,
+StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
                         const std::vector<std::vector<ident::Dataset>>& data) {
   const ident::ChainModel& model = loaded.model;
   StageRecords out;
   for (std::size_t s = 0; s < inputs.size(); ++s) {
-    const StageInput& in = inputs[s];
+    const ChainStageInput& in = inputs[s];
     ident::BandRule rule;
     rule.first_moving_joint = in.first_joint;
     std::vector<ident::RecordRows> records;
@@ -92,7 +85,7 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
       if (s + 1 == inputs.size() && r == 0) {
         out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
         out.fit_signals.base_terms = used.base_terms;  // judged: as made for the fit
-        out.fit_rows = records.back();
+        if (!a.plot.empty() && a.validate.empty()) out.shown = records.back();
       }
       files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz},
                        {"base_terms_used", usesBaseMotion(data[s][r], used)}});
@@ -116,11 +109,11 @@ std::vector<ident::Method> stageMethods(const ChainIdentifyArgs& a) {
   return methods;
 }
 
-// Every method down the stages, in `methods`' order.
+// Every method down the stages, in `methods`' order, with `mo` as they ran.
 std::vector<ident::SegmentalResult> identifyStages(const ChainIdentifyArgs& a, const LoadedChain& loaded,
                                                         const std::vector<ident::SegmentalStage>& stages,
-                                                        const std::vector<ident::Method>& methods) {
-  ident::MethodOptions mo = a.method_options;
+                                                        const std::vector<ident::Method>& methods, ident::MethodOptions& mo) {
+  mo = a.method_options;
   mo.ls.max_condition = a.max_condition;
   std::vector<ident::SegmentalResult> results;
   for (ident::Method m : methods) {
@@ -238,65 +231,38 @@ std::optional<StagesConsistency> stagesConsistency(const LoadedChain& loaded, co
   return c;
 }
 
-nlohmann::json stagesJson(const LoadedChain& loaded, const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
-                          const std::vector<ident::SegmentalResult>& results, const std::optional<Eigen::VectorXd>& truth,
-                          const std::optional<ident::ReportedErrors>& errors, const std::optional<StagesConsistency>& consistent,
-                          const std::vector<std::string>& problems) {
+// The stages' own JSON: LS's reported errors, the consistent estimate, the other methods.
+nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
+                          const std::vector<ident::SegmentalResult>& results, const std::optional<ident::ReportedErrors>& errors,
+                          const std::optional<StagesConsistency>& consistent) {
   nlohmann::json j;
-  j["tool"] = toolJson();
-  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}};
   j["strategy"] = "segmental_down_the_chain";
   j["stages"] = stages_json;
-  // As one fit's JSON: LS in base_parameters.ls, every other method's in methods (beta, status).
-  j["base_parameters"] = {{"names", loaded.base.names}, {"combinations", loaded.base.combinations}, {"ls", toVector(results.front().theta)}};
+  j["base_parameters"] = nlohmann::json::object();
+  if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));
   j["methods"] = nlohmann::json::object();
   for (std::size_t k = 1; k < methods.size(); ++k) {
     j["methods"][ident::toString(methods[k])] = {{"beta", toVector(results[k].theta)}, {"usable", results[k].usable()}};
   }
-  if (truth) j["base_parameters"]["truth"] = toVector(*truth);
-  if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));
   if (consistent) {
     j["base_parameters"]["consistent"] = toVector(consistent->fit.beta);
     j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->mahalanobis},
                        {"metric", "LS's reported covariance"}};
   }
-  j["status"] = problems.empty() ? "usable" : "not_usable";  // as every identify JSON says it
-  j["problems"] = problems;
   return j;
 }
 
 }  // namespace
 
-int identifyChainStages(const ChainIdentifyArgs& a) {
-  if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);
-  core::prepareOutputFile(a.plot);
-  const LoadedChain still = loadChain(a.model, a.armature, a.selection);
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
-  const std::vector<StageInput> inputs = stageInputs(a, still.model);
-  std::vector<std::vector<ident::Dataset>> data;
-  std::vector<ident::Dataset> all;
-  for (const StageInput& in : inputs) {
-    data.emplace_back();
-    for (const std::string& file : in.files) data.back().push_back(readLog(file, log));
-    all.insert(all.end(), data.back().begin(), data.back().end());
-  }
-  const LoadedChain loaded = a.moving_base_parameters ? movingBase(still, all, a.signals) : still;
-  all.clear();
-  const ident::ChainModel& model = loaded.model;
-  std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << loaded.base.rank
-            << " base parameters; segmental strategy, distal joints first\n";
-  StageRecords records = readStages(a, loaded, inputs, data);
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<std::vector<ident::Dataset>>& data,
+                   const std::optional<Eigen::VectorXd>& truth) {
+  StageRecords records = readStages(a, loaded, stageInputs(a, loaded.model), data);
   const std::vector<ident::Method> methods = stageMethods(a);
-  const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods);
-  std::vector<std::string> problems;
-  for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, model, methods, results, records.json[s], problems);
-
-  std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
+  ChainFit out;
+  const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
+  for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, loaded.model, methods, results, records.json[s], out.problems);
   std::optional<ident::ReportedErrors> errors;
-  if (results.front().usable()) {
-    errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
-  }
+  if (results.front().usable()) errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);
   std::optional<StagesConsistency> consistent;
   if (a.consistency && errors) consistent = stagesConsistency(loaded, results.front().theta, *errors);
@@ -304,24 +270,16 @@ int identifyChainStages(const ChainIdentifyArgs& a) {
     std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
               << fmt(consistent->mahalanobis, 3) << " reported standard errors from LS\n";
     if (consistent->mahalanobis > a.significance_sigmas) {
-      problems.push_back(inconsistencyProblem(consistent->mahalanobis, "reported standard errors", a.significance_sigmas));
+      out.problems.push_back(inconsistencyProblem(consistent->mahalanobis, "reported standard errors", a.significance_sigmas));
     }
   }
-  // The validation records, the model file's own parameters (CAD) and --plot, as the one fit's.
-  const Eigen::VectorXd cad = loaded.base.combination * loaded.phi;
-  std::vector<NamedEstimate> others;
-  for (std::size_t k = 1; k < methods.size(); ++k) others.emplace_back(ident::toString(methods[k]), results[k].theta);
-  const ChainValidation validation = validateChain(a, loaded, log, records.fit_signals, results.front().theta, others, cad);
-  if (!a.plot.empty()) plotChainFit(a, loaded, results.front().theta, validation.first ? *validation.first : records.fit_rows);
-  if (!a.json_out.empty()) {
-    nlohmann::json j = stagesJson(loaded, records.json, methods, results, truth, errors, consistent, problems);
-    j["base_parameters"]["cad"] = toVector(cad);
-    if (errors) j["base_parameters"]["ls_minus_cad_std_errors"] = cadDistances(results.front().theta, errors->reported, cad);
-    j["validation"] = validation.json;
-    writeJsonFile(a.json_out, j);
-  }
-  throwIfUnusable(problems);  // exit 3, naming why
-  return 0;
+  out.ls = results.front().theta;
+  if (errors) out.std_error = errors->reported;
+  for (std::size_t k = 1; k < methods.size(); ++k) out.others.emplace_back(ident::toString(methods[k]), results[k].theta);
+  out.fit_signals = records.fit_signals;
+  out.shown = std::move(records.shown);
+  out.json = stagesJson(records.json, methods, results, errors, consistent);
+  return out;
 }
 
 }  // namespace exoid::experiments

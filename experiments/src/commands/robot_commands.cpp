@@ -297,13 +297,6 @@ std::string inconsistencyProblem(double distance, const char* errors, double sig
          " from least squares (--significance " + fmt(significance_sigmas, 3) + ")";
 }
 
-void throwIfUnusable(const std::vector<std::string>& problems) {
-  if (problems.empty()) return;
-  std::string all;
-  for (const std::string& p : problems) all += (all.empty() ? "" : "; ") + p;
-  throw UnusableResult(all);
-}
-
 namespace {
 
 // The fit records, each processed in its own band (unless the flags fix it).
@@ -436,7 +429,12 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   return vj;
 }
 
-}  // namespace
+// Every --validate record, processed as the fit's first record (`fit_signals`): LS's and the
+// model file's (CAD `cad`) torque error RMS per joint, printed, and every other method's.
+struct ChainValidation {
+  nlohmann::json json = nlohmann::json::array();
+  std::optional<ident::RecordRows> first;  ///< the first validation record (what --plot shows)
+};
 
 ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::SignalOptions& fit_signals,
                               const Eigen::VectorXd& ls, const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad) {
@@ -448,8 +446,6 @@ ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loa
   }
   return out;
 }
-
-namespace {
 
 // t_s and each joint's measured and predicted torque, %.9g.
 void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::RecordRows& shown,
@@ -474,8 +470,7 @@ void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, 
   });
 }
 
-}  // namespace
-
+// --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
 void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown) {
   const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
   writeTorqueSeries(series, loaded.model, shown, shown.W * ls);
@@ -485,13 +480,12 @@ void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const E
   std::cout << "wrote " << a.plot << " and " << series << "\n";
 }
 
+// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
 nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& std_error, const Eigen::VectorXd& cad) {
   nlohmann::json out = nlohmann::json::array();
   for (Eigen::Index i = 0; i < cad.size(); ++i) out.push_back(std_error[i] > 0.0 ? nlohmann::json((ls[i] - cad[i]) / std_error[i]) : nlohmann::json());
   return out;
 }
-
-namespace {
 
 // Why the result must not be used (none: usable), and how far the consistent estimate is from LS.
 struct ChainVerdict {
@@ -599,73 +593,41 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
   if (est.consistent) std::cout << wrapped("consistent estimate: " + est.consistent->message + " (" + fmt(mahalanobis, 3) + " standard errors from LS)") << "\n";
 }
 
-nlohmann::json chainIdentifyJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
-                                 const MethodEstimates& others, const std::optional<Eigen::VectorXd>& truth,
-                                 const nlohmann::json& validation, const ChainVerdict& verdict, const Eigen::VectorXd& cad) {
-  const ident::ChainModel& model = loaded.model;
+// The one fit's own JSON: its records, LS's errors, the consistent estimate, the other methods.
+nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
+                          const MethodEstimates& others, const ChainVerdict& verdict) {
   nlohmann::json j;
-  j["tool"] = toolJson();
-  j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", model.jointNames()}, {"left_out", loaded.chain.left_out}};
   j["records"] = records_json;
-  j["base_parameters"] = {{"names", loaded.base.names},
-                          {"combinations", loaded.base.combinations},
-                          {"ls", toVector(est.beta)},
-                          {"condition_number", est.ls.condition_number},
-                          {"residual_rms_Nm", est.ls.residual_rms},
-                          {"rows", est.rows},
-                          {"cad", toVector(cad)},
-                          {"cad_is", "the model file's own parameters (its CAD) in the same base parameters"},
-                          {"ls_minus_cad_std_errors", cadDistances(est.beta, est.std_error, cad)}};
+  j["base_parameters"] = {{"condition_number", est.ls.condition_number}, {"residual_rms_Nm", est.ls.residual_rms}, {"rows", est.rows}};
   j["base_parameters"].update(baseErrorsJson(est.std_error, est.errors, kReportedErrorsAre));
   if (est.consistent) {
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
-    j["consistent"] = {{"standard_parameters", namedValues(model.standardParameterNames(), est.consistent->phi)},
+    j["consistent"] = {{"standard_parameters", namedValues(loaded.model.standardParameterNames(), est.consistent->phi)},
                        {"status", ident::toString(est.consistent->status)},
                        {"standard_errors_from_ls", verdict.mahalanobis},
                        {"message", est.consistent->message}};
   }
-  if (truth) j["base_parameters"]["truth"] = toVector(*truth);
-  j["validation"] = validation;
   j["methods"] = nlohmann::json::object();
   for (const auto& [m, e] : others) {
-    nlohmann::json mj = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
-                         {"l1_cost", e.l1_cost}};
-    if (truth) mj["error_rel"] = toVector(((e.x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
-    j["methods"][ident::toString(m)] = mj;
+    j["methods"][ident::toString(m)] = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
+                                        {"l1_cost", e.l1_cost}};
   }
-  j["problems"] = verdict.problems;
-  j["status"] = verdict.problems.empty() ? "usable" : "not_usable";
   return j;
 }
 
-}  // namespace
-
-int identifyChain(const ChainIdentifyArgs& given) {
-  ChainIdentifyArgs a = given;
-  // A moving base's parameters are told apart by the base's motion alone: its terms are not judged.
-  if (a.moving_base_parameters && a.signals.base_terms == ident::BaseTerms::kJudged) {
-    a.signals.base_terms = ident::BaseTerms::kAuto;
-    std::cout << "--base-terms judged: the base-motion terms are kept whenever a record has its IMU columns (a moving base's "
-                 "parameters are told apart by its motion alone)\n";
-  }
-  if (!a.stages.empty()) return identifyChainStages(a);
-  if (a.data.empty()) throw std::invalid_argument("identify --model: give the records with --data (repeatable)");
-  core::prepareOutputFile(a.json_out);
-  const LoadedChain still = loadChain(a.model, a.armature, a.selection);
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
-  std::vector<ident::Dataset> data;
-  for (const std::string& file : a.data) data.push_back(readLog(file, log));
-  const LoadedChain loaded = a.moving_base_parameters ? movingBase(still, data, a.signals) : still;
-  const ident::ChainModel& model = loaded.model;
+// One fit of every --data record together: LS with its errors and the consistent estimate, the
+// determination, the excitation and band-sensitivity lines, the other methods over the same rows.
+// `data` is released once read (a long log's memory).
+ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, std::vector<ident::Dataset>& data,
+                 const std::optional<Eigen::VectorXd>& truth) {
   const ident::BaseParameters& base = loaded.base;
-  std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << model.dof() << " joints, " << base.rank << " base parameters\n";
-  core::prepareOutputFile(a.plot);
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
   const ident::RecordRows stacked = ident::stackRecords(fit.records);
   std::vector<int> every(static_cast<std::size_t>(base.rank));
   for (int i = 0; i < base.rank; ++i) every[static_cast<std::size_t>(i)] = i;
   const ident::Determination determination = ident::determination(loaded.robot, data, stacked, every);
-  if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) std::cout << p << '\n';
+  const std::string undetermined = undeterminedProblem(loaded.robot, determination);
+  if (!undetermined.empty()) std::cout << undetermined << '\n';
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
@@ -687,14 +649,6 @@ int identifyChain(const ChainIdentifyArgs& given) {
   data.clear();
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
-  const Eigen::VectorXd cad = base.combination * loaded.phi;
-  std::vector<NamedEstimate> others_x;
-  for (const auto& [m, e] : others) others_x.emplace_back(ident::toString(m), e.x);
-  const ChainValidation validation = validateChain(a, loaded, log, *fit.fit_signals, est.beta, others_x, cad);
-  if (!a.plot.empty()) plotChainFit(a, loaded, est.beta, validation.first ? *validation.first : fit.records.front());
-
-  std::optional<Eigen::VectorXd> truth;
-  if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
   ChainVerdict verdict = verdictOf(a, base, est, others);
   // A consistency failure an optional term explains says so, and names the option.
   std::optional<ArmatureTest> armature;
@@ -705,22 +659,109 @@ int identifyChain(const ChainIdentifyArgs& given) {
     }
     if (!armature->joints.empty()) std::cout << wrapped("implausible: " + armature->hint()) << "\n";
   }
-  if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) verdict.problems.insert(verdict.problems.begin(), p);
+  if (!undetermined.empty()) verdict.problems.insert(verdict.problems.begin(), undetermined);
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   }
-  printChainEstimates(base, est, others, truth, verdict.mahalanobis, cad);
+  printChainEstimates(base, est, others, truth, verdict.mahalanobis, base.combination * loaded.phi);
   if (sensitivity) {
     for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";
   }
+  ChainFit out;
+  out.ls = est.beta;
+  out.std_error = est.std_error;
+  for (const auto& [m, e] : others) out.others.emplace_back(ident::toString(m), e.x);
+  out.method_options = mo;
+  out.fit_signals = *fit.fit_signals;
+  if (!a.plot.empty() && a.validate.empty()) out.shown = fit.records.front();
+  out.problems = verdict.problems;
+  out.json = oneFitJson(loaded, fit.json, est, others, verdict);
+  out.json["determination"] = determinationJson(loaded.robot, determination);
+  if (sensitivity) out.json["band_sensitivity"] = toJson(*sensitivity);
+  if (armature) out.json["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
+  return out;
+}
+
+}  // namespace
+
+int identifyChain(const ChainIdentifyArgs& given) {
+  ChainIdentifyArgs a = given;
+  // A moving base's parameters are told apart by the base's motion alone: its terms are not judged.
+  if (a.moving_base_parameters && a.signals.base_terms == ident::BaseTerms::kJudged) {
+    a.signals.base_terms = ident::BaseTerms::kAuto;
+    std::cout << "--base-terms judged: the base-motion terms are kept whenever a record has its IMU columns (a moving base's "
+                 "parameters are told apart by its motion alone)\n";
+  }
+  if (a.data.empty()) {
+    throw std::invalid_argument(a.stages.empty() ? "identify --model: give the records with --data (repeatable)"
+                                                 : "--stage: the last stage, every joint moving, needs --data (repeatable)");
+  }
+  core::prepareOutputFile(a.json_out);
+  core::prepareOutputFile(a.plot);
+  const LoadedChain still = loadChain(a.model, a.armature, a.selection);
+  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
+  const std::vector<ChainStageInput> inputs = stageInputs(a, still.model);
+  std::vector<std::vector<ident::Dataset>> data;
+  nlohmann::json sampling = nlohmann::json::object();
+  for (const ChainStageInput& in : inputs) {
+    data.emplace_back();
+    for (const std::string& file : in.files) {
+      data.back().push_back(readLog(file, log));
+      std::cout << "record " << file << ": " << samplingSummary(data.back().back(), log.csv) << '\n';
+      sampling[file] = samplingJson(data.back().back());
+    }
+  }
+  LoadedChain loaded = still;
+  if (a.moving_base_parameters) {
+    std::vector<ident::Dataset> all;
+    for (const auto& stage : data) all.insert(all.end(), stage.begin(), stage.end());
+    loaded = movingBase(still, all, a.signals);
+  }
+  const ident::BaseParameters& base = loaded.base;
+  std::cout << "model " << loaded.chain.name << " (" << loaded.path << "): " << loaded.model.dof() << " joints, " << base.rank << " base parameters"
+            << (a.stages.empty() ? "" : "; segmental strategy, distal joints first") << "\n";
+  std::optional<Eigen::VectorXd> truth;
+  if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
+  const ChainFit fit = a.stages.empty() ? fitOnce(a, loaded, log, data.front(), truth) : fitStages(a, loaded, data, truth);
+  data.clear();
+
+  // The validation records, the model file's own parameters (CAD) and --plot, whatever the strategy.
+  const Eigen::VectorXd cad = base.combination * loaded.phi;
+  const ChainValidation validation = validateChain(a, loaded, log, fit.fit_signals, fit.ls, fit.others, cad);
+  if (!a.plot.empty()) plotChainFit(a, loaded, fit.ls, validation.first ? *validation.first : *fit.shown);
   if (!a.json_out.empty()) {
-    nlohmann::json j = chainIdentifyJson(loaded, fit.json, est, others, truth, validation.json, verdict, cad);
-    j["determination"] = determinationJson(loaded.robot, determination);
-    if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
-    if (armature) j["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
+    nlohmann::json j = fit.json;
+    j["tool"] = toolJson();
+    j["command"] = "identify";
+    if (a.stages.empty()) j["strategy"] = "all_parameters_one_record";  // the APAL leg's name for one fit of every record
+    j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}, {"left_out", loaded.chain.left_out}};
+    nlohmann::json& b = j["base_parameters"];
+    b["names"] = base.names;
+    b["combinations"] = base.combinations;
+    b["ls"] = toVector(fit.ls);
+    b["cad"] = toVector(cad);
+    b["cad_is"] = "the model file's own parameters (its CAD) in the same base parameters";
+    if (fit.std_error) b["ls_minus_cad_std_errors"] = cadDistances(fit.ls, *fit.std_error, cad);
+    if (truth) {
+      b["truth"] = toVector(*truth);
+      for (const auto& [m, x] : fit.others) j["methods"][m]["error_rel"] = toVector(((x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
+    }
+    j["inputs"] = {{"data", a.data}, {"sampling", sampling}};
+    for (const auto& [joint, file] : a.stages) j["inputs"]["stages"].push_back({{"joint", joint}, {"file", file}});
+    if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
+    j["signal_options"] = toJson(a.signals);
+    j["method_options"] = toJson(fit.method_options);
+    j["seed"] = fit.method_options.rls_pso.pso.seed;
+    j["validation"] = validation.json;
+    j["problems"] = fit.problems;
+    j["status"] = fit.problems.empty() ? "usable" : "not_usable";
     writeJsonFile(a.json_out, j);
   }
-  throwIfUnusable(verdict.problems);
+  if (!fit.problems.empty()) {
+    std::string all;
+    for (const std::string& p : fit.problems) all += (all.empty() ? "" : "; ") + p;
+    throw UnusableResult(all);
+  }
   return 0;
 }
 

@@ -218,4 +218,10 @@ std::string samplingSummary(const ident::Dataset& d, const ident::CsvReadOptions
   return s;
 }
 
+nlohmann::json samplingJson(const ident::Dataset& d) {
+  const ident::SamplingReport& r = d.sampling;
+  return {{"rows_read", r.rows_read}, {"median_dt_s", r.median_dt_s}, {"min_dt_s", r.min_dt_s}, {"max_dt_s", r.max_dt_s},
+          {"intervals_off", r.intervals_off}, {"resampled", r.resampled}, {"rows_used", d.size()}};
+}
+
 }  // namespace exoid::experiments

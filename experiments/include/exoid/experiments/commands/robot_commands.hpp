@@ -109,29 +109,43 @@ struct ChainIdentifyArgs {
   std::string controller;
   ident::IvOptions iv;
 };
-/// `exoid identify --model` for a chain: base parameters by least squares, their standard errors,
-/// the physically consistent estimate; returns the exit code (0, or 3 naming why the result must
-/// not be used).
+/// `exoid identify --model` for a chain: its base parameters by least squares, in one fit of
+/// --data or down the chain's stages (--stage), their standard errors, the physically consistent
+/// estimate, every other method's, the validation records; returns the exit code (0, or 3 naming
+/// why the result must not be used).
 int identifyChain(const ChainIdentifyArgs& args);
-/// identifyChain with stages: ident::identifyChainSegmental, every method stage by stage.
-int identifyChainStages(const ChainIdentifyArgs& args);
 
-/// What the one fit and the stages share once they have their estimates.
 struct LoadedChain;
 /// A method's estimate by its name (the methods other than LS), in the base parameters.
 using NamedEstimate = std::pair<std::string, Eigen::VectorXd>;
-/// Every --validate record, processed as the fit's first record (`fit_signals`): LS's and the
-/// model file's (CAD `cad`) torque error RMS per joint, printed, and every other method's.
-struct ChainValidation {
-  nlohmann::json json = nlohmann::json::array();
-  std::optional<ident::RecordRows> first;  ///< the first validation record (what --plot shows)
+
+/// The records of one stage of identify --model: those whose joints above `first_joint` are locked.
+struct ChainStageInput {
+  Eigen::Index first_joint = 0;
+  std::vector<std::string> files;
 };
-ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::SignalOptions& fit_signals,
-                              const Eigen::VectorXd& ls, const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad);
-/// --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
-void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown);
-/// (ls - CAD) / standard error per base parameter; null where the standard error is not positive.
-nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& std_error, const Eigen::VectorXd& cad);
+/// The stages, distal first (--stage records grouped by their first moving joint), then --data's,
+/// every joint moving: without --stage, --data's alone. Throws std::invalid_argument naming a
+/// --stage whose joint is not the model's.
+std::vector<ChainStageInput> stageInputs(const ChainIdentifyArgs& a, const ident::ChainModel& model);
+
+/// What a strategy of identify --model (one fit, or the stages) leaves for the report they share:
+/// the validation records, --plot, the CAD comparison, the JSON's common part and the exit code.
+struct ChainFit {
+  Eigen::VectorXd ls;                        ///< LS's base parameters
+  std::optional<Eigen::VectorXd> std_error;  ///< LS's reported standard errors (none when LS is unusable)
+  std::vector<NamedEstimate> others;         ///< every other method's estimate
+  ident::MethodOptions method_options;       ///< as the methods ran (the PSO box sized from the data)
+  ident::SignalOptions fit_signals;          ///< the processing of the validation records: the last stage's first record's
+  std::optional<ident::RecordRows> shown;    ///< that record's rows, kept only for --plot without --validate
+  std::vector<std::string> problems;         ///< why the result must not be used (none: usable)
+  nlohmann::json json;                       ///< the strategy's own JSON (records or stages, errors, consistency, methods)
+};
+/// The segmental strategy down the chain: data[s] holds stage s's records (stageInputs), every
+/// method fitted stage by stage (ident::identifySegmental), printed with `truth` when known.
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<std::vector<ident::Dataset>>& data,
+                   const std::optional<Eigen::VectorXd>& truth);
+
 /// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
 /// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
 std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas);

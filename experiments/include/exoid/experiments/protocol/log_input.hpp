@@ -5,6 +5,7 @@
 #include "exoid/ident/io/dataset.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <optional>
 #include <string>
@@ -52,5 +53,7 @@ std::string timeUnitHint(const ident::Dataset& d);
 /// "2 ms median interval, 37 of 4999 off by > 0.1 % (longest 8.4 ms, line 1234): resampled to
 /// 5012 rows", or "uniform, 1 ms" for a clean record.
 std::string samplingSummary(const ident::Dataset& d, const ident::CsvReadOptions& o);
+/// The same as identify's JSON gives it per record: rows read and used, the intervals, resampled.
+nlohmann::json samplingJson(const ident::Dataset& d);
 
 }  // namespace exoid::experiments
