@@ -146,6 +146,22 @@ TEST(ChainCli, AHipLockedRecordExitsThreeNamingTheHipsBaseParameters) {
   EXPECT_FALSE(j["determination"]["records"][0]["joints_rad"][0]["moved"].get<bool>());
   EXPECT_NE(j["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << j["problems"];
   EXPECT_EQ(j["status"], "not_usable");  // as the APAL leg's identify says it
+  // The segmental strategy: the same record as the knee stage, then one where every joint moves,
+  // determines everything; with the hip held in the last stage too, the same hip parameters are
+  // named (the stages' determination is judged over all their records together).
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "6", "--seed", "5", "--out", dir + "/all.csv"}), 0);
+  EXPECT_EQ(runExoid({"identify", "--model", "leg3", "--stage", "knee=" + dir + "/locked.csv", "--data", dir + "/all.csv", "--json",
+                      dir + "/staged.json"}),
+            0);
+  EXPECT_TRUE(readJson(dir + "/staged.json")["determination"]["not_determined"].empty());
+  EXPECT_EQ(runExoid({"identify", "--model", "leg3", "--stage", "knee=" + dir + "/locked.csv", "--data", dir + "/locked.csv", "--json",
+                      dir + "/held.json"}),
+            3);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json held = readJson(dir + "/held.json");
+  EXPECT_EQ(held["determination"]["not_determined"], names);
+  EXPECT_NE(held["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << held["problems"];
 }
 
 TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {

@@ -96,6 +96,26 @@ TEST_P(DeterminationOnEveryLeg, AHeldHipLeavesExactlyTheHipsOwnParameters) {
   EXPECT_TRUE(determination(leg.robot, {held}, processRecord(held, leg.robot, parallel()), rest).undetermined.empty()) << leg.name;
 }
 
+// The segmental strategy's stages judged together, each over its moving joints' equations: the
+// hip-held record's lower equations and then a record where every joint moves determine
+// everything; the held record in both stages leaves the hip's own parameters, as one fit of it.
+TEST_P(DeterminationOnEveryLeg, StagesTogetherDetermineWhatTheirMotionsDo) {
+  const LegCase leg = GetParam()();
+  Dataset held = leg.record;
+  held.q_rad.col(0).setConstant(-0.4);
+  const std::vector<Dataset> held_records = {held}, moving_records = {leg.record};
+  const RecordRows held_rows = processRecord(held, leg.robot, parallel()), moving_rows = processRecord(leg.record, leg.robot, parallel());
+  std::vector<Eigen::Index> lower(static_cast<std::size_t>(leg.robot.dof() - 1));
+  for (std::size_t j = 0; j < lower.size(); ++j) lower[j] = static_cast<Eigen::Index>(j + 1);
+  const Determination staged = determination(leg.robot, {{held_records, held_rows, lower}, {moving_records, moving_rows, {}}}, every(leg.robot));
+  EXPECT_TRUE(staged.undetermined.empty()) << leg.name;
+  EXPECT_EQ(staged.records.size(), 2u);
+  const Determination still = determination(leg.robot, {{held_records, held_rows, lower}, {held_records, held_rows, {}}}, every(leg.robot));
+  EXPECT_EQ(still.undetermined, leg.hip_own) << leg.name;
+  // The lower equations alone cannot see the hip's own parameters at all, however the hip moves.
+  EXPECT_EQ(determination(leg.robot, {{moving_records, moving_rows, lower}}, every(leg.robot)).undetermined, leg.hip_own) << leg.name;
+}
+
 TEST_P(DeterminationOnEveryLeg, AnImusNoiseOnAStillBaseDeterminesNothing) {
   const LegCase leg = GetParam()();
   Dataset held = leg.record;

@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <numeric>
 
 namespace exoid::experiments {
 
@@ -529,27 +530,15 @@ struct LegRecords {
   ident::Robot robot;  ///< the 2-link leg of c (with the knee armature when asked)
   std::string constants_origin;
   /// What the records' motion determines: one fit of every parameter from both equations; or,
-  /// segmental, the knee equation's parameters from the knee records and the rest from the
-  /// both-joint records' hip equation.
+  /// segmental, the knee records' knee equation and the both-joint records' hip equation together.
   ident::Determination determination;
 };
 
 ident::Determination legDetermination(const LegRecords& r, bool segmental) {
-  const int p = r.robot.parameters();
-  std::vector<int> all(static_cast<std::size_t>(p));
-  for (int i = 0; i < p; ++i) all[static_cast<std::size_t>(i)] = i;
+  std::vector<int> all(static_cast<std::size_t>(r.robot.parameters()));
+  std::iota(all.begin(), all.end(), 0);
   if (!segmental) return ident::determination(r.robot, r.primary.data, r.primary.rows, all);
-  const std::vector<int>& knee_params = r.robot.joint_columns[1];
-  std::vector<int> hip_params;
-  for (int i : all) {
-    if (std::find(knee_params.begin(), knee_params.end(), i) == knee_params.end()) hip_params.push_back(i);
-  }
-  ident::Determination d = ident::determination(r.robot, r.knee.data, r.knee.rows, knee_params, {1});
-  const ident::Determination hip = ident::determination(r.robot, r.primary.data, r.primary.rows, hip_params, {0});
-  d.records.insert(d.records.end(), hip.records.begin(), hip.records.end());
-  d.undetermined.insert(d.undetermined.end(), hip.undetermined.begin(), hip.undetermined.end());
-  std::sort(d.undetermined.begin(), d.undetermined.end());
-  return d;
+  return ident::determination(r.robot, {{r.knee.data, r.knee.rows, {1}}, {r.primary.data, r.primary.rows, {0}}}, all);
 }
 
 LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {

@@ -10,6 +10,7 @@
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
+#include "exoid/ident/model/determination.hpp"
 #include "exoid/ident/signals/processing.hpp"
 
 #include <Eigen/Cholesky>
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <numeric>
 #include <optional>
 
 namespace exoid::experiments {
@@ -259,6 +261,20 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   StageRecords records = readStages(a, loaded, stageInputs(a, loaded.model), data);
   const std::vector<ident::Method> methods = stageMethods(a);
   ChainFit out;
+  // What the stages' motions determine together: each stage's records over its moving joints' equations.
+  std::vector<ident::DeterminationStage> moving;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    std::vector<Eigen::Index> equations(static_cast<std::size_t>(loaded.model.dof() - records.stages[s].first_joint));
+    std::iota(equations.begin(), equations.end(), records.stages[s].first_joint);
+    moving.push_back({data[s], records.stages[s].record, equations});
+  }
+  std::vector<int> every(static_cast<std::size_t>(loaded.base.rank));
+  std::iota(every.begin(), every.end(), 0);
+  const ident::Determination determination = ident::determination(loaded.robot, moving, every);
+  if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) {
+    std::cout << p << '\n';
+    out.problems.push_back(p);
+  }
   const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
   for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, loaded.model, methods, results, records.json[s], out.problems);
   std::optional<ident::ReportedErrors> errors;
@@ -279,6 +295,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   out.fit_signals = records.fit_signals;
   out.shown = std::move(records.shown);
   out.json = stagesJson(records.json, methods, results, errors, consistent);
+  out.json["determination"] = determinationJson(loaded.robot, determination);
   return out;
 }
 

@@ -75,61 +75,78 @@ RecordMotion recordMotion(const Dataset& d) {
 }
 
 Determination determination(const Robot& robot, const std::vector<Dataset>& records, const RecordRows& rows,
-                            const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations_in) {
+                            const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations) {
+  return determination(robot, {DeterminationStage{records, rows, equations}}, unknowns);
+}
+
+namespace {
+
+// One record's rows over `equations` and the columns of `unknowns`, at up to kMaxSamplesPerRecord
+// of its samples, with every joint it held (and a still base) frozen.
+Eigen::MatrixXd frozenRows(const Robot& robot, const RecordMotion& motion, const RecordRows& rows, Eigen::Index first_sample,
+                           Eigen::Index samples, const std::vector<Eigen::Index>& equations, const std::vector<int>& unknowns,
+                           RobotWorkspace& work) {
   const Eigen::Index dof = robot.dof();
-  std::vector<Eigen::Index> equations = equations_in;
-  if (equations.empty()) {
-    equations.resize(static_cast<std::size_t>(dof));
-    std::iota(equations.begin(), equations.end(), Eigen::Index{0});
+  JointSignals s;
+  s.q_rad = rows.states.q_rad.middleRows(first_sample, samples);
+  s.qd_radps = rows.states.qd_radps.middleRows(first_sample, samples);
+  s.qdd_radps2 = rows.states.qdd_radps2.middleRows(first_sample, samples);
+  if (rows.states.base.rows() > 0) s.base = rows.states.base.middleRows(first_sample, samples);
+  s.t_s = rows.states.t_s.segment(first_sample, samples);
+  s.tau_Nm = rows.states.tau_Nm.middleRows(first_sample, samples);
+  for (Eigen::Index j = 0; j < dof; ++j) {
+    if (motion.joints[static_cast<std::size_t>(j)].moved()) continue;
+    s.q_rad.col(j).setConstant(s.q_rad.col(j).mean());
+    s.qd_radps.col(j).setZero();
+    s.qdd_radps2.col(j).setZero();
   }
-  if (rows.dof != dof || rows.record_rows.size() != records.size()) {
-    throw std::invalid_argument("determination: " + core::toText(records.size()) + " records but rows of " +
-                                core::toText(rows.record_rows.size()) + " records of a " + core::toText(rows.dof) + "-joint robot");
+  if (s.base.rows() > 0 && !motion.baseMoved()) {
+    // Columns (f_x, f_z, omega, alpha): the mean specific force, no rotation.
+    for (Eigen::Index c = 0; c < 2; ++c) s.base.col(c).setConstant(s.base.col(c).mean());
+    s.base.rightCols(2).setZero();
   }
-  Determination out;
-  // Each record's rows at up to kMaxSamplesPerRecord of its samples, its held joints frozen.
-  std::vector<Eigen::MatrixXd> blocks;
-  Eigen::Index first_sample = 0;
-  RobotWorkspace work;
+  const Eigen::Index step = std::max<Eigen::Index>(1, (samples + kMaxSamplesPerRecord - 1) / kMaxSamplesPerRecord);
+  const Eigen::Index kept = (samples + step - 1) / step;
+  const auto equation_count = static_cast<Eigen::Index>(equations.size());
+  Eigen::MatrixXd block(kept * equation_count, static_cast<Eigen::Index>(unknowns.size()));
   Eigen::MatrixXd Y(dof, robot.parameters());
-  for (std::size_t r = 0; r < records.size(); ++r) {
-    out.records.push_back(recordMotion(records[r]));
-    const Eigen::Index samples = rows.record_rows[r] / dof;
-    JointSignals s;
-    s.q_rad = rows.states.q_rad.middleRows(first_sample, samples);
-    s.qd_radps = rows.states.qd_radps.middleRows(first_sample, samples);
-    s.qdd_radps2 = rows.states.qdd_radps2.middleRows(first_sample, samples);
-    if (rows.states.base.rows() > 0) s.base = rows.states.base.middleRows(first_sample, samples);
-    s.t_s = rows.states.t_s.segment(first_sample, samples);
-    s.tau_Nm = rows.states.tau_Nm.middleRows(first_sample, samples);
-    first_sample += samples;
-    const RecordMotion& motion = out.records.back();
-    for (Eigen::Index j = 0; j < dof; ++j) {
-      if (motion.joints[static_cast<std::size_t>(j)].moved()) continue;
-      s.q_rad.col(j).setConstant(s.q_rad.col(j).mean());
-      s.qd_radps.col(j).setZero();
-      s.qdd_radps2.col(j).setZero();
-    }
-    if (s.base.rows() > 0 && !motion.baseMoved()) {
-      // Columns (f_x, f_z, omega, alpha): the mean specific force, no rotation.
-      for (Eigen::Index c = 0; c < 2; ++c) s.base.col(c).setConstant(s.base.col(c).mean());
-      s.base.rightCols(2).setZero();
-    }
-    const Eigen::Index step = std::max<Eigen::Index>(1, (samples + kMaxSamplesPerRecord - 1) / kMaxSamplesPerRecord);
-    const Eigen::Index kept = (samples + step - 1) / step;
-    Eigen::MatrixXd block(kept * static_cast<Eigen::Index>(equations.size()), static_cast<Eigen::Index>(unknowns.size()));
-    for (Eigen::Index k = 0; k < kept; ++k) {
-      const Eigen::Index i = k * step;
-      robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
-                    baseMotionAt(robot, s, i), work, Y);
-      for (std::size_t e = 0; e < equations.size(); ++e) {
-        for (std::size_t u = 0; u < unknowns.size(); ++u) {
-          block(k * static_cast<Eigen::Index>(equations.size()) + static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(u)) =
-              Y(equations[e], unknowns[u]);
-        }
+  for (Eigen::Index k = 0; k < kept; ++k) {
+    const Eigen::Index i = k * step;
+    robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
+                  baseMotionAt(robot, s, i), work, Y);
+    for (std::size_t e = 0; e < equations.size(); ++e) {
+      for (std::size_t u = 0; u < unknowns.size(); ++u) {
+        block(k * equation_count + static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(u)) = Y(equations[e], unknowns[u]);
       }
     }
-    blocks.push_back(std::move(block));
+  }
+  return block;
+}
+
+}  // namespace
+
+Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages, const std::vector<int>& unknowns) {
+  const Eigen::Index dof = robot.dof();
+  Determination out;
+  std::vector<Eigen::MatrixXd> blocks;
+  RobotWorkspace work;
+  for (const DeterminationStage& stage : stages) {
+    std::vector<Eigen::Index> equations = stage.equations;
+    if (equations.empty()) {
+      equations.resize(static_cast<std::size_t>(dof));
+      std::iota(equations.begin(), equations.end(), Eigen::Index{0});
+    }
+    if (stage.rows.dof != dof || stage.rows.record_rows.size() != stage.records.size()) {
+      throw std::invalid_argument("determination: " + core::toText(stage.records.size()) + " records but rows of " +
+                                  core::toText(stage.rows.record_rows.size()) + " records of a " + core::toText(stage.rows.dof) + "-joint robot");
+    }
+    Eigen::Index first_sample = 0;
+    for (std::size_t r = 0; r < stage.records.size(); ++r) {
+      out.records.push_back(recordMotion(stage.records[r]));
+      const Eigen::Index samples = stage.rows.record_rows[r] / dof;
+      blocks.push_back(frozenRows(robot, out.records.back(), stage.rows, first_sample, samples, equations, unknowns, work));
+      first_sample += samples;
+    }
   }
   Eigen::Index total = 0;
   for (const Eigen::MatrixXd& b : blocks) total += b.rows();

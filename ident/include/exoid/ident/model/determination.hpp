@@ -59,4 +59,16 @@ struct Determination {
 Determination determination(const Robot& robot, const std::vector<Dataset>& records, const RecordRows& rows,
                             const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations = {});
 
+/// One stage of a segmental strategy: its records, their processed rows stacked, and the joints
+/// whose equations it fits (empty: all).
+struct DeterminationStage {
+  const std::vector<Dataset>& records;
+  const RecordRows& rows;
+  std::vector<Eigen::Index> equations;
+};
+/// The same test over the stages together: each stage's frozen rows over its own equations,
+/// stacked. A parameter is determined when the stages' motions together determine it (what the
+/// segmental fit identifies, stage after stage); `records` lists every stage's, in order.
+Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages, const std::vector<int>& unknowns);
+
 }  // namespace exoid::ident
