@@ -32,12 +32,6 @@ if(EXOID_SANITIZE OR EXOID_FUZZ)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
-# Version and source revision stamped into every output.
-execute_process(COMMAND git -C ${CMAKE_SOURCE_DIR} describe --always --dirty --abbrev=12
-                OUTPUT_VARIABLE EXOID_GIT_REVISION OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-if(NOT EXOID_GIT_REVISION)
-  set(EXOID_GIT_REVISION "unknown")
-endif()
 
 # Heavy third-party headers (Eigen, CLI11, nlohmann_json, gtest) parsed, and their templates
 # instantiated, once per target instead of once per source. Off by default: a tree whose objects
