@@ -5,6 +5,7 @@
 #include "cli_test_support.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/table.hpp"
 
 #include <gtest/gtest.h>
@@ -164,6 +165,37 @@ TEST(ChainCli, AHipLockedRecordExitsThreeNamingTheHipsBaseParameters) {
   EXPECT_NE(held["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << held["problems"];
 }
 
+// Every method's estimate is judged for physical consistency, as LS's is (and as the APAL leg's
+// identify judges each method): the file's own parameters are consistent, at no distance; a
+// negative viscous friction is not, and lies |value| / its standard error away (the friction's
+// bound is the nearest consistent point, the other parameters free): the method is named.
+TEST(ChainCli, EveryMethodsEstimateIsJudgedForPhysicalConsistency) {
+  const LoadedChain leg = loadChain("leg3");
+  const Eigen::VectorXd cad = leg.base.combination * leg.phi;
+  const Eigen::VectorXd sd = 0.01 * cad.cwiseAbs().array() + 1e-3;
+  const Eigen::MatrixXd covariance = sd.array().square().matrix().asDiagonal();
+  const std::optional<NearestConsistent> own = nearestConsistent(leg, cad, covariance);
+  ASSERT_TRUE(own);
+  EXPECT_EQ(own->fit.status, ident::ConsistentFitStatus::kLeastSquaresConsistent);
+  EXPECT_EQ(own->distance, 0.0);
+  const auto fv = std::find(leg.base.names.begin(), leg.base.names.end(), "hip.fv");
+  ASSERT_NE(fv, leg.base.names.end());
+  const auto i = static_cast<Eigen::Index>(fv - leg.base.names.begin());
+  Eigen::VectorXd negative = cad;
+  negative[i] = -10.0 * sd[i];
+  ChainFit fit;
+  fit.others = {{"lad", cad}, {"pso", negative}};
+  ChainIdentifyArgs args;
+  testing::internal::CaptureStdout();
+  judgeOthersConsistency(args, leg, covariance, fit);
+  testing::internal::GetCapturedStdout();
+  EXPECT_TRUE(fit.json["methods"]["lad"]["consistent"]["consistent"].get<bool>());
+  EXPECT_FALSE(fit.json["methods"]["pso"]["consistent"]["consistent"].get<bool>());
+  EXPECT_NEAR(fit.json["methods"]["pso"]["consistent"]["ls_standard_errors_from_estimate"].get<double>(), 10.0, 1e-3);
+  ASSERT_EQ(fit.problems.size(), 1u);
+  EXPECT_EQ(fit.problems[0].rfind("pso: no physically consistent body explains its estimate", 0), 0u) << fit.problems[0];
+}
+
 TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   // The paper's strategy on the 3-DOF leg: an ankle record with hip and knee locked, a knee record
   // with the hip locked, then every joint. Exact records (sgn Coulomb, recorded derivatives): every
@@ -242,6 +274,10 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
     EXPECT_EQ((*j)["seed"], o["seed"]);
     EXPECT_EQ((*j)["base_parameters"]["ls_minus_cad_std_errors"].size(), 17u);
     EXPECT_EQ((*j)["methods"]["lad"]["error_rel"].size(), 17u);
+    for (std::size_t i = 0; i < 17; ++i) {  // relative where the truth is not 0, else null
+      EXPECT_EQ((*j)["methods"]["lad"]["error_rel"][i].is_null(), (*j)["base_parameters"]["truth"][i].get<double>() == 0.0) << i;
+    }
+    EXPECT_TRUE((*j)["methods"]["lad"]["consistent"]["consistent"].get<bool>()) << (*j)["methods"]["lad"];  // exact: the truth's
     EXPECT_EQ((*j)["model"]["joints"], nlohmann::json({"hip", "knee", "ankle"}));
   }
   EXPECT_EQ(r["inputs"]["stages"].size(), 2u);

@@ -207,36 +207,10 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
   }
 }
 
-// LS's physically consistent estimate: the stages share no rows, so the nearest consistent base
-// parameters in the metric of LS's reported covariance C, min (b - theta)' C^-1 (b - theta)
-// (identify's one fit uses its rows' metric); beyond --significance of those errors away, no
-// physical body explains the data.
-struct StagesConsistency {
-  ident::ConsistentFit fit;
-  double mahalanobis = 0.0;  ///< reported standard errors from LS to the consistent estimate
-};
-
-std::optional<StagesConsistency> stagesConsistency(const LoadedChain& loaded, const Eigen::VectorXd& theta, const ident::ReportedErrors& errors) {
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(errors.covariance);
-  if (!errors.covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
-  const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
-  StagesConsistency c;
-  try {
-    c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi);
-  } catch (const std::invalid_argument& e) {
-    std::cout << wrapped("consistent estimate: not computed (" + std::string(e.what()) + ")") << "\n";
-    return std::nullopt;
-  }
-  if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // LS itself: no distance
-  const Eigen::VectorXd d = c.fit.beta - theta;
-  c.mahalanobis = std::sqrt(std::max(0.0, d.dot(A * d)));
-  return c;
-}
-
 // The stages' own JSON: LS's reported errors, the consistent estimate, the other methods.
 nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
                           const std::vector<ident::SegmentalResult>& results, const std::optional<ident::ReportedErrors>& errors,
-                          const std::optional<StagesConsistency>& consistent) {
+                          const std::optional<NearestConsistent>& consistent) {
   nlohmann::json j;
   j["strategy"] = "segmental_down_the_chain";
   j["stages"] = stages_json;
@@ -248,7 +222,7 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
   }
   if (consistent) {
     j["base_parameters"]["consistent"] = toVector(consistent->fit.beta);
-    j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->mahalanobis},
+    j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->distance},
                        {"metric", "LS's reported covariance"}};
   }
   return j;
@@ -280,13 +254,15 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   std::optional<ident::ReportedErrors> errors;
   if (results.front().usable()) errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);
-  std::optional<StagesConsistency> consistent;
-  if (a.consistency && errors) consistent = stagesConsistency(loaded, results.front().theta, *errors);
+  // LS's physically consistent estimate: the stages share no rows, so the nearest in the metric of
+  // LS's reported covariance (one fit uses its rows' metric).
+  std::optional<NearestConsistent> consistent;
+  if (a.consistency && errors) consistent = nearestConsistent(loaded, results.front().theta, errors->covariance);
   if (consistent) {
     std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
-              << fmt(consistent->mahalanobis, 3) << " reported standard errors from LS\n";
-    if (consistent->mahalanobis > a.significance_sigmas) {
-      out.problems.push_back(inconsistencyProblem(consistent->mahalanobis, "reported standard errors", a.significance_sigmas));
+              << fmt(consistent->distance, 3) << " reported standard errors from LS\n";
+    if (consistent->distance > a.significance_sigmas) {
+      out.problems.push_back(inconsistencyProblem(consistent->distance, "reported standard errors", a.significance_sigmas));
     }
   }
   out.ls = results.front().theta;
@@ -296,6 +272,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   out.shown = std::move(records.shown);
   out.json = stagesJson(records.json, methods, results, errors, consistent);
   out.json["determination"] = determinationJson(loaded.robot, determination);
+  if (a.consistency && errors) judgeOthersConsistency(a, loaded, errors->covariance, out);
   return out;
 }
 

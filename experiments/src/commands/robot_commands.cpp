@@ -292,6 +292,37 @@ core::FourierSeries readChainExcitation(const std::string& path) {
   return f;
 }
 
+std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(covariance);
+  if (!covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
+  const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
+  NearestConsistent c;
+  try {
+    c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi);
+  } catch (const std::invalid_argument& e) {
+    std::cout << wrapped("consistent estimate: not computed (" + std::string(e.what()) + ")") << "\n";
+    return std::nullopt;
+  }
+  if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // theta itself: no distance
+  const Eigen::VectorXd d = c.fit.beta - theta;
+  c.distance = std::sqrt(std::max(0.0, d.dot(A * d)));
+  return c;
+}
+
+void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::MatrixXd& covariance, ChainFit& fit) {
+  for (const auto& [m, x] : fit.others) {
+    if (!x.allFinite()) continue;  // an unusable estimate is named as such already
+    const std::optional<NearestConsistent> c = nearestConsistent(loaded, x, covariance);
+    if (!c) continue;
+    fit.json["methods"][m]["consistent"] = {{"consistent", c->fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent},
+                                            {"ls_standard_errors_from_estimate", c->distance}};
+    if (c->distance > a.significance_sigmas) {
+      fit.problems.push_back(m + ": no physically consistent body explains its estimate: the nearest consistent estimate is " + fmt(c->distance, 3) +
+                             " of LS's standard errors away (--significance " + fmt(a.significance_sigmas, 3) + ")");
+    }
+  }
+}
+
 std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas) {
   return "no physically consistent body explains the data: the nearest consistent estimate is " + fmt(distance, 3) + " " + errors +
          " from least squares (--significance " + fmt(significance_sigmas, 3) + ")";
@@ -676,6 +707,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   if (!a.plot.empty() && a.validate.empty()) out.shown = fit.records.front();
   out.problems = verdict.problems;
   out.json = oneFitJson(loaded, fit.json, est, others, verdict);
+  if (a.consistency) judgeOthersConsistency(a, loaded, est.covariance, out);
   out.json["determination"] = determinationJson(loaded.robot, determination);
   if (sensitivity) out.json["band_sensitivity"] = toJson(*sensitivity);
   if (armature) out.json["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
@@ -744,7 +776,10 @@ int identifyChain(const ChainIdentifyArgs& given) {
     if (fit.std_error) b["ls_minus_cad_std_errors"] = cadDistances(fit.ls, *fit.std_error, cad);
     if (truth) {
       b["truth"] = toVector(*truth);
-      for (const auto& [m, x] : fit.others) j["methods"][m]["error_rel"] = toVector(((x - *truth).array() / truth->array().abs().max(1e-300)).matrix());
+      for (const auto& [m, x] : fit.others) {
+        nlohmann::json& rel = j["methods"][m]["error_rel"] = nlohmann::json::array();  // null where the truth is 0
+        for (Eigen::Index i = 0; i < x.size(); ++i) rel.push_back((*truth)[i] != 0.0 ? nlohmann::json((x[i] - (*truth)[i]) / std::abs((*truth)[i])) : nlohmann::json());
+      }
     }
     j["inputs"] = {{"data", a.data}, {"sampling", sampling}};
     for (const auto& [joint, file] : a.stages) j["inputs"]["stages"].push_back({{"joint", joint}, {"file", file}});

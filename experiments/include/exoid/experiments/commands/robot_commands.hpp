@@ -9,6 +9,7 @@
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/consistent_fit.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/sim/motor_rig.hpp"
 #include "exoid/sim/simulate.hpp"
@@ -141,6 +142,21 @@ struct ChainFit {
   std::vector<std::string> problems;         ///< why the result must not be used (none: usable)
   nlohmann::json json;                       ///< the strategy's own JSON (records or stages, errors, consistency, methods)
 };
+/// The nearest physically consistent base parameters to `theta` in the metric of a covariance C,
+/// min (b - theta)' C^-1 (b - theta), and their distance from theta in those standard errors (0
+/// when theta is itself consistent); none when C is not positive definite, or when the model's
+/// consistency cannot be judged (said on stdout).
+struct NearestConsistent {
+  ident::ConsistentFit fit;
+  double distance = 0.0;
+};
+std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance);
+/// Every other method's estimate in `fit` judged as LS's is (the APAL leg's identify judges each
+/// method's plausibility too): when no consistent body lies within --significance of LS's
+/// standard errors (`covariance`) of it, a problem naming the method; in fit.json's
+/// methods.<m>.consistent either way.
+void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::MatrixXd& covariance, ChainFit& fit);
+
 /// The segmental strategy down the chain: data[s] holds stage s's records (stageInputs), every
 /// method fitted stage by stage (ident::identifySegmental), printed with `truth` when known.
 ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<std::vector<ident::Dataset>>& data,
