@@ -593,13 +593,48 @@ TEST(ChainCli, IdentifiabilityOfARecordNamesWhatItCannotSeparate) {
   EXPECT_NE(stderrOf({"identifiability", "--data", csv, "--armature", "knee"}, 105).find("--armature: is for a chain model"), std::string::npos);
 }
 
+// As on the APAL leg: wall times and PSO's best-cost histories only when asked (--timing,
+// --history), so the same input gives the same bytes; each method's JSON says what the APAL leg's
+// says of it (iterations, L1 cost, its box, the optimality gaps), in one fit and in every stage.
+TEST(ChainCli, WallTimesAndHistoriesOnlyWhenAskedAndTheBytesRepeat) {
+  const std::string dir = ::testing::TempDir() + "/chain_timing";
+  std::filesystem::create_directories(dir);
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--duration", "4", "--seed", "6", "--out", dir + "/r.csv"}), 0);
+  const std::vector<std::string> identify = {"identify", "--model", "leg3", "--data", dir + "/r.csv", "--method", "ls,pso", "--pso-iterations", "50"};
+  const auto run = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = identify;
+    args.insert(args.end(), {"--json", out});
+    args.insert(args.end(), extra.begin(), extra.end());
+    runExoid(args);  // exit 3 or 0: PSO's 50 iterations may end on its box
+    std::ifstream in(out);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const std::string first = run(dir + "/a.json", {}), second = run(dir + "/b.json", {});
+  const nlohmann::json asked = nlohmann::json::parse(run(dir + "/c.json", {"--timing", "--history"}));
+  const nlohmann::json staged = nlohmann::json::parse(
+      run(dir + "/d.json", {"--stage", "knee=" + dir + "/r.csv", "--timing", "--history"}));
+  testing::internal::GetCapturedStdout();
+  EXPECT_EQ(first, second);
+  EXPECT_EQ(first.find("wall_time_s"), std::string::npos);
+  EXPECT_EQ(first.find("best_cost_history"), std::string::npos);
+  const nlohmann::json& pso = asked["methods"]["pso"];
+  // The initial swarm's best, then one per iteration.
+  EXPECT_EQ(pso["best_cost_history"].size(), pso["iterations"].get<std::size_t>() + 1) << pso.dump().substr(0, 300);
+  EXPECT_GE(pso["wall_time_s"].get<double>(), 0.0);
+  EXPECT_GE(asked["base_parameters"]["wall_time_s"].get<double>(), 0.0);
+  EXPECT_EQ(pso["box"]["lower"].size(), 17u);
+  EXPECT_LE(pso["box"]["lower"][0].get<double>(), pso["beta"][0].get<double>());
+  for (const auto& stage : staged["stages"]) {
+    EXPECT_FALSE(stage["methods"]["pso"]["best_cost_history"].empty()) << stage.dump().substr(0, 300);
+    EXPECT_TRUE(stage["methods"]["ls"].contains("wall_time_s"));
+  }
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--knee-data", dir + "/x.csv"}, 105).find("--knee-data"), std::string::npos);
-  // Refused, never ignored: the APAL leg's wall-time and PSO-history outputs.
-  const std::string leg3_urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
-  EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--data", leg3_urdf, "--timing"}, 105).find("--timing"), std::string::npos);
   // IDIM-IV fits one record whole (its instruments simulate that record's closed loop): not stage by stage.
   const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--method", "idim-iv", "--stage", "knee=" + urdf, "--data", urdf}, 105)

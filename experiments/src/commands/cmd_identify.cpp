@@ -459,7 +459,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 bool runChainModel(const IdentifyArgs& a) {
   if (a.model.empty() && !a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
   if (a.model.empty() || (sim::isApalLegModel(sim::modelPathFor(a.model)) && a.selection.empty())) return false;
-  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity", "--timing", "--history"}) {
+  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
     }
@@ -503,6 +503,8 @@ bool runChainModel(const IdentifyArgs& a) {
   c.controller = a.controller;
   a.iv.validate();
   c.iv = a.iv;
+  c.timing = a.timing;
+  c.history = a.history;
   if (std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) == methods.end() && !a.controller.empty()) {
     throw CLI::ValidationError("--controller", "is IDIM-IV's (--method idim-iv); no method given uses it");
   }
@@ -752,7 +754,8 @@ void addIdentificationOptions(CLI::App& cmd, IdentifyArgs& args) {
 void addOutputOptions(CLI::App& cmd, IdentifyArgs& args) {
   cmd.add_option("--json", args.json_out, "Write the results as JSON here (atomically)")->group("Output");
   cmd.add_flag("--timing", args.timing,
-               "Wall times of each method in the table and the JSON (without it, the same input gives the same bytes)")
+               "Wall times of each method in the JSON, and in the APAL leg's table (without it, the same input gives the same\n"
+               "bytes)")
       ->group("Output");
   cmd.add_flag("--history", args.history, "Include PSO best-cost histories in the JSON")->group("Output");
 }

@@ -129,7 +129,7 @@ std::vector<ident::SegmentalResult> identifyStages(const ChainIdentifyArgs& a, c
 // Stage s: what it identifies and each method's result there (printed, into its JSON `sj`), and
 // why a method's result there must not be used (appended to `problems`).
 void reportStage(std::size_t s, const ident::ChainModel& model, const std::vector<ident::Method>& methods,
-                 const std::vector<ident::SegmentalResult>& results, nlohmann::json& sj, std::vector<std::string>& problems) {
+                 const std::vector<ident::SegmentalResult>& results, bool with_history, nlohmann::json& sj, std::vector<std::string>& problems) {
   const ident::StageProblem& st = results.front().stages[s].problem;
   const std::string joint = model.joints[static_cast<std::size_t>(st.first_joint)].name;
   std::cout << "stage " << s + 1 << ": " << (st.first_joint == 0 ? "every joint moves" : "joints from " + joint + " down move, " +
@@ -154,10 +154,8 @@ void reportStage(std::size_t s, const ident::ChainModel& model, const std::vecto
   sj["identifies"] = st.names;
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const ident::Estimate& e = results[k].stages[s].estimate;
-    sj["methods"][ident::toString(methods[k])] = {{"status", ident::toString(e.summary.status)},
-                                                  {"message", e.summary.message},
-                                                  {"values", std::vector<double>(e.x.data(), e.x.data() + e.x.size())}};
-    if (e.condition_number) sj["methods"][ident::toString(methods[k])]["condition_number"] = *e.condition_number;
+    nlohmann::json& mj = sj["methods"][ident::toString(methods[k])] = estimateJson(e, with_history);
+    mj["values"] = toVector(e.x);
   }
 }
 
@@ -250,7 +248,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
     out.problems.push_back(p);
   }
   const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
-  for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, loaded.model, methods, results, records.json[s], out.problems);
+  for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, loaded.model, methods, results, a.history, records.json[s], out.problems);
   std::optional<ident::ReportedErrors> errors;
   if (results.front().usable()) errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
   printStageEstimates(loaded.base, methods, results, knownAfterStage(results.front(), loaded.base.rank), truth, errors);

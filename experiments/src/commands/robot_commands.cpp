@@ -15,6 +15,7 @@
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
+#include "exoid/ident/estimators/stopwatch.hpp"
 #include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/signals/processing.hpp"
@@ -626,7 +627,7 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
 
 // The one fit's own JSON: its records, LS's errors, the consistent estimate, the other methods.
 nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
-                          const MethodEstimates& others, const ChainVerdict& verdict) {
+                          const MethodEstimates& others, const ChainVerdict& verdict, bool with_history) {
   nlohmann::json j;
   j["records"] = records_json;
   j["base_parameters"] = {{"condition_number", est.ls.condition_number}, {"residual_rms_Nm", est.ls.residual_rms}, {"rows", est.rows}};
@@ -640,8 +641,9 @@ nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& recor
   }
   j["methods"] = nlohmann::json::object();
   for (const auto& [m, e] : others) {
-    j["methods"][ident::toString(m)] = {{"beta", toVector(e.x)}, {"status", ident::toString(e.summary.status)}, {"message", e.summary.message},
-                                        {"l1_cost", e.l1_cost}};
+    nlohmann::json& mj = j["methods"][ident::toString(m)] = estimateJson(e, with_history);
+    mj["beta"] = toVector(e.x);
+    if (e.box) mj["box"] = {{"lower", toVector(e.box->lower)}, {"upper", toVector(e.box->upper)}};
   }
   return j;
 }
@@ -669,7 +671,9 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   std::future<std::optional<BandRefit>> refit = std::async(std::launch::async, [&] {
     return refitInAWiderBand(data, one_thread, fit.bands, a.signals.derivative_cutoff_from_data, loaded.robot, stacked);
   });
+  const ident::Stopwatch ls_time;
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, stacked, loaded.phi, eo);
+  const double ls_time_s = ls_time.seconds();
   const std::optional<BandRefit> wider = refit.get();
   std::cout << wrapped(describe(excitationOf(est.ls, base.names), "the records",
                                 "`exoid identifiability --model " + a.model + " --data FILE` says what motion would separate them; `exoid excite --model " +
@@ -706,7 +710,8 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   out.fit_signals = *fit.fit_signals;
   if (!a.plot.empty() && a.validate.empty()) out.shown = fit.records.front();
   out.problems = verdict.problems;
-  out.json = oneFitJson(loaded, fit.json, est, others, verdict);
+  out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history);
+  out.json["base_parameters"]["wall_time_s"] = ls_time_s;  // LS with its errors and consistent estimate
   if (a.consistency) judgeOthersConsistency(a, loaded, est.covariance, out);
   out.json["determination"] = determinationJson(loaded.robot, determination);
   if (sensitivity) out.json["band_sensitivity"] = toJson(*sensitivity);
@@ -790,7 +795,7 @@ int identifyChain(const ChainIdentifyArgs& given) {
     j["validation"] = validation.json;
     j["problems"] = fit.problems;
     j["status"] = fit.problems.empty() ? "usable" : "not_usable";
-    writeJsonFile(a.json_out, j);
+    writeJsonFile(a.json_out, a.timing ? j : withoutWallTimes(j));  // without: same input, same bytes
   }
   if (!fit.problems.empty()) {
     std::string all;

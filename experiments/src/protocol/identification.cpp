@@ -284,23 +284,14 @@ nlohmann::json toJson(const ident::ParamError& e) {
           {"max_abs_rel", e.max_abs_rel}};
 }
 
-nlohmann::json toJson(const Stage& s, bool with_history) {
-  const ident::Estimate& e = s.estimate;
-  nlohmann::json j = {{"stage", s.name},
-                      {"parameters", paramsJson(e.x, s.indices)},
-                      {"status", ident::toString(e.summary.status)},
+nlohmann::json estimateJson(const ident::Estimate& e, bool with_history) {
+  nlohmann::json j = {{"status", ident::toString(e.summary.status)},
                       {"message", e.summary.message},
                       {"iterations", e.summary.iterations},
                       {"l1_cost", e.l1_cost},
                       {"wall_time_s", e.summary.wall_time_s}};
   if (e.rank) j["rank"] = *e.rank;
   if (e.condition_number) j["condition_number"] = *e.condition_number;
-  if (!e.unidentifiable.empty()) {
-    nlohmann::json names = nlohmann::json::array();
-    for (Eigen::Index c : e.unidentifiable) names.push_back(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
-    j["unidentifiable"] = names;
-  }
-  if (e.box) j["box"] = {{"lower", paramsJson(e.box->lower, s.indices)}, {"upper", paramsJson(e.box->upper, s.indices)}};
   if (e.optimum_l1_cost) {
     j["optimum_l1_cost"] = *e.optimum_l1_cost;
     j["optimality_gap_rel"] = *e.optimality_gap_rel;
@@ -316,6 +307,20 @@ nlohmann::json toJson(const Stage& s, bool with_history) {
     j["initial_cost"] = e.summary.initial_cost;
     if (with_history) j["best_cost_history"] = e.cost_history;
   }
+  return j;
+}
+
+nlohmann::json toJson(const Stage& s, bool with_history) {
+  const ident::Estimate& e = s.estimate;
+  nlohmann::json j = estimateJson(e, with_history);
+  j["stage"] = s.name;
+  j["parameters"] = paramsJson(e.x, s.indices);
+  if (!e.unidentifiable.empty()) {
+    nlohmann::json names = nlohmann::json::array();
+    for (Eigen::Index c : e.unidentifiable) names.push_back(ident::paramName(s.indices[static_cast<std::size_t>(c)]));
+    j["unidentifiable"] = names;
+  }
+  if (e.box) j["box"] = {{"lower", paramsJson(e.box->lower, s.indices)}, {"upper", paramsJson(e.box->upper, s.indices)}};
   return j;
 }
 

@@ -109,6 +109,8 @@ struct ChainIdentifyArgs {
   /// empty = each record's metadata (exoid simulate --model writes it). And its stopping rule.
   std::string controller;
   ident::IvOptions iv;
+  bool timing = false;   ///< wall times in the JSON (they differ run to run)
+  bool history = false;  ///< PSO's best-cost histories in the JSON
 };
 /// `exoid identify --model` for a chain: its base parameters by least squares, in one fit of
 /// --data or down the chain's stages (--stage), their standard errors, the physically consistent

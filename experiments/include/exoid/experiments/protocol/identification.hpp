@@ -144,6 +144,11 @@ ident::ParamVector paramsFromJson(const nlohmann::json& j, const std::string& wh
 nlohmann::json toJson(const ident::TorqueErrorStats& s);
 nlohmann::json toJson(const Validation& v);
 nlohmann::json toJson(const ident::ParamError& e);
+/// What an estimate says besides its values, on any robot: status, message, iterations, L1 cost,
+/// wall time, rank, condition number, the optimality gaps, PSO's initial cost and (with_history)
+/// best-cost history, IDIM-IV's steps.
+nlohmann::json estimateJson(const ident::Estimate& e, bool with_history);
+/// estimateJson with the stage's name, its parameters and box by name, what it could not identify.
 nlohmann::json toJson(const Stage& s, bool with_history);
 nlohmann::json toJson(const MethodOutcome& m, bool with_history);
 
