@@ -3,8 +3,6 @@
 #include "exoid/core/format.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
 
-#include <Eigen/QR>
-
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -12,43 +10,46 @@
 
 namespace exoid::ident {
 
+namespace {
+
+void checkReference(const Eigen::VectorXd& reference, Eigen::Index columns) {
+  if (reference.size() != 0 && reference.size() != columns) {
+    throw std::invalid_argument("identifiability: reference has " + core::toText(reference.size()) + " entries, expected " +
+                                core::toText(columns));
+  }
+}
+
+// The report from LS's own factor: (H^T H)^-1 = D (Hs^T Hs)^-1 D with Hs = H D column-scaled.
+IdentifiabilityReport reportOf(const Eigen::MatrixXd& H, const LsResult& ls, double noise_sigma, const Eigen::VectorXd& reference) {
+  const Eigen::Index p = H.cols();
+  const double inf = std::numeric_limits<double>::infinity();
+  IdentifiabilityReport r;
+  r.rows = H.rows();
+  r.rank = ls.rank;
+  r.unidentifiable = ls.unidentifiable;
+  r.condition_number = ls.rank < p ? inf : ls.condition_number;
+  r.crb_std = Eigen::VectorXd::Constant(p, inf);
+  r.crb_rel_std = Eigen::VectorXd::Constant(p, inf);
+  r.collinearity_r2 = ls.collinearity_r2;
+  if (ls.rank < p) return r;
+  const Eigen::VectorXd d = columnScales(H);
+  const Eigen::VectorXd& ref = reference.size() ? reference : ls.x;
+  for (Eigen::Index j = 0; j < p; ++j) {
+    r.crb_std[j] = noise_sigma * d[j] * std::sqrt(ls.variance_inflation[j]);
+    r.crb_rel_std[j] = ref[j] != 0.0 ? r.crb_std[j] / std::abs(ref[j]) : inf;
+  }
+  return r;
+}
+
+}  // namespace
+
 IdentifiabilityReport analyzeIdentifiability(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
                                              double noise_sigma, const Eigen::VectorXd& reference) {
   if (!(noise_sigma >= 0.0 && std::isfinite(noise_sigma))) {
     throw std::invalid_argument("noise sigma must be finite and >= 0 N m, got " + core::toText(noise_sigma));
   }
-  if (reference.size() != 0 && reference.size() != H.cols()) {
-    throw std::invalid_argument("identifiability: reference has " + core::toText(reference.size()) +
-                                " entries, expected " + core::toText(H.cols()));
-  }
-  const LsResult ls = solveLeastSquares(H, y);
-  const Eigen::Index p = H.cols();
-  IdentifiabilityReport r;
-  r.rows = H.rows();
-  r.rank = ls.rank;
-  r.unidentifiable = ls.unidentifiable;
-  r.condition_number = ls.rank < p ? std::numeric_limits<double>::infinity() : ls.condition_number;
-  const double inf = std::numeric_limits<double>::infinity();
-  r.crb_std = Eigen::VectorXd::Constant(p, inf);
-  r.crb_rel_std = Eigen::VectorXd::Constant(p, inf);
-  r.collinearity_r2 = Eigen::VectorXd::Ones(p);
-  if (ls.rank < p) return r;
-
-  // (H^T H)^-1 = D (Hs^T Hs)^-1 D with Hs = H D column-scaled; from Hs's R factor.
-  const Eigen::VectorXd d = columnScales(H);
-  Eigen::HouseholderQR<Eigen::MatrixXd> qr(H * d.asDiagonal());
-  const Eigen::MatrixXd R = qr.matrixQR().topRows(p).template triangularView<Eigen::Upper>();
-  const Eigen::MatrixXd Rinv =
-      R.template triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
-  const Eigen::VectorXd diag_scaled = Rinv.rowwise().squaredNorm();  // diag((Hs^T Hs)^-1)
-  const Eigen::VectorXd& ref = reference.size() ? reference : ls.x;
-  for (Eigen::Index j = 0; j < p; ++j) {
-    r.crb_std[j] = noise_sigma * d[j] * std::sqrt(diag_scaled[j]);
-    r.crb_rel_std[j] = ref[j] != 0.0 ? r.crb_std[j] / std::abs(ref[j]) : inf;
-    // Scaled columns have unit norm, so ||h_j||^2 [(H^T H)^-1]_jj = diag_scaled[j].
-    r.collinearity_r2[j] = 1.0 - 1.0 / diag_scaled[j];
-  }
-  return r;
+  checkReference(reference, H.cols());
+  return reportOf(H, solveLeastSquares(H, y), noise_sigma, reference);
 }
 
 IdentifiabilityReport analyzeIdentifiability(const std::vector<NoiseChannel>& channels, const Eigen::VectorXd& y,
@@ -63,9 +64,11 @@ IdentifiabilityReport analyzeIdentifiability(const std::vector<NoiseChannel>& ch
     H.middleRows(rows, c.H.rows()) = c.H;
     rows += c.H.rows();
   }
-  IdentifiabilityReport r = analyzeIdentifiability(H, y, 0.0, reference);
+  checkReference(reference, H.cols());
+  const LsResult ls = solveLeastSquares(H, y);
+  IdentifiabilityReport r = reportOf(H, ls, 0.0, reference);
   if (r.rank < H.cols()) return r;
-  const Eigen::VectorXd& ref = reference.size() ? reference : solveLeastSquares(H, y).x;
+  const Eigen::VectorXd& ref = reference.size() ? reference : ls.x;
   r.crb_std = stdOf(lsNoiseCovariance(channels));
   for (Eigen::Index j = 0; j < H.cols(); ++j) {
     r.crb_rel_std[j] = ref[j] != 0.0 ? r.crb_std[j] / std::abs(ref[j]) : std::numeric_limits<double>::infinity();

@@ -81,12 +81,14 @@ LsResult solveLeastSquares(const Eigen::MatrixXd& H, const Eigen::VectorXd& y,
   const Eigen::Index p = H.cols();
   r.condition_number = conditionOfFactor(qr.matrixR().topLeftCorner(p, p).template triangularView<Eigen::Upper>());
   r.collinearity_r2 = Eigen::VectorXd::Ones(p);
+  r.variance_inflation = Eigen::VectorXd::Constant(p, std::numeric_limits<double>::infinity());
   if (r.rank == p) {
     // (Hs^T Hs)^-1 = P R^-1 R^-T P^T from the factor itself (p x p work).
     const Eigen::MatrixXd R = qr.matrixR().topLeftCorner(p, p).template triangularView<Eigen::Upper>();
     const Eigen::MatrixXd Rinv = R.template triangularView<Eigen::Upper>().solve(Eigen::MatrixXd::Identity(p, p));
     const Eigen::MatrixXd PRinv = qr.colsPermutation() * Rinv;
-    r.collinearity_r2 = (1.0 - PRinv.rowwise().squaredNorm().array().inverse()).matrix();
+    r.variance_inflation = PRinv.rowwise().squaredNorm();
+    r.collinearity_r2 = (1.0 - r.variance_inflation.array().inverse()).matrix();
   }
   r.x = scale.asDiagonal() * qr.solve(y);
   const Eigen::VectorXd res = y - H * r.x;

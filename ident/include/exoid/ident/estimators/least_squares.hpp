@@ -34,6 +34,9 @@ struct LsResult {
   /// Each column's R^2 on the others, 1 - 1 / [(Hs^T Hs)^-1]_jj for unit columns Hs (a model error
   /// along it is amplified 1 / sqrt(1 - R^2) times); all 1 on rank deficiency.
   Eigen::VectorXd collinearity_r2;
+  /// [(Hs^T Hs)^-1]_jj = 1 / (1 - R^2_j), each column's variance inflation (its variance over that
+  /// of an orthogonal unit column); all infinity on rank deficiency.
+  Eigen::VectorXd variance_inflation;
   double residual_rms = 0.0;                 ///< sqrt(mean((y - H x)^2))
   Summary summary;
 };
