@@ -218,7 +218,14 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   ASSERT_EQ(runExoid({"identify", "--model", "leg3", "--stage", "ankle=" + dir + "/ankle.csv", "--stage", "knee=" + dir + "/knee.csv",
                       "--data", dir + "/all.csv", "--truth", dir + "/all.json", "--method", "ls,lad", "--validate", dir + "/all.csv", "--json", out}),
             0);
-  testing::internal::GetCapturedStdout();
+  const std::string printed = testing::internal::GetCapturedStdout();
+  // Each stage says how well its records excite what it identifies, as one fit does.
+  std::size_t excitations = 0;
+  for (std::size_t at = printed.find("excitation of the stage's records: condition number"); at != std::string::npos;
+       at = printed.find("excitation of the stage's records: condition number", at + 1)) {
+    ++excitations;
+  }
+  EXPECT_EQ(excitations, 3u) << printed;
   const nlohmann::json a = readJson(dir + "/ankle.json");
   EXPECT_EQ(a["config"]["locked"], nlohmann::json({"hip", "knee"}));
   const nlohmann::json r = readJson(out);

@@ -3,6 +3,7 @@
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -137,6 +138,10 @@ void reportStage(std::size_t s, const ident::ChainModel& model, const std::vecto
             << "; " << st.rows.size() << " equations; identifies " << st.directions.cols() << ":";
   for (const std::string& n : st.names) std::cout << " " << n << ";";
   std::cout << "\n";
+  // How well the stage's records excite what it identifies (LS's factor), as one fit reports its records'.
+  std::cout << wrapped(describe(excitationOf(results.front().stages[s].estimate, st.names), "the stage's records",
+                                       "a record moving these joints differently would separate them"))
+            << "\n";
   for (std::size_t k = 0; k < methods.size(); ++k) {
     const ident::Estimate& e = results[k].stages[s].estimate;
     std::cout << "  " << ident::toString(methods[k]) << ": " << e.summary.message;

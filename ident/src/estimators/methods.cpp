@@ -92,6 +92,7 @@ Estimate estimate(Method method, const Eigen::MatrixXd& H, const Eigen::VectorXd
       e.rank = ls.rank;
       e.condition_number = ls.condition_number;
       e.unidentifiable = ls.unidentifiable;
+      e.collinearity_r2 = ls.collinearity_r2;
       break;
     }
     case Method::kRls: {

@@ -53,6 +53,7 @@ struct Estimate {
   /// Of the column-scaled regressor (every method; IDIM-IV: of Z^T H, the matrix it solves)
   std::optional<double> condition_number;
   std::vector<Eigen::Index> unidentifiable;  ///< LS: columns beyond the rank
+  Eigen::VectorXd collinearity_r2;          ///< LS: each column's R^2 on the others (LsResult's)
   std::optional<Box> box;                  ///< PSO / RLS-PSO search box; RLS fluctuation range
   std::vector<double> cost_history;        ///< PSO: best cost per iteration
   std::optional<double> optimum_l1_cost;   ///< exact L1 minimum (when report_optimality_gap)
