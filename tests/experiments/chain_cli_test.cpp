@@ -290,6 +290,18 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
   EXPECT_EQ(r["inputs"]["stages"].size(), 2u);
   EXPECT_EQ(r["inputs"]["sampling"].size(), 3u);
   EXPECT_EQ(o["strategy"], "all_parameters_one_record");
+  // The stages' band sensitivity, as one fit's: every chosen cutoff a quarter wider, LS down the
+  // stages again. Exact records stay exact in any band (W and y filtered alike), so the refit
+  // ls + shift x std err is the truth to 1e-6 too.
+  const nlohmann::json& sensitivity = r["band_sensitivity"];
+  EXPECT_EQ(sensitivity["cutoff_factor"].get<double>(), 1.25);
+  ASSERT_EQ(sensitivity["shift_standard_errors"].size(), 17u);
+  for (std::size_t i = 0; i < 17; ++i) {
+    const std::string name = b["names"][i].get<std::string>();
+    const double wider = b["ls"][i].get<double>() + sensitivity["shift_standard_errors"][name].get<double>() * b["std_error"][i].get<double>();
+    const double truth = b["truth"][i].get<double>();
+    EXPECT_NEAR(wider, truth, 1e-6 * std::max(1.0, std::abs(truth))) << name;
+  }
   // What cannot work is refused by name.
   EXPECT_NE(stderrOf({"identify", "--model", "leg3", "--stage", "toe=" + dir + "/ankle.csv", "--data", dir + "/all.csv"}, 1).find("'toe' is not a joint"),
             std::string::npos);

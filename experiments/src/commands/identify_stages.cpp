@@ -3,6 +3,7 @@
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
+#include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
@@ -63,6 +64,9 @@ struct StageRecords {
   /// records, and its rows, for --plot without them.
   ident::SignalOptions fit_signals;
   std::optional<ident::RecordRows> shown;
+  /// Each stage's records' processing as used, and the band chosen from each (the band sensitivity).
+  std::vector<std::vector<ident::SignalOptions>> signals;
+  std::vector<std::vector<std::optional<ident::BandChoice>>> bands;
 };
 
 StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
@@ -77,6 +81,8 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     nlohmann::json files = nlohmann::json::array();
     // The stage's records are stacked into one fit: one choice of the base-motion terms for them.
     const ident::ResolvedRecords resolved = ident::resolveRecords(data[s], loaded.robot, a.signals, rule);
+    out.signals.push_back(resolved.signals);
+    out.bands.push_back(resolved.bands);
     for (std::size_t r = 0; r < in.files.size(); ++r) {
       const std::string& file = in.files[r];
       const std::optional<ident::BandChoice>& band = resolved.bands[r];
@@ -210,6 +216,32 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
   }
 }
 
+// How much LS down the stages depends on the bands chosen from the records: every chosen cutoff a
+// quarter wider (whole records), the stages refitted, the change in LS's reported errors (as one
+// fit's band sensitivity). None when no band was chosen or the refit is not usable.
+std::optional<BandSensitivity> stagesBandSensitivity(const ChainIdentifyArgs& a, const LoadedChain& loaded, const StageRecords& records,
+                                                     const std::vector<std::vector<ident::Dataset>>& data, const ident::MethodOptions& mo,
+                                                     const Eigen::VectorXd& theta, const Eigen::VectorXd& std_err) {
+  BandRefit refit;
+  std::vector<ident::SegmentalStage> wider;
+  bool chosen = false;
+  for (std::size_t s = 0; s < data.size(); ++s) {
+    std::vector<ident::RecordRows> rows;
+    for (std::size_t r = 0; r < data[s].size(); ++r) {
+      chosen = chosen || records.bands[s][r].has_value();
+      const ident::SignalOptions o = widerBand(records.signals[s][r], records.bands[s][r], a.signals.derivative_cutoff_from_data,
+                                               1.0 / data[s][r].sampleInterval_s(), refit.factor);
+      rows.push_back(ident::processRecord(data[s][r], loaded.robot, o));
+    }
+    wider.push_back({records.stages[s].first_joint, ident::stackRecords(rows)});
+  }
+  if (!chosen) return std::nullopt;
+  const ident::SegmentalResult ls = ident::identifySegmental(loaded.robot, wider, ident::Method::kLs, mo);
+  if (!ls.usable()) return std::nullopt;
+  refit.wider = ls.theta;
+  return bandSensitivity(refit, loaded.robot, theta, std_err);
+}
+
 // The stages' own JSON: LS's reported errors, the consistent estimate, the other methods.
 nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
                           const std::vector<ident::SegmentalResult>& results, const std::optional<ident::ReportedErrors>& errors,
@@ -275,6 +307,12 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   out.shown = std::move(records.shown);
   out.json = stagesJson(records.json, methods, results, errors, consistent);
   out.json["determination"] = determinationJson(loaded.robot, determination);
+  if (errors) {
+    if (const auto sensitivity = stagesBandSensitivity(a, loaded, records, data, out.method_options, out.ls, errors->reported)) {
+      for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";
+      out.json["band_sensitivity"] = toJson(*sensitivity);
+    }
+  }
   if (a.consistency && errors) judgeOthersConsistency(a, loaded, errors->covariance, out);
   return out;
 }

@@ -32,13 +32,7 @@ std::optional<BandRefit> refitInAWiderBand(const std::vector<ident::Dataset>& da
     std::optional<ident::Dataset> central;  // a window's copy; a whole record is read in place
     if (window) central = data[k].window((n - m) / 2, m);
     const ident::Dataset& d = central ? *central : data[k];
-    ident::SignalOptions o = signals[k];
-    if (bands[k]) {
-      const double fs = 1.0 / d.sampleInterval_s();
-      o.cutoff_hz = std::min(o.cutoff_hz * out.factor, 0.2 * fs);
-      if (derivative_follows) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs);
-    }
-    wide.push_back(ident::processRecord(d, robot, o));
+    wide.push_back(ident::processRecord(d, robot, widerBand(signals[k], bands[k], derivative_follows, 1.0 / d.sampleInterval_s(), out.factor)));
     for (Eigen::Index i = first_sample; i < first_sample + samples; ++i) {
       const double t = fitted.states.t_s[i];
       if (window && (t < d.t_s[0] || t > d.t_s[d.size() - 1])) continue;
@@ -52,6 +46,15 @@ std::optional<BandRefit> refitInAWiderBand(const std::vector<ident::Dataset>& da
   out.wider = ident::solveLeastSquares(w.W, w.y, lo).x;
   if (windowed) out.narrow = ident::solveLeastSquares(fitted.W(narrow_rows, Eigen::all), fitted.y(narrow_rows), lo).x;
   return out;
+}
+
+ident::SignalOptions widerBand(const ident::SignalOptions& used, const std::optional<ident::BandChoice>& band, bool derivative_follows,
+                               double fs_hz, double factor) {
+  ident::SignalOptions o = used;
+  if (!band) return o;
+  o.cutoff_hz = std::min(o.cutoff_hz * factor, 0.2 * fs_hz);
+  if (derivative_follows) o.derivative_cutoff_hz = ident::derivativeCutoffFor(o.cutoff_hz, fs_hz);
+  return o;
 }
 
 BandSensitivity bandSensitivity(const BandRefit& refit, const ident::Robot& robot, const Eigen::VectorXd& x, const Eigen::VectorXd& std_err) {

@@ -41,6 +41,12 @@ std::optional<BandRefit> refitInAWiderBand(const std::vector<ident::Dataset>& da
                                            const std::vector<std::optional<ident::BandChoice>>& bands, bool derivative_follows,
                                            const ident::Robot& robot, const ident::RecordRows& fitted);
 
+/// A record's processing `used` with the cutoff chosen from it (`band`) `factor` times wider, up to
+/// a fifth of the sampling rate `fs_hz`; with derivative_follows the derivative's cutoff follows
+/// it. `used` itself when no band was chosen.
+ident::SignalOptions widerBand(const ident::SignalOptions& used, const std::optional<ident::BandChoice>& band, bool derivative_follows,
+                               double fs_hz, double factor);
+
 /// The refit's change of each parameter from x (the LS estimate of `fitted`; the windows' when
 /// the refit has one), in std_err, the estimate's reported errors.
 BandSensitivity bandSensitivity(const BandRefit& refit, const ident::Robot& robot, const Eigen::VectorXd& x, const Eigen::VectorXd& std_err);
