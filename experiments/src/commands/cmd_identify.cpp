@@ -532,7 +532,8 @@ struct LegRecords {
   ident::Robot robot;  ///< the 2-link leg of c (with the knee armature when asked)
   std::string constants_origin;
   /// What the records' motion determines: one fit of every parameter from both equations; or,
-  /// segmental, the knee records' knee equation and the both-joint records' hip equation together.
+  /// segmental, the knee equation's parameters from the knee records and the rest from the
+  /// both-joint records' hip equation.
   ident::Determination determination;
 };
 
@@ -540,7 +541,14 @@ ident::Determination legDetermination(const LegRecords& r, bool segmental) {
   std::vector<int> all(static_cast<std::size_t>(r.robot.parameters()));
   std::iota(all.begin(), all.end(), 0);
   if (!segmental) return ident::determination(r.robot, r.primary.data, r.primary.rows, all);
-  return ident::determination(r.robot, {{r.knee.data, r.knee.rows, {1}}, {r.primary.data, r.primary.rows, {0}}}, all);
+  // The knee records' knee equation fits the knee's parameters; then the both-joint records' hip equation the rest.
+  const std::vector<int>& knee_params = r.robot.joint_columns[1];
+  std::vector<int> hip_params;
+  for (int i : all) {
+    if (std::find(knee_params.begin(), knee_params.end(), i) == knee_params.end()) hip_params.push_back(i);
+  }
+  return ident::determination(r.robot, {{&r.knee.data, &r.knee.rows, {1}, ident::parameterDirections(r.robot, knee_params)},
+                                        {&r.primary.data, &r.primary.rows, {0}, ident::parameterDirections(r.robot, hip_params)}});
 }
 
 LegRecords readLegRecords(const IdentifyArgs& a, const LogInput& log) {

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -222,21 +223,23 @@ void printStageEstimates(const ident::BaseParameters& base, const std::vector<id
 std::optional<BandSensitivity> stagesBandSensitivity(const ChainIdentifyArgs& a, const LoadedChain& loaded, const StageRecords& records,
                                                      const std::vector<std::vector<ident::Dataset>>& data, const ident::MethodOptions& mo,
                                                      const Eigen::VectorXd& theta, const Eigen::VectorXd& std_err) {
+  bool chosen = false;
+  for (const auto& stage : records.bands) chosen = chosen || std::any_of(stage.begin(), stage.end(), [](const auto& b) { return b.has_value(); });
+  if (!chosen) return std::nullopt;
   BandRefit refit;
   std::vector<ident::SegmentalStage> wider;
-  bool chosen = false;
   for (std::size_t s = 0; s < data.size(); ++s) {
     std::vector<ident::RecordRows> rows;
     for (std::size_t r = 0; r < data[s].size(); ++r) {
-      chosen = chosen || records.bands[s][r].has_value();
       const ident::SignalOptions o = widerBand(records.signals[s][r], records.bands[s][r], a.signals.derivative_cutoff_from_data,
                                                1.0 / data[s][r].sampleInterval_s(), refit.factor);
       rows.push_back(ident::processRecord(data[s][r], loaded.robot, o));
     }
     wider.push_back({records.stages[s].first_joint, ident::stackRecords(rows)});
   }
-  if (!chosen) return std::nullopt;
-  const ident::SegmentalResult ls = ident::identifySegmental(loaded.robot, wider, ident::Method::kLs, mo);
+  ident::MethodOptions any_condition = mo;  // a refit is compared, not judged (as one fit's)
+  any_condition.ls.max_condition = std::numeric_limits<double>::max();
+  const ident::SegmentalResult ls = ident::identifySegmental(loaded.robot, wider, ident::Method::kLs, any_condition);
   if (!ls.usable()) return std::nullopt;
   refit.wider = ls.theta;
   return bandSensitivity(refit, loaded.robot, theta, std_err);
@@ -270,21 +273,20 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   StageRecords records = readStages(a, loaded, stageInputs(a, loaded.model), data);
   const std::vector<ident::Method> methods = stageMethods(a);
   ChainFit out;
-  // What the stages' motions determine together: each stage's records over its moving joints' equations.
+  const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
+  // What each stage's own motion determines of what it fits (its combinations, over its moving
+  // joints' equations), stage by stage as the fit runs.
   std::vector<ident::DeterminationStage> moving;
   for (std::size_t s = 0; s < data.size(); ++s) {
     std::vector<Eigen::Index> equations(static_cast<std::size_t>(loaded.model.dof() - records.stages[s].first_joint));
     std::iota(equations.begin(), equations.end(), records.stages[s].first_joint);
-    moving.push_back({data[s], records.stages[s].record, equations});
+    moving.push_back({&data[s], &records.stages[s].record, equations, results.front().stages[s].problem.directions});
   }
-  std::vector<int> every(static_cast<std::size_t>(loaded.base.rank));
-  std::iota(every.begin(), every.end(), 0);
-  const ident::Determination determination = ident::determination(loaded.robot, moving, every);
+  const ident::Determination determination = ident::determination(loaded.robot, moving);
   if (const std::string p = undeterminedProblem(loaded.robot, determination); !p.empty()) {
     std::cout << p << '\n';
     out.problems.push_back(p);
   }
-  const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
   for (std::size_t s = 0; s < results.front().stages.size(); ++s) reportStage(s, loaded.model, methods, results, a.history, records.json[s], out.problems);
   std::optional<ident::ReportedErrors> errors;
   if (results.front().usable()) errors = ident::segmentalReportedErrors(loaded.robot, records.stages, results.front());
@@ -292,7 +294,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   // LS's physically consistent estimate: the stages share no rows, so the nearest in the metric of
   // LS's reported covariance (one fit uses its rows' metric).
   std::optional<NearestConsistent> consistent;
-  if (a.consistency && errors) consistent = nearestConsistent(loaded, results.front().theta, errors->covariance);
+  if (a.consistency && errors) consistent = nearestConsistent(loaded, results.front().theta, errors->covariance, "LS");
   if (consistent) {
     std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
               << fmt(consistent->distance, 3) << " reported standard errors from LS\n";

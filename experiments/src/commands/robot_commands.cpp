@@ -293,7 +293,8 @@ core::FourierSeries readChainExcitation(const std::string& path) {
   return f;
 }
 
-std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance) {
+std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,
+                                                  const std::string& whose) {
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(covariance);
   if (!covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
   const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
@@ -301,7 +302,7 @@ std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, co
   try {
     c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi);
   } catch (const std::invalid_argument& e) {
-    std::cout << wrapped("consistent estimate: not computed (" + std::string(e.what()) + ")") << "\n";
+    std::cout << wrapped(whose + "'s physical consistency: not judged (" + std::string(e.what()) + ")") << "\n";
     return std::nullopt;
   }
   if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // theta itself: no distance
@@ -313,7 +314,7 @@ std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, co
 void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::MatrixXd& covariance, ChainFit& fit) {
   for (const auto& [m, x] : fit.others) {
     if (!x.allFinite()) continue;  // an unusable estimate is named as such already
-    const std::optional<NearestConsistent> c = nearestConsistent(loaded, x, covariance);
+    const std::optional<NearestConsistent> c = nearestConsistent(loaded, x, covariance, m);
     if (!c) continue;
     fit.json["methods"][m]["consistent"] = {{"consistent", c->fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent},
                                             {"ls_standard_errors_from_estimate", c->distance}};
@@ -749,7 +750,8 @@ int identifyChain(const ChainIdentifyArgs& given) {
     }
   }
   LoadedChain loaded = still;
-  if (a.moving_base_parameters) {
+  if (a.moving_base_parameters && data.size() == 1) loaded = movingBase(still, data.front(), a.signals);  // no copy of a long log
+  if (a.moving_base_parameters && data.size() > 1) {
     std::vector<ident::Dataset> all;
     for (const auto& stage : data) all.insert(all.end(), stage.begin(), stage.end());
     loaded = movingBase(still, all, a.signals);

@@ -74,18 +74,23 @@ RecordMotion recordMotion(const Dataset& d) {
   return out;
 }
 
+Eigen::MatrixXd parameterDirections(const Robot& robot, const std::vector<int>& unknowns) {
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(robot.parameters(), static_cast<Eigen::Index>(unknowns.size()));
+  for (std::size_t u = 0; u < unknowns.size(); ++u) d(unknowns[u], static_cast<Eigen::Index>(u)) = 1.0;
+  return d;
+}
+
 Determination determination(const Robot& robot, const std::vector<Dataset>& records, const RecordRows& rows,
                             const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations) {
-  return determination(robot, {DeterminationStage{records, rows, equations}}, unknowns);
+  return determination(robot, {DeterminationStage{&records, &rows, equations, parameterDirections(robot, unknowns)}});
 }
 
 namespace {
 
-// One record's rows over `equations` and the columns of `unknowns`, at up to kMaxSamplesPerRecord
-// of its samples, with every joint it held (and a still base) frozen.
+// One record's rows over `equations` (every parameter's column), at up to kMaxSamplesPerRecord of
+// its samples, with every joint it held (and a still base) frozen.
 Eigen::MatrixXd frozenRows(const Robot& robot, const RecordMotion& motion, const RecordRows& rows, Eigen::Index first_sample,
-                           Eigen::Index samples, const std::vector<Eigen::Index>& equations, const std::vector<int>& unknowns,
-                           RobotWorkspace& work) {
+                           Eigen::Index samples, const std::vector<Eigen::Index>& equations, RobotWorkspace& work) {
   const Eigen::Index dof = robot.dof();
   JointSignals s;
   s.q_rad = rows.states.q_rad.middleRows(first_sample, samples);
@@ -108,56 +113,21 @@ Eigen::MatrixXd frozenRows(const Robot& robot, const RecordMotion& motion, const
   const Eigen::Index step = std::max<Eigen::Index>(1, (samples + kMaxSamplesPerRecord - 1) / kMaxSamplesPerRecord);
   const Eigen::Index kept = (samples + step - 1) / step;
   const auto equation_count = static_cast<Eigen::Index>(equations.size());
-  Eigen::MatrixXd block(kept * equation_count, static_cast<Eigen::Index>(unknowns.size()));
+  Eigen::MatrixXd block(kept * equation_count, robot.parameters());
   Eigen::MatrixXd Y(dof, robot.parameters());
   for (Eigen::Index k = 0; k < kept; ++k) {
     const Eigen::Index i = k * step;
     robotRowsInto(robot, s.q_rad.row(i).transpose(), s.qd_radps.row(i).transpose(), s.qdd_radps2.row(i).transpose(),
                   baseMotionAt(robot, s, i), work, Y);
-    for (std::size_t e = 0; e < equations.size(); ++e) {
-      for (std::size_t u = 0; u < unknowns.size(); ++u) {
-        block(k * equation_count + static_cast<Eigen::Index>(e), static_cast<Eigen::Index>(u)) = Y(equations[e], unknowns[u]);
-      }
-    }
+    for (std::size_t e = 0; e < equations.size(); ++e) block.row(k * equation_count + static_cast<Eigen::Index>(e)) = Y.row(equations[e]);
   }
   return block;
 }
 
-}  // namespace
-
-Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages, const std::vector<int>& unknowns) {
-  const Eigen::Index dof = robot.dof();
-  Determination out;
-  std::vector<Eigen::MatrixXd> blocks;
-  RobotWorkspace work;
-  for (const DeterminationStage& stage : stages) {
-    std::vector<Eigen::Index> equations = stage.equations;
-    if (equations.empty()) {
-      equations.resize(static_cast<std::size_t>(dof));
-      std::iota(equations.begin(), equations.end(), Eigen::Index{0});
-    }
-    if (stage.rows.dof != dof || stage.rows.record_rows.size() != stage.records.size()) {
-      throw std::invalid_argument("determination: " + core::toText(stage.records.size()) + " records but rows of " +
-                                  core::toText(stage.rows.record_rows.size()) + " records of a " + core::toText(stage.rows.dof) + "-joint robot");
-    }
-    Eigen::Index first_sample = 0;
-    for (std::size_t r = 0; r < stage.records.size(); ++r) {
-      out.records.push_back(recordMotion(stage.records[r]));
-      const Eigen::Index samples = stage.rows.record_rows[r] / dof;
-      blocks.push_back(frozenRows(robot, out.records.back(), stage.rows, first_sample, samples, equations, unknowns, work));
-      first_sample += samples;
-    }
-  }
-  Eigen::Index total = 0;
-  for (const Eigen::MatrixXd& b : blocks) total += b.rows();
-  Eigen::MatrixXd H(total, static_cast<Eigen::Index>(unknowns.size()));
-  Eigen::Index at = 0;
-  for (const Eigen::MatrixXd& b : blocks) {
-    H.middleRows(at, b.rows()) = b;
-    at += b.rows();
-  }
-  // Column-scaled; a zero column is a parameter no row involves.
-  std::vector<bool> undetermined(unknowns.size(), false);
+// The columns of H (a stage's frozen rows times its directions) that no row determines: a zero
+// column, or one a null direction of the column-scaled H touches.
+std::vector<bool> undeterminedColumns(Eigen::MatrixXd H) {
+  std::vector<bool> undetermined(static_cast<std::size_t>(H.cols()), false);
   for (Eigen::Index c = 0; c < H.cols(); ++c) {
     const double norm = H.col(c).norm();
     if (norm > 0.0) {
@@ -175,10 +145,59 @@ Determination determination(const Robot& robot, const std::vector<DeterminationS
       if (std::abs(svd.matrixV()(c, k)) > kTouch) undetermined[static_cast<std::size_t>(c)] = true;
     }
   }
-  for (std::size_t u = 0; u < unknowns.size(); ++u) {
-    if (undetermined[u]) out.undetermined.push_back(unknowns[u]);
+  return undetermined;
+}
+
+}  // namespace
+
+Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages) {
+  const Eigen::Index dof = robot.dof();
+  Determination out;
+  RobotWorkspace work;
+  std::vector<bool> undetermined(static_cast<std::size_t>(robot.parameters()), false);
+  for (const DeterminationStage& stage : stages) {
+    const std::vector<Dataset>& records = *stage.records;
+    const RecordRows& rows = *stage.rows;
+    if (stage.directions.rows() != robot.parameters()) {
+      throw std::invalid_argument("determination: a stage's directions have " + core::toText(stage.directions.rows()) + " rows, expected " +
+                                  core::toText(robot.parameters()) + " (one per parameter)");
+    }
+    std::vector<Eigen::Index> equations = stage.equations;
+    if (equations.empty()) {
+      equations.resize(static_cast<std::size_t>(dof));
+      std::iota(equations.begin(), equations.end(), Eigen::Index{0});
+    }
+    if (rows.dof != dof || rows.record_rows.size() != records.size()) {
+      throw std::invalid_argument("determination: " + core::toText(records.size()) + " records but rows of " +
+                                  core::toText(rows.record_rows.size()) + " records of a " + core::toText(rows.dof) + "-joint robot");
+    }
+    std::vector<Eigen::MatrixXd> blocks;
+    Eigen::Index first_sample = 0, total = 0;
+    for (std::size_t r = 0; r < records.size(); ++r) {
+      out.records.push_back(recordMotion(records[r]));
+      const Eigen::Index samples = rows.record_rows[r] / dof;
+      blocks.push_back(frozenRows(robot, out.records.back(), rows, first_sample, samples, equations, work) * stage.directions);
+      total += blocks.back().rows();
+      first_sample += samples;
+    }
+    Eigen::MatrixXd H(total, stage.directions.cols());
+    Eigen::Index at = 0;
+    for (const Eigen::MatrixXd& b : blocks) {
+      H.middleRows(at, b.rows()) = b;
+      at += b.rows();
+    }
+    // A combination the stage's own motion leaves open leaves every parameter it carries open.
+    const std::vector<bool> open = undeterminedColumns(std::move(H));
+    for (Eigen::Index c = 0; c < stage.directions.cols(); ++c) {
+      if (!open[static_cast<std::size_t>(c)]) continue;
+      for (Eigen::Index i = 0; i < robot.parameters(); ++i) {
+        if (std::abs(stage.directions(i, c)) > kTouch) undetermined[static_cast<std::size_t>(i)] = true;
+      }
+    }
   }
-  std::sort(out.undetermined.begin(), out.undetermined.end());
+  for (std::size_t i = 0; i < undetermined.size(); ++i) {
+    if (undetermined[i]) out.undetermined.push_back(static_cast<int>(i));
+  }
   return out;
 }
 

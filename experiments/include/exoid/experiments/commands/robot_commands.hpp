@@ -136,7 +136,8 @@ std::vector<ChainStageInput> stageInputs(const ChainIdentifyArgs& a, const ident
 /// the validation records, --plot, the CAD comparison, the JSON's common part and the exit code.
 struct ChainFit {
   Eigen::VectorXd ls;                        ///< LS's base parameters
-  std::optional<Eigen::VectorXd> std_error;  ///< LS's reported standard errors (none when LS is unusable)
+  /// LS's reported standard errors (one fit: NaN where LS cannot give one; stages: none when LS is unusable)
+  std::optional<Eigen::VectorXd> std_error;
   std::vector<NamedEstimate> others;         ///< every other method's estimate
   ident::MethodOptions method_options;       ///< as the methods ran (the PSO box sized from the data)
   ident::SignalOptions fit_signals;          ///< the processing of the validation records: the last stage's first record's
@@ -147,12 +148,13 @@ struct ChainFit {
 /// The nearest physically consistent base parameters to `theta` in the metric of a covariance C,
 /// min (b - theta)' C^-1 (b - theta), and their distance from theta in those standard errors (0
 /// when theta is itself consistent); none when C is not positive definite, or when the model's
-/// consistency cannot be judged (said on stdout).
+/// consistency cannot be judged (said on stdout, naming `whose` estimate it is).
 struct NearestConsistent {
   ident::ConsistentFit fit;
   double distance = 0.0;
 };
-std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance);
+std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,
+                                                  const std::string& whose);
 /// Every other method's estimate in `fit` judged as LS's is (the APAL leg's identify judges each
 /// method's plausibility too): when no consistent body lies within --significance of LS's
 /// standard errors (`covariance`) of it, a problem naming the method; in fit.json's

@@ -59,16 +59,21 @@ struct Determination {
 Determination determination(const Robot& robot, const std::vector<Dataset>& records, const RecordRows& rows,
                             const std::vector<int>& unknowns, const std::vector<Eigen::Index>& equations = {});
 
-/// One stage of a segmental strategy: its records, their processed rows stacked, and the joints
-/// whose equations it fits (empty: all).
+/// One stage of a segmental strategy: its records, their processed rows stacked (both outlive the
+/// call), the joints whose equations it fits (empty: all), and what it fits: the combinations of
+/// the robot's parameters in the columns of `directions` (parameters x k), the others known.
 struct DeterminationStage {
-  const std::vector<Dataset>& records;
-  const RecordRows& rows;
+  const std::vector<Dataset>* records = nullptr;
+  const RecordRows* rows = nullptr;
   std::vector<Eigen::Index> equations;
+  Eigen::MatrixXd directions;
 };
-/// The same test over the stages together: each stage's frozen rows over its own equations,
-/// stacked. A parameter is determined when the stages' motions together determine it (what the
-/// segmental fit identifies, stage after stage); `records` lists every stage's, in order.
-Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages, const std::vector<int>& unknowns);
+/// The test stage by stage, as the segmental fit runs (each stage from its own records alone): a
+/// combination a stage's own motion leaves open leaves every parameter it carries (a component
+/// above 1e-3) undetermined. `records` lists every stage's, in order. Throws std::invalid_argument
+/// when a stage's records and rows disagree or its directions are not one row per parameter.
+Determination determination(const Robot& robot, const std::vector<DeterminationStage>& stages);
+/// The unit columns of `unknowns` (parameters x unknowns.size()): a stage fitting those parameters.
+Eigen::MatrixXd parameterDirections(const Robot& robot, const std::vector<int>& unknowns);
 
 }  // namespace exoid::ident
