@@ -31,7 +31,7 @@ LegCase chainLeg() {
   const ChainModel model = testing::legChain();
   std::mt19937_64 gen(11);
   const Eigen::VectorXd phi = testing::randomPhysicalParameters(gen, model);
-  LegCase c{"leg3 chain", chainRobot(model), testing::exactChainDataset(model, phi, 10.0, 5), {}};
+  LegCase c{"leg3 chain", chainRobot(model), testing::exactChainDataset(model, phi, 10.0, 5), {}, {}};
   for (int i = 0; i < c.robot.parameters(); ++i) {
     const std::string& n = c.robot.names()[static_cast<std::size_t>(i)];
     if (n.rfind("thigh.", 0) == 0 || n.rfind("hip.", 0) == 0) c.hip_own.push_back(i);
