@@ -162,6 +162,8 @@ TEST(ChainCli, AHipLockedRecordExitsThreeNamingTheHipsBaseParameters) {
   testing::internal::GetCapturedStdout();
   const nlohmann::json held = readJson(dir + "/held.json");
   EXPECT_EQ(held["determination"]["not_determined"], names);
+  ASSERT_EQ(held["determination"]["records"].size(), 2u);  // the knee stage's record, then --data's
+  EXPECT_EQ(held["determination"]["records"][0]["file"], dir + "/locked.csv");
   EXPECT_NE(held["problems"][0].get<std::string>().find("hip held in every record"), std::string::npos) << held["problems"];
   // Each stage is judged on its own motion: a knee stage whose knee was locked too leaves the
   // shank's and the knee's own parameters open, though the last stage's hip equation sees some.

@@ -221,8 +221,13 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
   EXPECT_EQ(j["determination"]["not_determined"], nlohmann::json({"Mxt", "Myt", "Jt", "fc1", "fv1"}));
   EXPECT_FALSE(j["determination"]["records"][0]["joints_rad"][0]["moved"].get<bool>());
   EXPECT_TRUE(j["determination"]["records"][0]["joints_rad"][1]["moved"].get<bool>());
+  EXPECT_EQ(j["determination"]["records"][0]["file"], t1);
   EXPECT_EQ(runExoid({"identify", "--knee-data", t1, "--both-data", t3, "--method", "ls", "--json", out}), 0);
-  EXPECT_TRUE(readJson(out)["determination"]["not_determined"].empty());
+  const nlohmann::json segmental = readJson(out)["determination"];
+  EXPECT_TRUE(segmental["not_determined"].empty());
+  ASSERT_EQ(segmental["records"].size(), 2u);  // the knee record's, then the both-joint record's
+  EXPECT_EQ(segmental["records"][0]["file"], t1);
+  EXPECT_EQ(segmental["records"][1]["file"], t3);
   EXPECT_EQ(runExoid({"identify", "--data", t3, "--method", "ls", "--json", out}), 0);
 }
 

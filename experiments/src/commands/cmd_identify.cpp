@@ -441,7 +441,9 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   // The first method's estimate at top level, for tools that expect one answer.
   j["method"] = ident::toString(outcomes.front().method);
   j["parameters"] = paramsJson(outcomes.front().x);
-  j["determination"] = determinationJson(robot, determination);
+  std::vector<std::string> files = knee.files;  // the determination's records: the knee role's first when segmental
+  files.insert(files.end(), primary.files.begin(), primary.files.end());
+  j["determination"] = determinationJson(robot, determination, files);
   if (!optional_terms.is_null()) j["optional_terms"] = optional_terms;
   j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);

@@ -308,7 +308,9 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   out.fit_signals = records.fit_signals;
   out.shown = std::move(records.shown);
   out.json = stagesJson(records.json, methods, results, errors, consistent);
-  out.json["determination"] = determinationJson(loaded.robot, determination);
+  std::vector<std::string> files;  // the records in the stages' order
+  for (const ChainStageInput& in : stageInputs(a, loaded.model)) files.insert(files.end(), in.files.begin(), in.files.end());
+  out.json["determination"] = determinationJson(loaded.robot, determination, files);
   if (errors) {
     if (const auto sensitivity = stagesBandSensitivity(a, loaded, records, data, out.method_options, out.ls, errors->reported)) {
       for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";

@@ -714,7 +714,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history);
   out.json["base_parameters"]["wall_time_s"] = ls_time_s;  // LS with its errors and consistent estimate
   if (a.consistency) judgeOthersConsistency(a, loaded, est.covariance, out);
-  out.json["determination"] = determinationJson(loaded.robot, determination);
+  out.json["determination"] = determinationJson(loaded.robot, determination, a.data);
   if (sensitivity) out.json["band_sensitivity"] = toJson(*sensitivity);
   if (armature) out.json["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
   return out;

@@ -422,7 +422,10 @@ nlohmann::json readJsonFile(const std::string& path) {
   }
 }
 
-nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d) {
+nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d, const std::vector<std::string>& files) {
+  if (files.size() != d.records.size()) {
+    throw std::logic_error("determinationJson: " + std::to_string(files.size()) + " files for " + std::to_string(d.records.size()) + " records");
+  }
   const auto signals = [](const std::vector<ident::SignalMotion>& list) {
     nlohmann::json out = nlohmann::json::array();
     for (const ident::SignalMotion& m : list) {
@@ -431,8 +434,9 @@ nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determi
     return out;
   };
   nlohmann::json records = nlohmann::json::array();
-  for (const ident::RecordMotion& r : d.records) {
-    records.push_back({{"joints_rad", signals(r.joints)}, {"base_imu", signals(r.base)}, {"base_moved", r.baseMoved()}});
+  for (std::size_t k = 0; k < d.records.size(); ++k) {
+    const ident::RecordMotion& r = d.records[k];
+    records.push_back({{"file", files[k]}, {"joints_rad", signals(r.joints)}, {"base_imu", signals(r.base)}, {"base_moved", r.baseMoved()}});
   }
   std::vector<std::string> names;
   for (int i : d.undetermined) names.push_back(robot.names()[static_cast<std::size_t>(i)]);

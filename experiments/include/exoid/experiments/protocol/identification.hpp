@@ -169,9 +169,9 @@ nlohmann::json readJsonFile(const std::string& path);
 nlohmann::json readUserJsonFile(const std::string& path, const std::string& what);
 
 /// Which parameters the records determine by their own motion (ident/model/determination.hpp),
-/// as identify's JSON gives it: each record's joints (range, noise, floor, moved) and the
-/// parameters not determined.
-nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d);
+/// as identify's JSON gives it: each record's file (`files`, in d.records' order), joints (range,
+/// noise, floor, moved) and the parameters not determined.
+nlohmann::json determinationJson(const ident::Robot& robot, const ident::Determination& d, const std::vector<std::string>& files);
 /// identify's exit-3 reason when some requested parameter is not determined ("" when all are).
 std::string undeterminedProblem(const ident::Robot& robot, const ident::Determination& d);
 
