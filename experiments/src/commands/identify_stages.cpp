@@ -268,9 +268,9 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
 
 }  // namespace
 
-ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<std::vector<ident::Dataset>>& data,
-                   const std::optional<Eigen::VectorXd>& truth) {
-  StageRecords records = readStages(a, loaded, stageInputs(a, loaded.model), data);
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
+                   const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth) {
+  StageRecords records = readStages(a, loaded, inputs, data);
   const std::vector<ident::Method> methods = stageMethods(a);
   ChainFit out;
   const std::vector<ident::SegmentalResult> results = identifyStages(a, loaded, records.stages, methods, out.method_options);
@@ -309,7 +309,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   out.shown = std::move(records.shown);
   out.json = stagesJson(records.json, methods, results, errors, consistent);
   std::vector<std::string> files;  // the records in the stages' order
-  for (const ChainStageInput& in : stageInputs(a, loaded.model)) files.insert(files.end(), in.files.begin(), in.files.end());
+  for (const ChainStageInput& in : inputs) files.insert(files.end(), in.files.begin(), in.files.end());
   out.json["determination"] = determinationJson(loaded.robot, determination, files);
   if (errors) {
     if (const auto sensitivity = stagesBandSensitivity(a, loaded, records, data, out.method_options, out.ls, errors->reported)) {

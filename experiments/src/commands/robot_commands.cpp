@@ -750,8 +750,9 @@ int identifyChain(const ChainIdentifyArgs& given) {
     }
   }
   LoadedChain loaded = still;
-  if (a.moving_base_parameters && data.size() == 1) loaded = movingBase(still, data.front(), a.signals);  // no copy of a long log
-  if (a.moving_base_parameters && data.size() > 1) {
+  if (a.moving_base_parameters && data.size() == 1) {
+    loaded = movingBase(still, data.front(), a.signals);  // one fit's records read in place (a long log is not copied)
+  } else if (a.moving_base_parameters) {
     std::vector<ident::Dataset> all;
     for (const auto& stage : data) all.insert(all.end(), stage.begin(), stage.end());
     loaded = movingBase(still, all, a.signals);
@@ -761,7 +762,7 @@ int identifyChain(const ChainIdentifyArgs& given) {
             << (a.stages.empty() ? "" : "; segmental strategy, distal joints first") << "\n";
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
-  const ChainFit fit = a.stages.empty() ? fitOnce(a, loaded, log, data.front(), truth) : fitStages(a, loaded, data, truth);
+  const ChainFit fit = a.stages.empty() ? fitOnce(a, loaded, log, data.front(), truth) : fitStages(a, loaded, inputs, data, truth);
   data.clear();
 
   // The validation records, the model file's own parameters (CAD) and --plot, whatever the strategy.

@@ -161,10 +161,10 @@ std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, co
 /// methods.<m>.consistent either way.
 void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::MatrixXd& covariance, ChainFit& fit);
 
-/// The segmental strategy down the chain: data[s] holds stage s's records (stageInputs), every
-/// method fitted stage by stage (ident::identifySegmental), printed with `truth` when known.
-ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<std::vector<ident::Dataset>>& data,
-                   const std::optional<Eigen::VectorXd>& truth);
+/// The segmental strategy down the chain: data[s] holds the records of stage inputs[s] (stageInputs),
+/// every method fitted stage by stage (ident::identifySegmental), printed with `truth` when known.
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
+                   const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth);
 
 /// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
 /// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
