@@ -121,5 +121,13 @@ TEST(Methods, ParseNames) {
   }
 }
 
+// Every leg's PSO box from its LS estimate: 10 x the largest magnitude, floored, never from a NaN.
+TEST(Methods, PsoBoxIsTenTimesTheLargestLsMagnitude) {
+  EXPECT_DOUBLE_EQ(psoHalfWidthFromLs((Eigen::VectorXd(3) << 0.2, -0.7, 0.1).finished()), 7.0);
+  EXPECT_DOUBLE_EQ(psoHalfWidthFromLs(Eigen::VectorXd::Zero(2)), 1e-5);
+  EXPECT_THROW(psoHalfWidthFromLs(Eigen::VectorXd()), std::invalid_argument);
+  EXPECT_THROW(psoHalfWidthFromLs((Eigen::VectorXd(2) << 1.0, std::nan("")).finished()), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace exoid::ident

@@ -271,18 +271,16 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
 // The PSO baseline's box from the data, unless --wide-box was given.
 void sizePsoBox(const IdentifyArgs& a, const std::vector<ident::Method>& methods, bool segmental, const Role& primary,
                 const Role& knee, ident::MethodOptions& mo) {
-  // 10 x the largest |LS estimate| (a fixed +-50 is absurd for a 0.3 kg arm and tiny for a heavy leg).
   if (std::find(methods.begin(), methods.end(), ident::Method::kPso) != methods.end() && a.wide_box_option &&
       a.wide_box_option->count() == 0) {
-    double biggest = ident::solveLeastSquares(primary.rows.W.leftCols(ident::kNumParams), primary.rows.y, mo.ls).x.cwiseAbs().maxCoeff();
+    Eigen::VectorXd ls = ident::solveLeastSquares(primary.rows.W.leftCols(ident::kNumParams), primary.rows.y, mo.ls).x;
     if (segmental) {
       const Eigen::MatrixXd H = knee.rows.jointW(1).middleCols(ident::kShankFirst, ident::kGroupSize);
-      biggest = std::max(biggest, ident::solveLeastSquares(H, knee.rows.jointY(1), mo.ls).x.cwiseAbs().maxCoeff());
+      const Eigen::VectorXd knee_ls = ident::solveLeastSquares(H, knee.rows.jointY(1), mo.ls).x;
+      ls.conservativeResize(ls.size() + knee_ls.size());
+      ls.tail(knee_ls.size()) = knee_ls;
     }
-    if (!(biggest > 0) || !std::isfinite(biggest)) {
-      throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");
-    }
-    mo.wide_box_half_width = 10.0 * biggest;
+    mo.wide_box_half_width = ident::psoHalfWidthFromLs(ls);
     std::cout << "PSO box: +-" << fmt(mo.wide_box_half_width, 3) << " in every parameter (10 x the largest |LS estimate|; "
               << "--wide-box sets it)\n";
   }

@@ -128,8 +128,7 @@ std::vector<ident::SegmentalResult> identifyStages(const ChainIdentifyArgs& a, c
   std::vector<ident::SegmentalResult> results;
   for (ident::Method m : methods) {
     results.push_back(ident::identifySegmental(loaded.robot, stages, m, mo));
-    // The PSO box from the data: 10 x the largest |LS estimate| (as identify --model without stages).
-    if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(results.front().theta.cwiseAbs().maxCoeff(), 1e-6);
+    if (m == ident::Method::kLs && !a.wide_box_given) mo.wide_box_half_width = ident::psoHalfWidthFromLs(results.front().theta);
   }
   return results;
 }

@@ -396,7 +396,7 @@ using MethodEstimates = std::vector<std::pair<ident::Method, ident::Estimate>>;
 ident::MethodOptions chainMethodOptions(const ChainIdentifyArgs& a, const ident::ChainEstimate& est) {
   ident::MethodOptions mo = a.method_options;
   mo.ls.max_condition = a.max_condition;
-  if (!a.wide_box_given) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
+  if (!a.wide_box_given) mo.wide_box_half_width = ident::psoHalfWidthFromLs(est.beta);
   return mo;
 }
 

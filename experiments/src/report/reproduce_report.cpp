@@ -3,6 +3,7 @@
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/protocol/reproduce.hpp"
 #include "exoid/experiments/protocol/sim_bridge.hpp"
+#include "exoid/experiments/report/stats.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/sim/data_dir.hpp"
@@ -38,10 +39,7 @@ std::string defaultBothExcitationPath() { return sim::dataPath("configs/excitati
 double medianAbs(const Eigen::VectorXd& v) {
   std::vector<double> a(v.data(), v.data() + v.size());
   for (double& x : a) x = std::abs(x);
-  if (a.empty()) return std::nan("");
-  std::sort(a.begin(), a.end());
-  const std::size_t h = a.size() / 2;
-  return a.size() % 2 ? a[h] : 0.5 * (a[h - 1] + a[h]);
+  return stats::median(std::move(a));
 }
 
 namespace {

@@ -113,7 +113,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const ident::ChainEstimate est = ident::estimateChain(loaded.robot, rec, loaded.phi, eo);
   ident::MethodOptions mo = c.base.methods;
   mo.rls_pso.pso.seed = core::deriveSeed(seed, 100);  // each run's own swarm, as the APAL protocol's
-  if (!c.origin.count("identification.wide_box")) mo.wide_box_half_width = 10.0 * std::max(est.beta.cwiseAbs().maxCoeff(), 1e-6);
+  if (!c.origin.count("identification.wide_box")) mo.wide_box_half_width = ident::psoHalfWidthFromLs(est.beta);
 
   const ident::RecordRows v = ident::processRecord(chainDataset(check), loaded.robot, fit_signals);
   const Eigen::MatrixXd& Wv = v.W;

@@ -49,6 +49,13 @@ void MethodOptions::validate() const {
   }
 }
 
+double psoHalfWidthFromLs(const Eigen::VectorXd& ls_estimate) {
+  if (ls_estimate.size() == 0 || !ls_estimate.allFinite()) {
+    throw std::invalid_argument("cannot size the PSO box from the data (no usable LS estimate); give --wide-box");
+  }
+  return 10.0 * std::max(ls_estimate.cwiseAbs().maxCoeff(), 1e-6);
+}
+
 namespace {
 // The regressor's conditioning limits every estimator alike (a search does not add information):
 // a usable estimate from an ill-conditioned regressor becomes kIllConditioned.

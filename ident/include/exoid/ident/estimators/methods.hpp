@@ -44,6 +44,11 @@ struct MethodOptions {
   void validate() const;
 };
 
+/// The PSO baseline's box sized from the data, every leg's default: 10 x the largest |LS
+/// estimate| (a fixed +-50 is absurd for a 0.3 kg arm and tiny for a heavy leg), at least 1e-5.
+/// Throws std::invalid_argument when the estimate is empty or not finite.
+double psoHalfWidthFromLs(const Eigen::VectorXd& ls_estimate);
+
 struct Estimate {
   Method method = Method::kLs;
   Eigen::VectorXd x;
