@@ -544,6 +544,50 @@ TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
   testing::internal::GetCapturedStdout();
 }
 
+// The segmental strategy hides a missing armature (docs/findings.md, section 11): the knee stage,
+// hip locked, folds a 10 kg m^2 rotor into shank.Iyy, and the later stage stays consistent. One fit
+// of the last stage's records (every joint moving) is judged beside the stages and names it; on the
+// same rig without the heavy rotor, identified with its own model, the stages stay usable.
+TEST(ChainCli, TheStagesNameATermAnEarlierStageAbsorbed) {
+  const std::string dir = ::testing::TempDir() + "/absorbed";
+  std::filesystem::create_directories(dir);
+  std::ifstream in(std::string(EXOID_SOURCE_DIR) + "/models/leg3.xml");
+  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "damping=\"0.3\" armature=\"0.05\"";
+  ASSERT_NE(xml.find(from), std::string::npos);
+  xml.replace(xml.find(from), from.size(), "damping=\"0.3\" armature=\"10\"");
+  std::ofstream(dir + "/heavy.xml") << xml;
+  const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
+  struct Rig {
+    std::string simulated, identified, name;
+    int exit_code;
+  };
+  for (const Rig& rig : {Rig{dir + "/heavy.xml", urdf, "heavy", 3}, Rig{"leg3", "leg3", "null", 0}}) {
+    const std::string knee = dir + "/" + rig.name + "_knee.csv", all = dir + "/" + rig.name + "_all.csv", out = dir + "/" + rig.name + ".json";
+    testing::internal::CaptureStdout();
+    const std::vector<std::string> noisy = {"--duration", "10", "--noise-tau", "0.3", "--model", rig.simulated};
+    std::vector<std::string> k = {"simulate", "--lock", "hip", "--seed", "20", "--out", knee}, a = {"simulate", "--seed", "21", "--out", all};
+    k.insert(k.end(), noisy.begin(), noisy.end());
+    a.insert(a.end(), noisy.begin(), noisy.end());
+    ASSERT_EQ(runExoid(k), 0);
+    ASSERT_EQ(runExoid(a), 0);
+    testing::internal::GetCapturedStdout();
+    const std::string why = stderrOf({"identify", "--model", rig.identified, "--stage", "knee=" + knee, "--data", all, "--json", out}, rig.exit_code);
+    const nlohmann::json check = readJson(out)["against_one_fit"];
+    ASSERT_TRUE(check["judged"].get<bool>()) << rig.name;
+    if (rig.exit_code == 0) {
+      EXPECT_LE(check["largest_abs_z"].get<double>(), check["threshold"].get<double>());
+      EXPECT_LE(check["one_fit_inconsistency_std_errors"].get<double>(), 2.0);
+      continue;
+    }
+    // The stages' own consistency passes; what names the rotor is the one fit beside them.
+    EXPECT_EQ(why.find("no physically consistent body explains"), std::string::npos) << why;
+    EXPECT_NE(why.find("one fit of the last stage's records"), std::string::npos) << why;
+    EXPECT_NE(why.find("rerun with --armature knee"), std::string::npos) << why;
+    EXPECT_TRUE(check["armature"]["knee"]["significant"].get<bool>());
+  }
+}
+
 // What identify reports as the band sensitivity, on both legs: each parameter's change, in its
 // reported standard errors, when the record is refitted with the chosen cutoff a quarter wider;
 // the same as a user's own refit with that cutoff given (--cutoff-hz), to rounding.

@@ -11,6 +11,7 @@
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/segmental_errors.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 #include "exoid/ident/model/determination.hpp"
 #include "exoid/ident/signals/processing.hpp"
@@ -267,7 +268,89 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
 
 }  // namespace
 
-ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
+// The |z| beyond which `tests` two-sided tests together name a difference as often as one test at
+// --significance does: P(|Z| > z) = P(|Z| > significance) / tests (Bonferroni).
+double bonferroniZ(double significance_sigmas, int tests) {
+  const auto tail = [](double z) { return std::erfc(z / std::sqrt(2.0)); };
+  const double target = tail(significance_sigmas) / std::max(tests, 1);
+  double lo = 0.0, hi = 40.0;
+  for (int k = 0; k < 100; ++k) (tail(0.5 * (lo + hi)) > target ? lo : hi) = 0.5 * (lo + hi);
+  return hi;
+}
+
+// An earlier stage can absorb a term the model leaves out (a rotor's inertia folded into the link
+// it turns; the later stages' parameters then take what their equations miss), and no stage's
+// consistency sees it (docs/findings.md, section 11). The last stage's records move every joint:
+// one fit of them alone, when it determines every base parameter, must find a physically
+// consistent body, and agree with the stages' estimate within both estimates' errors (their
+// difference's variance is at most the sum, the records being shared and the errors correlated
+// positively).
+struct OneFitCheck {
+  nlohmann::json json;
+  std::string problem;  ///< empty: they agree, or it could not be judged
+};
+
+OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ChainStageInput& last_input,
+                          const StageRecords& records, const Eigen::VectorXd& theta, const Eigen::VectorXd& std_error) {
+  OneFitCheck out;
+  ident::ChainEstimateOptions eo;
+  eo.ls.max_condition = a.max_condition;
+  eo.consistent = a.consistency;
+  const ident::ChainEstimate one = ident::estimateChain(loaded.robot, records.stages.back().record, loaded.phi, eo);
+  const int n = loaded.base.rank;
+  if (one.ls.rank < n || one.ls.summary.status == ident::Status::kIllConditioned || !one.std_error.allFinite() || !std_error.allFinite()) {
+    std::cout << "one fit of the last stage's records: not judged (those records alone do not determine every base parameter)\n";
+    out.json = {{"judged", false}, {"why", "the last stage's records alone do not determine every base parameter"}};
+    return out;
+  }
+  // Records the model explains to rounding (exact data) leave no term out: nothing to compare
+  // (their errors are rounding too, and the stages' subtractions round differently).
+  const ident::RecordRows& last = records.stages.back().record;
+  if ((last.y - last.W * one.beta).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * last.y.norm()) {
+    std::cout << "one fit of the last stage's records: explains them to rounding (no term is left out)\n";
+    out.json = {{"judged", false}, {"why", "the model explains the last stage's records to rounding"}};
+    return out;
+  }
+  double inconsistency = 0.0;  // LS to the nearest consistent body, in the one fit's standard errors
+  if (one.consistent && one.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
+    const Eigen::VectorXd d = one.consistent->beta - one.beta;
+    inconsistency = std::sqrt(std::max(0.0, d.dot(one.covariance.ldlt().solve(d))));
+  }
+  const double threshold = bonferroniZ(a.significance_sigmas, n);
+  const Eigen::VectorXd z = (theta - one.beta).cwiseQuotient((std_error.array().square() + one.std_error.array().square()).sqrt().matrix());
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](Eigen::Index i, Eigen::Index j) { return std::abs(z[i]) > std::abs(z[j]); });
+  std::cout << wrapped("one fit of the last stage's records against the stages: largest difference " + fmt(std::abs(z[order.front()]), 3) +
+                       " of both errors (" + loaded.base.names[static_cast<std::size_t>(order.front())] + "), threshold " + fmt(threshold, 3) +
+                       " (--significance " + fmt(a.significance_sigmas, 3) + ", Bonferroni over " + core::toText(n) +
+                       " base parameters); nearest consistent body " + fmt(inconsistency, 3) + " standard errors away")
+            << "\n";
+  out.json = {{"judged", true}, {"one_fit", toVector(one.beta)}, {"one_fit_std_error", toVector(one.std_error)}, {"z", toVector(z)},
+              {"largest_abs_z", std::abs(z[order.front()])}, {"threshold", threshold}, {"one_fit_inconsistency_std_errors", inconsistency},
+              {"rule", "z = (stages - one fit) / sqrt(se_stages^2 + se_one_fit^2); named beyond the Bonferroni threshold of --significance "
+                       "over the base parameters; the one fit's nearest consistent body beyond --significance of its standard errors"}};
+  std::vector<std::string> found;
+  std::string named;
+  for (std::size_t k = 0; k < order.size() && std::abs(z[order[k]]) > threshold; ++k) {
+    if (k == 5) {
+      named += ", ...";
+      break;
+    }
+    named += (k ? ", " : "") + loaded.base.names[static_cast<std::size_t>(order[k])] + " (" + fmt(z[order[k]], 3) + ")";
+  }
+  if (!named.empty()) found.push_back("differs from the stages' estimate beyond both errors: " + named);
+  if (inconsistency > a.significance_sigmas) found.push_back("has no physically consistent body within " + fmt(inconsistency, 3) + " standard errors");
+  if (found.empty()) return out;
+  const ArmatureTest armature = armatureTest(a, loaded, log, last_input.files, records.signals.back());
+  out.json["armature"] = armature.json;
+  out.problem = "one fit of the last stage's records " + found.front() + (found.size() > 1 ? " and " + found.back() : std::string()) +
+                ": an earlier stage may have absorbed a term the model leaves out; " +
+                (armature.joints.empty() ? std::string("model the missing term") : armature.hint());
+  return out;
+}
+
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<ChainStageInput>& inputs,
                    const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth) {
   StageRecords records = readStages(a, loaded, inputs, data);
   const std::vector<ident::Method> methods = stageMethods(a);
@@ -301,6 +384,11 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
       out.problems.push_back(inconsistencyProblem(consistent->distance, "reported standard errors", a.significance_sigmas));
     }
   }
+  std::optional<OneFitCheck> one_fit;
+  if (errors) {
+    one_fit = againstOneFit(a, loaded, log, inputs.back(), records, results.front().theta, errors->reported);
+    if (!one_fit->problem.empty()) out.problems.push_back(one_fit->problem);
+  }
   out.ls = results.front().theta;
   if (errors) out.std_error = errors->reported;
   for (std::size_t k = 1; k < methods.size(); ++k) out.others.emplace_back(ident::toString(methods[k]), results[k].theta);
@@ -310,6 +398,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   std::vector<std::string> files;  // the records in the stages' order
   for (const ChainStageInput& in : inputs) files.insert(files.end(), in.files.begin(), in.files.end());
   out.json["determination"] = determinationJson(loaded.robot, determination, files);
+  if (one_fit) out.json["against_one_fit"] = one_fit->json;
   if (errors) {
     if (const auto sensitivity = stagesBandSensitivity(a, loaded, records, data, out.method_options, out.ls, errors->reported)) {
       for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";

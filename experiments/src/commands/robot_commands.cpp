@@ -553,25 +553,20 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
   return v;
 }
 
-// An optional term the records may need: when no physically consistent body explains the fit, the
-// same records (each in its band) fitted with an armature on every joint the model gives none. Each
-// armature that is a base parameter of its own and lies more than --significance reported standard
-// errors above 0 (a rotor inertia is positive) is named, with the option that adds it.
-struct ArmatureTest {
-  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value, std_error, significant
-  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
-  std::string hint() const {
-    if (joints.empty()) return "";
-    std::string s, list;
-    for (std::size_t k = 0; k < joints.size(); ++k) {
-      s += (k ? ", " : "") + shown[k];
-      list += (k ? "," : "") + joints[k];
-    }
-    return "the records show a joint armature the model leaves out (" + s + "): rerun with --armature " + list;
-  }
-};
+}  // namespace
 
-ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ChainFitRecords& fit) {
+std::string ArmatureTest::hint() const {
+  if (joints.empty()) return "";
+  std::string s, list;
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    s += (k ? ", " : "") + shown[k];
+    list += (k ? "," : "") + joints[k];
+  }
+  return "the records show a joint armature the model leaves out (" + s + "): rerun with --armature " + list;
+}
+
+ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
+                          const std::vector<ident::SignalOptions>& signals) {
   ArmatureTest t;
   std::vector<std::string> missing;
   for (const ident::ChainJoint& j : loaded.model.joints) {
@@ -583,7 +578,7 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   bo.planar_base_motion = a.moving_base_parameters;
   const ident::Robot robot = ident::chainRobot(with, bo);
   std::vector<ident::RecordRows> rows;
-  for (std::size_t r = 0; r < a.data.size(); ++r) rows.push_back(ident::processRecord(readLog(a.data[r], log), robot, fit.signals[r]));
+  for (std::size_t r = 0; r < files.size(); ++r) rows.push_back(ident::processRecord(readLog(files[r], log), robot, signals[r]));
   std::vector<std::string> terms;
   for (const std::string& joint : missing) terms.push_back(joint + ".Ia");
   for (const OptionalTermFit& f : fitOptionalTerms(robot, rows, terms, a.significance_sigmas, a.max_condition)) {
@@ -595,6 +590,8 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   }
   return t;
 }
+
+namespace {
 
 void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others,
                          const std::optional<Eigen::VectorXd>& truth, double mahalanobis, const Eigen::VectorXd& cad) {
@@ -689,7 +686,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   // A consistency failure an optional term explains says so, and names the option.
   std::optional<ArmatureTest> armature;
   if (verdict.mahalanobis > a.significance_sigmas) {
-    armature = armatureTest(a, loaded, log, fit);
+    armature = armatureTest(a, loaded, log, a.data, fit.signals);
     for (std::string& p : verdict.problems) {
       if (!armature->joints.empty() && p.rfind("no physically consistent body", 0) == 0) p += "; " + armature->hint();
     }
@@ -762,7 +759,7 @@ int identifyChain(const ChainIdentifyArgs& given) {
             << (a.stages.empty() ? "" : "; segmental strategy, distal joints first") << "\n";
   std::optional<Eigen::VectorXd> truth;
   if (!a.truth.empty()) truth = truthFromSidecar(a.truth, loaded);
-  const ChainFit fit = a.stages.empty() ? fitOnce(a, loaded, log, data.front(), truth) : fitStages(a, loaded, inputs, data, truth);
+  const ChainFit fit = a.stages.empty() ? fitOnce(a, loaded, log, data.front(), truth) : fitStages(a, loaded, log, inputs, data, truth);
   data.clear();
 
   // The validation records, the model file's own parameters (CAD) and --plot, whatever the strategy.

@@ -163,8 +163,20 @@ void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loade
 
 /// The segmental strategy down the chain: data[s] holds the records of stage inputs[s] (stageInputs),
 /// every method fitted stage by stage (ident::identifySegmental), printed with `truth` when known.
-ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ChainStageInput>& inputs,
+ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<ChainStageInput>& inputs,
                    const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth);
+
+/// An optional term the records may need: the records `files` (each processed as `signals`)
+/// fitted with an armature on every joint the model gives none. Each armature that is a base
+/// parameter of its own and lies more than --significance reported standard errors above 0 (a
+/// rotor inertia is positive) is named, with the option that adds it.
+struct ArmatureTest {
+  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value, std_error, significant
+  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
+  std::string hint() const;                        ///< "...: rerun with --armature knee,ankle"; empty: none
+};
+ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
+                          const std::vector<ident::SignalOptions>& signals);
 
 /// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
 /// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
