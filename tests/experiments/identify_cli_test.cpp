@@ -228,7 +228,31 @@ TEST(IdentifyCli, AHipLockedRecordExitsThreeNamingTheHipParametersAndServesAsThe
   ASSERT_EQ(segmental["records"].size(), 2u);  // the knee record's, then the both-joint record's
   EXPECT_EQ(segmental["records"][0]["file"], t1);
   EXPECT_EQ(segmental["records"][1]["file"], t3);
+  // The both-joint record fitted alone is judged beside the stages (a chain's stages are too).
+  const nlohmann::json against = readJson(out)["against_one_fit"];
+  EXPECT_TRUE(against["judged"].get<bool>());
+  EXPECT_TRUE(against["one_fit_consistent"].get<bool>());
   EXPECT_EQ(runExoid({"identify", "--data", t3, "--method", "ls", "--json", out}), 0);
+}
+
+// A knee armature the model leaves out (3 kg m^2 on the rig): one fit of the both-joint record
+// alone is implausible, and the segmental strategy says so beside its own verdict, naming
+// --knee-armature, as a chain's stages do (ChainCli.TheStagesNameATermAnEarlierStageAbsorbed).
+TEST(IdentifyCli, TheSegmentalStrategyJudgesOneFitOfTheBothJointRecords) {
+  const std::string dir = ::testing::TempDir();
+  const std::string t1 = dir + "/armature_t1.csv", t3 = dir + "/armature_t3.csv", out = dir + "/armature_segmental.json";
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "1", "--duration", "5", "--seed", "8", "--knee-armature", "3", "--out", t1}), 0);
+  ASSERT_EQ(runExoid({"simulate", "--trajectory", "3", "--duration", "10", "--seed", "9", "--knee-armature", "3", "--out", t3}), 0);
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(runExoid({"identify", "--knee-data", t1, "--both-data", t3, "--method", "ls", "--json", out}), 3);
+  const std::string printed = testing::internal::GetCapturedStdout(), err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(printed.find("one fit of the last stage's records against the stages"), std::string::npos) << printed;
+  EXPECT_NE(err.find("one fit of the last stage's records is physically implausible"), std::string::npos) << err;
+  EXPECT_NE(err.find("rerun with --knee-armature"), std::string::npos) << err;
+  const nlohmann::json against = readJson(out)["against_one_fit"];
+  EXPECT_TRUE(against["judged"].get<bool>());
+  EXPECT_FALSE(against["one_fit_consistent"].get<bool>());
 }
 
 // --base-terms judged: the choice is printed and in the JSON per record (kept, both held-out RMS,

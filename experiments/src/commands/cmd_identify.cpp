@@ -9,6 +9,7 @@
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/stages_check.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/cells.hpp"
@@ -418,7 +419,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                        const std::map<std::string, ident::ParamVector>& truths,
                        const std::optional<BandSensitivity>& sensitivity, const ident::Robot& robot,
-                       const ident::Determination& determination, const nlohmann::json& optional_terms) {
+                       const ident::Determination& determination, const nlohmann::json& reports) {
   const bool single = !a.data.empty();
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -442,7 +443,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   std::vector<std::string> files = knee.files;  // the determination's records: the knee role's first when segmental
   files.insert(files.end(), primary.files.begin(), primary.files.end());
   j["determination"] = determinationJson(robot, determination, files);
-  if (!optional_terms.is_null()) j["optional_terms"] = optional_terms;
+  for (const auto& [name, report] : reports.items()) j[name] = report;  // optional_terms, against_one_fit
   j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
@@ -646,6 +647,46 @@ std::string optionalTermHint(const OptionalTerm& t) {
          fmt(t.value / t.std_error, 3) + " standard errors above 0): rerun with --knee-armature";
 }
 
+// The segmental strategy against one fit of the both-joint records (stages_check.hpp), as a
+// chain's stages are judged: printed, in the JSON, and exit 3 when that one fit is physically
+// implausible (its own identify would exit 3), naming --knee-armature when the records show one.
+struct SegmentalCheck {
+  nlohmann::json json;  ///< null: not run (no segmental LS with its errors)
+  std::string problem;
+};
+
+SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const ident::MethodOptions& mo, const std::vector<MethodOutcome>& outcomes) {
+  SegmentalCheck out;
+  const auto ls = std::find_if(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return m.method == ident::Method::kLs; });
+  if (ls == outcomes.end() || !ls->segmental_errors || a.knee_armature || !a.consistency) return out;
+  MethodOutcome one = identifyAll(ident::Method::kLs, r.primary.rows, mo);
+  const ident::Estimate& e = one.stages.front().estimate;
+  std::string why;
+  if (!ident::usable(e.summary.status)) {
+    why = "those records alone do not determine every parameter";
+  } else if ((r.primary.rows.y - r.primary.rows.W * e.x).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * r.primary.rows.y.norm()) {
+    why = "the model explains them to rounding: no term is left out";
+  } else {
+    applyConsistency(one, r.primary.rows, r.c, a.consistency_options);
+    if (!one.consistency) why = "no standard errors";
+  }
+  if (!why.empty()) {
+    std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
+    out.json = {{"judged", false}, {"why", why}};
+    return out;
+  }
+  const Eigen::VectorXd stages = ls->consistency ? ls->consistency->unconstrained : Eigen::VectorXd(ls->x);
+  StagesAgainstOneFit c = compareStagesWithOneFit(stages, ls->segmental_errors->reported, one.consistency->unconstrained, one.consistency->std_err,
+                                                  a.consistency_options.significance_sigmas);
+  for (const std::string& v : one.implausible) c.one_fit_inconsistency += (c.one_fit_inconsistency.empty() ? "is physically implausible: " : "; ") + v;
+  std::cout << wrapped(describe(c, r.robot.names())) << '\n';
+  out.json = toJson(c, r.robot.names());
+  if (c.one_fit_inconsistency.empty()) return out;
+  const OptionalTerm armature = kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas);
+  out.problem = stagesHidProblem(c, armature.significant ? optionalTermHint(armature) : "");
+  return out;
+}
+
 void run(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (runChainModel(a)) return;
@@ -687,19 +728,22 @@ void run(const IdentifyArgs& a) {
     for (const std::string& line : describe(*sensitivity)) std::cout << line << '\n';
   }
   if (armature && armature->significant) std::cout << "implausible: " << optionalTermHint(*armature) << '\n';
+  const SegmentalCheck against = segmental ? againstOneFit(a, r, mo, outcomes) : SegmentalCheck{};
   if (!a.json_out.empty()) {
-    nlohmann::json optional_terms;
+    nlohmann::json reports = nlohmann::json::object();
+    if (!against.json.is_null()) reports["against_one_fit"] = against.json;
     if (armature) {
-      optional_terms["knee_armature"] = {{"Ia2_kgm2", armature->value}, {"std_error", jsonNumber(armature->std_error)}, {"significant", armature->significant},
+      reports["optional_terms"]["knee_armature"] = {{"Ia2_kgm2", armature->value}, {"std_error", jsonNumber(armature->std_error)}, {"significant", armature->significant},
                                          {"rule", "fitted with the records when the estimate is physically implausible; significant when Ia2 > "
                                                   "--significance reported standard errors"}};
     }
     writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination,
-                      optional_terms);
+                      reports);
   }
   std::string problems = undeterminedProblem(r.robot, r.determination);
   if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;
   if (armature && armature->significant) problems += "; " + optionalTermHint(*armature);
+  if (!against.problem.empty()) problems += (problems.empty() ? "" : "; ") + against.problem;
   if (!problems.empty()) throw UnusableResult(problems);
 }
 

@@ -6,6 +6,7 @@
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
+#include "exoid/experiments/protocol/stages_check.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/table.hpp"
@@ -268,26 +269,12 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
 
 }  // namespace
 
-// The |z| beyond which `tests` two-sided tests together name a difference as often as one test at
-// --significance does: P(|Z| > z) = P(|Z| > significance) / tests (Bonferroni).
-double bonferroniZ(double significance_sigmas, int tests) {
-  const auto tail = [](double z) { return std::erfc(z / std::sqrt(2.0)); };
-  const double target = tail(significance_sigmas) / std::max(tests, 1);
-  double lo = 0.0, hi = 40.0;
-  for (int k = 0; k < 100; ++k) (tail(0.5 * (lo + hi)) > target ? lo : hi) = 0.5 * (lo + hi);
-  return hi;
-}
-
-// An earlier stage can absorb a term the model leaves out (a rotor's inertia folded into the link
-// it turns; the later stages' parameters then take what their equations miss), and no stage's
-// consistency sees it (docs/findings.md, section 11). The last stage's records move every joint:
-// one fit of them alone, when it determines every base parameter, must find a physically
-// consistent body, and agree with the stages' estimate within both estimates' errors (their
-// difference's variance is at most the sum, the records being shared and the errors correlated
-// positively).
+// The stages against one fit of the last stage's records (stages_check.hpp), when those records
+// alone determine every base parameter and the model does not explain them to rounding (exact
+// data leave no term out; their errors are rounding too).
 struct OneFitCheck {
   nlohmann::json json;
-  std::string problem;  ///< empty: they agree, or it could not be judged
+  std::string problem;  ///< empty: the one fit is consistent, or it could not be judged
 };
 
 OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ChainStageInput& last_input,
@@ -296,57 +283,31 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = a.max_condition;
   eo.consistent = a.consistency;
-  const ident::ChainEstimate one = ident::estimateChain(loaded.robot, records.stages.back().record, loaded.phi, eo);
-  const int n = loaded.base.rank;
-  if (one.ls.rank < n || one.ls.summary.status == ident::Status::kIllConditioned || !one.std_error.allFinite() || !std_error.allFinite()) {
-    std::cout << "one fit of the last stage's records: not judged (those records alone do not determine every base parameter)\n";
-    out.json = {{"judged", false}, {"why", "the last stage's records alone do not determine every base parameter"}};
-    return out;
-  }
-  // Records the model explains to rounding (exact data) leave no term out: nothing to compare
-  // (their errors are rounding too, and the stages' subtractions round differently).
   const ident::RecordRows& last = records.stages.back().record;
-  if ((last.y - last.W * one.beta).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * last.y.norm()) {
-    std::cout << "one fit of the last stage's records: explains them to rounding (no term is left out)\n";
-    out.json = {{"judged", false}, {"why", "the model explains the last stage's records to rounding"}};
+  const ident::ChainEstimate one = ident::estimateChain(loaded.robot, last, loaded.phi, eo);
+  std::string why;
+  if (one.ls.rank < loaded.base.rank || one.ls.summary.status == ident::Status::kIllConditioned || !one.std_error.allFinite() || !std_error.allFinite()) {
+    why = "those records alone do not determine every base parameter";
+  } else if ((last.y - last.W * one.beta).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * last.y.norm()) {
+    why = "the model explains them to rounding: no term is left out";
+  }
+  if (!why.empty()) {
+    std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
+    out.json = {{"judged", false}, {"why", why}};
     return out;
   }
-  double inconsistency = 0.0;  // LS to the nearest consistent body, in the one fit's standard errors
+  StagesAgainstOneFit c = compareStagesWithOneFit(theta, std_error, one.beta, one.std_error, a.significance_sigmas);
   if (one.consistent && one.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
     const Eigen::VectorXd d = one.consistent->beta - one.beta;
-    inconsistency = std::sqrt(std::max(0.0, d.dot(one.covariance.ldlt().solve(d))));
+    const double distance = std::sqrt(std::max(0.0, d.dot(one.covariance.ldlt().solve(d))));
+    if (distance > a.significance_sigmas) c.one_fit_inconsistency = "has no physically consistent body within " + fmt(distance, 3) + " standard errors";
   }
-  const double threshold = bonferroniZ(a.significance_sigmas, n);
-  const Eigen::VectorXd z = (theta - one.beta).cwiseQuotient((std_error.array().square() + one.std_error.array().square()).sqrt().matrix());
-  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](Eigen::Index i, Eigen::Index j) { return std::abs(z[i]) > std::abs(z[j]); });
-  std::cout << wrapped("one fit of the last stage's records against the stages: largest difference " + fmt(std::abs(z[order.front()]), 3) +
-                       " of both errors (" + loaded.base.names[static_cast<std::size_t>(order.front())] + "), threshold " + fmt(threshold, 3) +
-                       " (--significance " + fmt(a.significance_sigmas, 3) + ", Bonferroni over " + core::toText(n) +
-                       " base parameters); nearest consistent body " + fmt(inconsistency, 3) + " standard errors away")
-            << "\n";
-  out.json = {{"judged", true}, {"one_fit", toVector(one.beta)}, {"one_fit_std_error", toVector(one.std_error)}, {"z", toVector(z)},
-              {"largest_abs_z", std::abs(z[order.front()])}, {"threshold", threshold}, {"one_fit_inconsistency_std_errors", inconsistency},
-              {"rule", "z = (stages - one fit) / sqrt(se_stages^2 + se_one_fit^2); named beyond the Bonferroni threshold of --significance "
-                       "over the base parameters; the one fit's nearest consistent body beyond --significance of its standard errors"}};
-  std::vector<std::string> found;
-  std::string named;
-  for (std::size_t k = 0; k < order.size() && std::abs(z[order[k]]) > threshold; ++k) {
-    if (k == 5) {
-      named += ", ...";
-      break;
-    }
-    named += (k ? ", " : "") + loaded.base.names[static_cast<std::size_t>(order[k])] + " (" + fmt(z[order[k]], 3) + ")";
-  }
-  if (!named.empty()) found.push_back("differs from the stages' estimate beyond both errors: " + named);
-  if (inconsistency > a.significance_sigmas) found.push_back("has no physically consistent body within " + fmt(inconsistency, 3) + " standard errors");
-  if (found.empty()) return out;
+  std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
+  out.json = toJson(c, loaded.base.names);
+  if (c.one_fit_inconsistency.empty()) return out;
   const ArmatureTest armature = armatureTest(a, loaded, log, last_input.files, records.signals.back());
   out.json["armature"] = armature.json;
-  out.problem = "one fit of the last stage's records " + found.front() + (found.size() > 1 ? " and " + found.back() : std::string()) +
-                ": an earlier stage may have absorbed a term the model leaves out; " +
-                (armature.joints.empty() ? std::string("model the missing term") : armature.hint());
+  out.problem = stagesHidProblem(c, armature.hint());
   return out;
 }
 
