@@ -181,7 +181,5 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
 /// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
 /// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
 std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas);
-/// Throws UnusableResult (exit 3) naming every problem ("; "-separated) when there are any.
-void throwIfUnusable(const std::vector<std::string>& problems);
 
 }  // namespace exoid::experiments
