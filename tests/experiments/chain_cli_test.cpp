@@ -587,6 +587,11 @@ TEST(ChainCli, TheStagesNameATermAnEarlierStageAbsorbed) {
     EXPECT_NE(why.find("rerun with --armature knee"), std::string::npos) << why;
     EXPECT_FALSE(check["one_fit_consistent"].get<bool>());
     EXPECT_TRUE(check["armature"]["knee"]["significant"].get<bool>());
+    // Without the consistency rules nothing is judged consistent: not judged, said as such.
+    testing::internal::CaptureStdout();
+    EXPECT_EQ(runExoid({"identify", "--model", rig.identified, "--stage", "knee=" + knee, "--data", all, "--no-consistency", "--json", out}), 0);
+    EXPECT_NE(testing::internal::GetCapturedStdout().find("the one fit's consistency not judged (--no-consistency)"), std::string::npos);
+    EXPECT_TRUE(readJson(out)["against_one_fit"]["one_fit_consistent"].is_null());
   }
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 namespace exoid::experiments {
@@ -19,6 +20,7 @@ TEST(StagesCheck, TheThresholdSharesOneTestsTailAmongTheParameters) {
     EXPECT_NEAR(twoSidedTail(z) * n, twoSidedTail(2.0), 1e-12 * twoSidedTail(2.0)) << n;
   }
   EXPECT_NEAR(bonferroniZ(2.0, 17), 3.0, 0.01);  // the value leg3's 17 base parameters print
+  EXPECT_GE(bonferroniZ(50.0, 10), 50.0);        // where the tail underflows: never below one test's
 }
 
 TEST(StagesCheck, DifferencesAreInBothErrorsAndNamedLargestFirst) {
@@ -39,6 +41,9 @@ TEST(StagesCheck, DifferencesAreInBothErrorsAndNamedLargestFirst) {
   hid.one_fit_inconsistency = "has no physically consistent body within 9 standard errors";
   EXPECT_NE(stagesHidProblem(hid, "rerun with --armature knee").find("rerun with --armature knee"), std::string::npos);
   EXPECT_THROW(compareStagesWithOneFit(stages, se_stages.head(2), one, se_one, 2.0), std::invalid_argument);
+  Eigen::VectorXd infinite = se_one;
+  infinite[1] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(compareStagesWithOneFit(stages, se_stages, one, infinite, 2.0), std::invalid_argument);
 }
 
 // Independent estimates with honest errors (the difference's variance is the sum): any of 17

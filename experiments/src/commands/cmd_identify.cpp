@@ -419,7 +419,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                        const std::map<std::string, ident::ParamVector>& truths,
                        const std::optional<BandSensitivity>& sensitivity, const ident::Robot& robot,
-                       const ident::Determination& determination, const nlohmann::json& reports) {
+                       const ident::Determination& determination, const nlohmann::json& reports, bool more_problems) {
   const bool single = !a.data.empty();
   nlohmann::json j;
   j["tool"] = toolJson();
@@ -444,7 +444,7 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   files.insert(files.end(), primary.files.begin(), primary.files.end());
   j["determination"] = determinationJson(robot, determination, files);
   for (const auto& [name, report] : reports.items()) j[name] = report;  // optional_terms, against_one_fit
-  j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() ? "usable" : "not_usable";
+  j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() && !more_problems ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
@@ -651,24 +651,25 @@ std::string optionalTermHint(const OptionalTerm& t) {
 // chain's stages are judged: printed, in the JSON, and exit 3 when that one fit is physically
 // implausible (its own identify would exit 3), naming --knee-armature when the records show one.
 struct SegmentalCheck {
-  nlohmann::json json;  ///< null: not run (no segmental LS with its errors)
+  nlohmann::json json;
   std::string problem;
 };
 
 SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const ident::MethodOptions& mo, const std::vector<MethodOutcome>& outcomes) {
   SegmentalCheck out;
   const auto ls = std::find_if(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return m.method == ident::Method::kLs; });
-  if (ls == outcomes.end() || !ls->segmental_errors || a.knee_armature || !a.consistency) return out;
-  MethodOutcome one = identifyAll(ident::Method::kLs, r.primary.rows, mo);
-  const ident::Estimate& e = one.stages.front().estimate;
+  const ident::RecordRows& rows = r.primary.rows;
+  MethodOutcome one;
+  ident::ReportedErrors errors;
   std::string why;
-  if (!ident::usable(e.summary.status)) {
+  if (ls == outcomes.end() || !ls->segmental_errors) {
+    why = "no least-squares estimate of the stages with its errors (--method without ls, or LS not usable)";
+  } else if (one = identifyAll(ident::Method::kLs, rows, mo); !ident::usable(one.stages.front().estimate.summary.status)) {
     why = "those records alone do not determine every parameter";
-  } else if ((r.primary.rows.y - r.primary.rows.W * e.x).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * r.primary.rows.y.norm()) {
+  } else if ((rows.y - rows.W * one.stages.front().estimate.x).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * rows.y.norm()) {
     why = "the model explains them to rounding: no term is left out";
-  } else {
-    applyConsistency(one, r.primary.rows, r.c, a.consistency_options);
-    if (!one.consistency) why = "no standard errors";
+  } else if (errors = legReportedErrors(rows, one.stages.front().estimate.x); !errors.reported.allFinite() || !ls->segmental_errors->reported.allFinite()) {
+    why = "the errors are not finite";
   }
   if (!why.empty()) {
     std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
@@ -676,9 +677,13 @@ SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const i
     return out;
   }
   const Eigen::VectorXd stages = ls->consistency ? ls->consistency->unconstrained : Eigen::VectorXd(ls->x);
-  StagesAgainstOneFit c = compareStagesWithOneFit(stages, ls->segmental_errors->reported, one.consistency->unconstrained, one.consistency->std_err,
+  StagesAgainstOneFit c = compareStagesWithOneFit(stages, ls->segmental_errors->reported, one.stages.front().estimate.x, errors.reported,
                                                   a.consistency_options.significance_sigmas);
-  for (const std::string& v : one.implausible) c.one_fit_inconsistency += (c.one_fit_inconsistency.empty() ? "is physically implausible: " : "; ") + v;
+  c.consistency_judged = a.consistency;
+  if (a.consistency) {
+    applyConsistency(one, rows, r.c, a.consistency_options);
+    for (const std::string& v : one.implausible) c.one_fit_inconsistency += (c.one_fit_inconsistency.empty() ? "is physically implausible: " : "; ") + v;
+  }
   std::cout << wrapped(describe(c, r.robot.names())) << '\n';
   out.json = toJson(c, r.robot.names());
   if (c.one_fit_inconsistency.empty()) return out;
@@ -738,7 +743,7 @@ void run(const IdentifyArgs& a) {
                                                   "--significance reported standard errors"}};
     }
     writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination,
-                      reports);
+                      reports, !against.problem.empty());
   }
   std::string problems = undeterminedProblem(r.robot, r.determination);
   if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;

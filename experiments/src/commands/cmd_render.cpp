@@ -12,6 +12,7 @@
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/ident/leg/regressor.hpp"
+#include "exoid/ident/model/robot.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/ident/signals/processing.hpp"
@@ -78,6 +79,13 @@ void placePrediction(const ident::Dataset& d, const ident::JointSignals& s, cons
   track.prediction_name = name;
 }
 
+// Any leg's prediction from its parameters theta: the robot's inverse dynamics on the prepared signals.
+void addPrediction(const ident::Dataset& d, const ident::SignalOptions& signals, const ident::Robot& robot, const Eigen::VectorXd& theta,
+                   const std::string& name, render::Track& track) {
+  const ident::JointSignals s = ident::prepareSignals(d, signals);
+  placePrediction(d, s, ident::predictTorques(robot, s, theta), name, track);
+}
+
 // The APAL leg's identify JSON (`exoid identify --json`): the paper's X and the leg's constants.
 void addLegPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals, render::Track& track) {
   const nlohmann::json j = readUserJsonFile(json_path, "identification JSON");
@@ -92,10 +100,9 @@ void addLegPrediction(const std::string& json_path, const ident::Dataset& d, con
     c.gravity_mps2 = cj.value("gravity_mps2", c.gravity_mps2);
   }
   c.validate();
-  const ident::JointSignals s = ident::prepareSignals(d, signals);
   std::string name = j.value("method", std::string("identified"));
   std::transform(name.begin(), name.end(), name.begin(), [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
-  placePrediction(d, s, ident::predictTorque(s, x, c), name, track);
+  addPrediction(d, signals, ident::twoLinkLeg(c), x, name, track);
 }
 
 // A chain's identify JSON (`exoid identify --model ... --json`): its least-squares base
@@ -125,15 +132,6 @@ Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChai
   return Eigen::Map<const Eigen::VectorXd>(ls.data(), static_cast<Eigen::Index>(ls.size()));
 }
 
-void addChainPrediction(const std::string& json_path, const ident::Dataset& d, const ident::SignalOptions& signals,
-                        const LoadedChain& loaded, render::Track& track) {
-  const ident::JointSignals s = ident::prepareSignals(d, signals);
-  const ident::RecordRows rows = ident::recordRows(loaded.robot, s);
-  const Eigen::VectorXd tau = rows.W * chainEstimateFrom(json_path, loaded);
-  // W's rows are sample-major (every joint of a sample together).
-  const Eigen::MatrixXd by_joint = Eigen::Map<const Eigen::MatrixXd>(tau.data(), rows.dof, s.size()).transpose();
-  placePrediction(d, s, by_joint, "LS", track);
-}
 
 // A record's track: every joint's angle and torque, the APAL pedestal's columns when recorded.
 render::Track trackOf(const ident::Dataset& d, const std::string& title) {
@@ -190,7 +188,7 @@ render::Track chainTrack(const RenderArgs& a) {
     title = loaded.chain.name + " simulated (seed " + core::toText(a.sim.seed) + ")";
   }
   render::Track tr = trackOf(d, title);
-  if (!a.ident_json.empty()) addChainPrediction(a.ident_json, d, a.signals, loaded, tr);
+  if (!a.ident_json.empty()) addPrediction(d, a.signals, loaded.robot, chainEstimateFrom(a.ident_json, loaded), "LS", tr);
   return tr;
 }
 

@@ -269,6 +269,8 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
 
 }  // namespace
 
+namespace {
+
 // The stages against one fit of the last stage's records (stages_check.hpp), when those records
 // alone determine every base parameter and the model does not explain them to rounding (exact
 // data leave no term out; their errors are rounding too).
@@ -286,8 +288,10 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   const ident::RecordRows& last = records.stages.back().record;
   const ident::ChainEstimate one = ident::estimateChain(loaded.robot, last, loaded.phi, eo);
   std::string why;
-  if (one.ls.rank < loaded.base.rank || one.ls.summary.status == ident::Status::kIllConditioned || !one.std_error.allFinite() || !std_error.allFinite()) {
+  if (one.ls.rank < loaded.base.rank || one.ls.summary.status == ident::Status::kIllConditioned || !one.std_error.allFinite()) {
     why = "those records alone do not determine every base parameter";
+  } else if (!std_error.allFinite() || !theta.allFinite()) {
+    why = "the stages' estimate or errors are not finite";
   } else if ((last.y - last.W * one.beta).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * last.y.norm()) {
     why = "the model explains them to rounding: no term is left out";
   }
@@ -297,10 +301,14 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
     return out;
   }
   StagesAgainstOneFit c = compareStagesWithOneFit(theta, std_error, one.beta, one.std_error, a.significance_sigmas);
+  c.consistency_judged = a.consistency;
   if (one.consistent && one.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
     const Eigen::VectorXd d = one.consistent->beta - one.beta;
     const double distance = std::sqrt(std::max(0.0, d.dot(one.covariance.ldlt().solve(d))));
-    if (distance > a.significance_sigmas) c.one_fit_inconsistency = "has no physically consistent body within " + fmt(distance, 3) + " standard errors";
+    if (distance > a.significance_sigmas) {
+      c.one_fit_inconsistency = "has no physically consistent body: the nearest consistent estimate is " + fmt(distance, 3) +
+                                " standard errors from its least squares (--significance " + fmt(a.significance_sigmas, 3) + ")";
+    }
   }
   std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
   out.json = toJson(c, loaded.base.names);
@@ -310,6 +318,8 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   out.problem = stagesHidProblem(c, armature.hint());
   return out;
 }
+
+}  // namespace
 
 ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<ChainStageInput>& inputs,
                    const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth) {

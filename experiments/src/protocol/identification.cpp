@@ -171,6 +171,13 @@ const char* const kSegmentalErrorsAre =
     "the same rule stage by stage (ident/estimators/segmental_errors.hpp): each stage's Newey-West and jackknives over its "
     "records, with what the earlier stages' errors carry into it through the torque it subtracts";
 
+ident::ReportedErrors legReportedErrors(const ident::RecordRows& p, const Eigen::VectorXd& x) {
+  // One channel, both equations of a sample one step (their residuals are correlated); the blocks
+  // of the jackknife: each record cut into whole samples.
+  return ident::reportedErrors(p.W, p.y, x, ident::interleavedChannels(p.W.rows(), 1), 2, ident::recordBlocks(p.record_rows, p.W.rows(), 2),
+                               ident::wholeRecords(p.record_rows, p.W.rows()));
+}
+
 void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident::LegConstants& c,
                       const ident::ConsistencyOptions& options) {
   if (m.stages.size() != 1 || m.stages.front().name != "all") {
@@ -183,10 +190,7 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& p, const ident:
   ConsistencyStep step;
   step.unconstrained = x;
   step.significance_sigmas = options.significance_sigmas;
-  // One channel, both equations of a sample one step (their residuals are correlated); the blocks
-  // of the jackknife: each record cut into whole samples.
-  step.errors = ident::reportedErrors(p.W, p.y, x, ident::interleavedChannels(p.W.rows(), 1), 2, ident::recordBlocks(p.record_rows, p.W.rows(), 2),
-                                      ident::wholeRecords(p.record_rows, p.W.rows()));
+  step.errors = legReportedErrors(p, x);
   step.std_err = step.errors.reported;
   step.fit = ident::solveConsistentLeastSquares(p.W, p.y, c.thigh_length_m, x, step.errors.covariance, options);
   m.x = step.fit.x.head(kNumParams);

@@ -12,7 +12,8 @@ namespace exoid::experiments {
 double bonferroniZ(double significance_sigmas, int tests) {
   const auto tail = [](double z) { return std::erfc(z / std::sqrt(2.0)); };
   const double target = tail(significance_sigmas) / std::max(tests, 1);
-  double lo = 0.0, hi = 40.0;
+  // Never below one test's z; sqrt(2 ln tests) more is enough for any count an int holds.
+  double lo = significance_sigmas, hi = significance_sigmas + 10.0;
   for (int k = 0; k < 100; ++k) (tail(0.5 * (lo + hi)) > target ? lo : hi) = 0.5 * (lo + hi);
   return hi;
 }
@@ -22,6 +23,9 @@ StagesAgainstOneFit compareStagesWithOneFit(const Eigen::VectorXd& stages, const
   const Eigen::Index n = stages.size();
   if (n == 0 || stages_se.size() != n || one_fit.size() != n || one_fit_se.size() != n) {
     throw std::invalid_argument("compareStagesWithOneFit: the estimates and their errors must have the same, non-zero size");
+  }
+  if (!stages.allFinite() || !stages_se.allFinite() || !one_fit.allFinite() || !one_fit_se.allFinite()) {
+    throw std::invalid_argument("compareStagesWithOneFit: every estimate and error must be finite");
   }
   StagesAgainstOneFit c;
   c.one_fit = one_fit;
@@ -49,7 +53,9 @@ std::string describe(const StagesAgainstOneFit& c, const std::vector<std::string
     }
     s += ": the errors do not cover the records' difference (model error that differs between them, or a term an earlier stage absorbed)";
   }
-  s += c.one_fit_inconsistency.empty() ? "; the one fit is physically consistent" : "; the one fit " + c.one_fit_inconsistency;
+  s += !c.consistency_judged            ? "; the one fit's consistency not judged (--no-consistency)"
+       : c.one_fit_inconsistency.empty() ? "; the one fit is physically consistent"
+                                         : "; the one fit " + c.one_fit_inconsistency;
   return s;
 }
 
@@ -63,16 +69,18 @@ nlohmann::json toJson(const StagesAgainstOneFit& c, const std::vector<std::strin
           {"largest_abs_z", std::abs(c.z[c.largest])},
           {"threshold", c.threshold},
           {"beyond", beyond},
-          {"one_fit_consistent", c.one_fit_inconsistency.empty()},
+          {"one_fit_consistent", c.consistency_judged ? nlohmann::json(c.one_fit_inconsistency.empty()) : nlohmann::json()},
           {"rule", "z = (stages - one fit) / sqrt(se_stages^2 + se_one_fit^2), named beyond the Bonferroni threshold of --significance over "
-                   "the parameters (printed, not an exit code); exit 3 when the one fit has no physically consistent body"}};
+                   "the parameters (printed, not an exit code); exit 3 when the one fit is not physically consistent, as its own identify "
+                   "judges it (a chain: the nearest consistent body beyond --significance of its standard errors; the APAL leg: a "
+                   "physical condition violated beyond --significance)"}};
 }
 
 std::string stagesHidProblem(const StagesAgainstOneFit& c, const std::string& hint) {
   if (c.one_fit_inconsistency.empty()) return "";
   return "one fit of the last stage's records " + c.one_fit_inconsistency +
          ": an earlier stage may have absorbed a term the model leaves out (the stages' own consistency need not show it); " +
-         (hint.empty() ? std::string("model the missing term, or fit the records at once") : hint);
+         (hint.empty() ? std::string("model the missing term (an armature on a joint the model gives none, for one)") : hint);
 }
 
 }  // namespace exoid::experiments

@@ -116,6 +116,10 @@ MethodOutcome identifySegmentedIdimIv(const ident::Robot& robot, const ident::Cl
 /// IDIM-IV on every equation of one record, all parameters (stage "all").
 MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLoopRecord& record, const ident::IvOptions& options);
 
+/// The reported errors of x fitted to the 2-link leg's rows p (both equations of a sample one step
+/// of one channel; each record's blocks for the jackknife): what identify reports of LS.
+ident::ReportedErrors legReportedErrors(const ident::RecordRows& p, const Eigen::VectorXd& x);
+
 /// Makes m (an all-parameter LS fit of the rows of r) physically consistent: standard errors from
 /// the residuals, ident::solveConsistentLeastSquares, m.x the constrained estimate; a violation
 /// within options.significance_sigmas is consistent with the bound, a larger one stays in

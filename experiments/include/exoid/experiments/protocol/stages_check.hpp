@@ -24,9 +24,13 @@ struct StagesAgainstOneFit {
   double threshold = 0.0;            ///< bonferroniZ(significance, parameters)
   std::vector<Eigen::Index> beyond;  ///< |z| > threshold, largest first
   Eigen::Index largest = 0;
-  /// Why the one fit has no physically consistent body (its own identify would exit 3); empty: it has.
+  /// The one fit's physical consistency was judged (not with --no-consistency).
+  bool consistency_judged = true;
+  /// Why the one fit has no physically consistent body (its own identify would exit 3); empty: it
+  /// has, or it was not judged.
   std::string one_fit_inconsistency;
 };
+/// Throws std::invalid_argument when the sizes differ or an entry is not finite.
 StagesAgainstOneFit compareStagesWithOneFit(const Eigen::VectorXd& stages, const Eigen::VectorXd& stages_se, const Eigen::VectorXd& one_fit,
                                             const Eigen::VectorXd& one_fit_se, double significance_sigmas);
 
@@ -34,7 +38,7 @@ StagesAgainstOneFit compareStagesWithOneFit(const Eigen::VectorXd& stages, const
 std::string describe(const StagesAgainstOneFit& c, const std::vector<std::string>& names);
 nlohmann::json toJson(const StagesAgainstOneFit& c, const std::vector<std::string>& names);
 /// identify's exit-3 reason when the one fit has no consistent body (empty when it has): the
-/// stages would hide what one fit shows. `hint`: the optional term that explains it, if found.
+/// stages would hide what one fit shows. `hint`: the option that adds the term explaining it, if found.
 std::string stagesHidProblem(const StagesAgainstOneFit& c, const std::string& hint);
 
 }  // namespace exoid::experiments
