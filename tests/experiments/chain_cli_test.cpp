@@ -513,17 +513,22 @@ TEST(ChainCli, TheMotorRigTakesThePidsIntegral) {
   EXPECT_NE(stderrOf({"simulate", "--integral-hz", "1", "--out", dir + "/apal.csv"}, 105).find("--integral-hz"), std::string::npos);
 }
 
+// models/leg3.xml with its knee motor reflecting `kgm2` (the shipped 0.05 kg m^2 replaced), at `path`.
+void writeLeg3WithKneeArmature(const std::string& path, const std::string& kgm2) {
+  std::ifstream in(std::string(EXOID_SOURCE_DIR) + "/models/leg3.xml");
+  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string from = "damping=\"0.3\" armature=\"0.05\"";
+  ASSERT_NE(xml.find(from), std::string::npos);
+  xml.replace(xml.find(from), from.size(), "damping=\"0.3\" armature=\"" + kgm2 + "\"");
+  std::ofstream(path) << xml;
+}
+
 // A URDF has no armature; a rig whose knee motor reflects 3 kg m^2 is fitted by no physical body
 // without it. The failure says which optional term explains it and names the option; with it, the
 // fit is consistent and usable.
 TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
   const std::string dir = ::testing::TempDir();
-  std::ifstream in(std::string(EXOID_SOURCE_DIR) + "/models/leg3.xml");
-  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "damping=\"0.3\" armature=\"0.05\"";
-  ASSERT_NE(xml.find(from), std::string::npos);
-  xml.replace(xml.find(from), from.size(), "damping=\"0.3\" armature=\"3\"");
-  std::ofstream(dir + "/leg3_heavy_rotor.xml") << xml;
+  ASSERT_NO_FATAL_FAILURE(writeLeg3WithKneeArmature(dir + "/leg3_heavy_rotor.xml", "3"));
   const std::string design = dir + "/arm_design.json", csv = dir + "/arm.csv", out = dir + "/arm.json";
   const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
   testing::internal::CaptureStdout();
@@ -552,12 +557,7 @@ TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
 TEST(ChainCli, TheStagesNameATermAnEarlierStageAbsorbed) {
   const std::string dir = ::testing::TempDir() + "/absorbed";
   std::filesystem::create_directories(dir);
-  std::ifstream in(std::string(EXOID_SOURCE_DIR) + "/models/leg3.xml");
-  std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const std::string from = "damping=\"0.3\" armature=\"0.05\"";
-  ASSERT_NE(xml.find(from), std::string::npos);
-  xml.replace(xml.find(from), from.size(), "damping=\"0.3\" armature=\"10\"");
-  std::ofstream(dir + "/heavy.xml") << xml;
+  ASSERT_NO_FATAL_FAILURE(writeLeg3WithKneeArmature(dir + "/heavy.xml", "10"));
   const std::string urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
   struct Rig {
     std::string simulated, identified, name;

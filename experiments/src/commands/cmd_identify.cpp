@@ -659,31 +659,23 @@ SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const i
   SegmentalCheck out;
   const auto ls = std::find_if(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return m.method == ident::Method::kLs; });
   const ident::RecordRows& rows = r.primary.rows;
-  MethodOutcome one;
-  ident::ReportedErrors errors;
-  std::string why;
-  if (ls == outcomes.end() || !ls->segmental_errors) {
-    why = "no least-squares estimate of the stages with its errors (--method without ls, or LS not usable)";
-  } else if (one = identifyAll(ident::Method::kLs, rows, mo); !ident::usable(one.stages.front().estimate.summary.status)) {
-    why = "those records alone do not determine every parameter";
-  } else if ((rows.y - rows.W * one.stages.front().estimate.x).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * rows.y.norm()) {
-    why = "the model explains them to rounding: no term is left out";
-  } else if (errors = legReportedErrors(rows, one.stages.front().estimate.x); !errors.reported.allFinite() || !ls->segmental_errors->reported.allFinite()) {
-    why = "the errors are not finite";
-  }
-  if (!why.empty()) {
-    std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
-    out.json = {{"judged", false}, {"why", why}};
+  const auto not_judged = [&out](const std::string& why) {
+    out.json = notJudged(why);
     return out;
-  }
+  };
+  if (ls == outcomes.end() || !ls->segmental_errors) return not_judged("no least-squares estimate of the stages with its errors (--method without ls, or LS not usable)");
+  MethodOutcome one = identifyAll(ident::Method::kLs, rows, mo);
+  const Eigen::VectorXd x = one.stages.front().estimate.x;
+  if (!ident::usable(one.stages.front().estimate.summary.status)) return not_judged("those records alone do not determine every parameter");
+  if (explainedToRounding(rows.W, rows.y, x)) return not_judged("the model explains them to rounding: no term is left out");
+  // The one fit's reported errors: its consistency step's, or computed alone without it.
+  if (a.consistency) applyConsistency(one, rows, r.c, a.consistency_options);
+  const Eigen::VectorXd errors = one.consistency ? one.consistency->std_err : legReportedErrors(rows, x).reported;
+  if (!errors.allFinite() || !ls->segmental_errors->reported.allFinite()) return not_judged("the errors are not finite");
   const Eigen::VectorXd stages = ls->consistency ? ls->consistency->unconstrained : Eigen::VectorXd(ls->x);
-  StagesAgainstOneFit c = compareStagesWithOneFit(stages, ls->segmental_errors->reported, one.stages.front().estimate.x, errors.reported,
-                                                  a.consistency_options.significance_sigmas);
+  StagesAgainstOneFit c = compareStagesWithOneFit(stages, ls->segmental_errors->reported, x, errors, a.consistency_options.significance_sigmas);
   c.consistency_judged = a.consistency;
-  if (a.consistency) {
-    applyConsistency(one, rows, r.c, a.consistency_options);
-    for (const std::string& v : one.implausible) c.one_fit_inconsistency += (c.one_fit_inconsistency.empty() ? "is physically implausible: " : "; ") + v;
-  }
+  for (const std::string& v : one.implausible) c.one_fit_inconsistency += (c.one_fit_inconsistency.empty() ? "is physically implausible: " : "; ") + v;
   std::cout << wrapped(describe(c, r.robot.names())) << '\n';
   out.json = toJson(c, r.robot.names());
   if (c.one_fit_inconsistency.empty()) return out;

@@ -132,7 +132,6 @@ Eigen::VectorXd chainEstimateFrom(const std::string& json_path, const LoadedChai
   return Eigen::Map<const Eigen::VectorXd>(ls.data(), static_cast<Eigen::Index>(ls.size()));
 }
 
-
 // A record's track: every joint's angle and torque, the APAL pedestal's columns when recorded.
 render::Track trackOf(const ident::Dataset& d, const std::string& title) {
   render::Track tr;

@@ -292,23 +292,18 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
     why = "those records alone do not determine every base parameter";
   } else if (!std_error.allFinite() || !theta.allFinite()) {
     why = "the stages' estimate or errors are not finite";
-  } else if ((last.y - last.W * one.beta).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * last.y.norm()) {
+  } else if (explainedToRounding(last.W, last.y, one.beta)) {
     why = "the model explains them to rounding: no term is left out";
   }
   if (!why.empty()) {
-    std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
-    out.json = {{"judged", false}, {"why", why}};
+    out.json = notJudged(why);
     return out;
   }
   StagesAgainstOneFit c = compareStagesWithOneFit(theta, std_error, one.beta, one.std_error, a.significance_sigmas);
   c.consistency_judged = a.consistency;
-  if (one.consistent && one.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
-    const Eigen::VectorXd d = one.consistent->beta - one.beta;
-    const double distance = std::sqrt(std::max(0.0, d.dot(one.covariance.ldlt().solve(d))));
-    if (distance > a.significance_sigmas) {
-      c.one_fit_inconsistency = "has no physically consistent body: the nearest consistent estimate is " + fmt(distance, 3) +
+  if (const double distance = distanceToConsistent(one); distance > a.significance_sigmas) {
+    c.one_fit_inconsistency = "has no physically consistent body: the nearest consistent estimate is " + fmt(distance, 3) +
                                 " standard errors from its least squares (--significance " + fmt(a.significance_sigmas, 3) + ")";
-    }
   }
   std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
   out.json = toJson(c, loaded.base.names);

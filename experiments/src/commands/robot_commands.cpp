@@ -325,6 +325,12 @@ void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loade
   }
 }
 
+double distanceToConsistent(const ident::ChainEstimate& est) {
+  if (!est.consistent || est.consistent->status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return 0.0;
+  const Eigen::VectorXd d = est.consistent->beta - est.beta;
+  return std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
+}
+
 std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas) {
   return "no physically consistent body explains the data: the nearest consistent estimate is " + fmt(distance, 3) + " " + errors +
          " from least squares (--significance " + fmt(significance_sigmas, 3) + ")";
@@ -535,11 +541,9 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
                          core::toText(base.rank) + ")");
   }
   if (est.ls.rank == base.rank && !usable_ls) v.problems.push_back(est.ls.summary.message);
-  if (est.consistent && usable_ls && est.consistent->status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
-    // The distance from LS to the consistent estimate in standard errors (the metric of the fit's
-    // own covariance): beyond --significance, no physical body explains the data.
-    const Eigen::VectorXd d = est.consistent->beta - est.beta;
-    v.mahalanobis = std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
+  if (usable_ls) {
+    // Beyond --significance of the fit's own standard errors, no physical body explains the data.
+    v.mahalanobis = distanceToConsistent(est);
     if (v.mahalanobis > a.significance_sigmas) {
       v.problems.push_back(inconsistencyProblem(v.mahalanobis, "standard errors", a.significance_sigmas));
     }

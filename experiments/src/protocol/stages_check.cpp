@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -40,6 +42,15 @@ StagesAgainstOneFit compareStagesWithOneFit(const Eigen::VectorXd& stages, const
     if (std::abs(c.z[i]) > c.threshold) c.beyond.push_back(i);
   }
   return c;
+}
+
+bool explainedToRounding(const Eigen::MatrixXd& W, const Eigen::VectorXd& y, const Eigen::VectorXd& x) {
+  return (y - W * x).norm() <= std::sqrt(std::numeric_limits<double>::epsilon()) * y.norm();
+}
+
+nlohmann::json notJudged(const std::string& why) {
+  std::cout << "one fit of the last stage's records: not judged (" << why << ")\n";
+  return {{"judged", false}, {"why", why}};
 }
 
 std::string describe(const StagesAgainstOneFit& c, const std::vector<std::string>& names) {

@@ -8,6 +8,7 @@
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
+#include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
@@ -178,6 +179,9 @@ struct ArmatureTest {
 ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
                           const std::vector<ident::SignalOptions>& signals);
 
+/// The distance from a chain's LS estimate to its physically consistent one, in the metric of the
+/// fit's own covariance (0 when LS is consistent or no consistent estimate was computed).
+double distanceToConsistent(const ident::ChainEstimate& est);
 /// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
 /// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
 std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas);

@@ -34,6 +34,12 @@ struct StagesAgainstOneFit {
 StagesAgainstOneFit compareStagesWithOneFit(const Eigen::VectorXd& stages, const Eigen::VectorXd& stages_se, const Eigen::VectorXd& one_fit,
                                             const Eigen::VectorXd& one_fit_se, double significance_sigmas);
 
+/// The one fit explains its records to rounding (||y - W x|| <= sqrt(eps) ||y||: exact data, no
+/// term left out, the errors rounding too): nothing to judge.
+bool explainedToRounding(const Eigen::MatrixXd& W, const Eigen::VectorXd& y, const Eigen::VectorXd& x);
+/// Says on stdout that the check was not made and why; the JSON that records it.
+nlohmann::json notJudged(const std::string& why);
+
 /// The printed account (one line, `names` the parameters).
 std::string describe(const StagesAgainstOneFit& c, const std::vector<std::string>& names);
 nlohmann::json toJson(const StagesAgainstOneFit& c, const std::vector<std::string>& names);
