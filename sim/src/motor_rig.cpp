@@ -1,6 +1,7 @@
 #include "exoid/sim/motor_rig.hpp"
 
-#include "exoid/sim/controller.hpp"
+#include "exoid/core/format.hpp"
+#include "exoid/core/pid.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
 #include "exoid/sim/random.hpp"
@@ -144,8 +145,7 @@ void lockJoints(ChainSimConfig& config, const DrivenJoints& joints, mjModel* m) 
   for (const std::string& name : config.locked) {
     const auto it = std::find(joints.names.begin(), joints.names.end(), name);
     if (it == joints.names.end()) {
-      std::string all;
-      for (const std::string& n : joints.names) all += (all.empty() ? "" : ", ") + n;
+      const std::string all = core::joined(joints.names);
       throw std::invalid_argument("chain simulation: cannot lock joint '" + name + "': '" + config.model_path + "' drives " + all);
     }
     const auto i = static_cast<Eigen::Index>(it - joints.names.begin());
@@ -247,10 +247,10 @@ class ChainRig {
     mj_fullM(m_, M.data(), d_->qM);
     substeps_ = integrationSubsteps(config_, joints_, M, m_->nv, v0_);
     m_->opt.timestep = config_.dt_s / substeps_;
-    PidGains& g = gains_;
+    core::PidGains& g = gains_;
     g.kp_Nm_per_rad.resize(dof_);
     g.kd_Nms_per_rad.resize(dof_);
-    g.derivative = DerivativeSource::kMeasuredVelocity;
+    g.derivative = core::DerivativeSource::kMeasuredVelocity;
     g.derivative_cutoff_Hz = 0.0;
     g.integral_limit_Nm = config_.integral_limit_Nm;
     const double wn = kTwoPi * config_.bandwidth_hz;
@@ -287,7 +287,7 @@ class ChainRig {
     advance(t);
   }
 
-  const PidGains& gains() const { return gains_; }
+  const core::PidGains& gains() const { return gains_; }
   double trackingRms(Eigen::Index n) const { return std::sqrt(tracking_ss_ / static_cast<double>(std::max<Eigen::Index>(1, n * dof_))); }
 
  private:
@@ -397,8 +397,8 @@ class ChainRig {
   Eigen::Vector3d base_rest_p_ = Eigen::Vector3d::Zero();
   Eigen::Matrix3d base_rest_R_ = Eigen::Matrix3d::Identity();
   int substeps_ = 1;
-  PidGains gains_;
-  std::optional<PidController> pid_;
+  core::PidGains gains_;
+  std::optional<core::PidController> pid_;
   double lag_ = 1.0;
   Eigen::VectorXd motor_, command_, tau_read_;
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_, qd_, q_read_;

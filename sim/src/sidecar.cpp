@@ -3,14 +3,11 @@
 #include "exoid/core/atomic_file.hpp"
 
 #include "exoid/sim/table.hpp"
+#include "exoid/sim/trajectory_json.hpp"
 
 namespace exoid::sim {
 
 namespace {
-nlohmann::json joint(const core::FourierSeries& f, int j) {
-  const auto list = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
-  return {{"offset_rad", f.offset_rad[j]}, {"a_rad", list(f.a_rad.col(j))}, {"b_rad", list(f.b_rad.col(j))}};
-}
 nlohmann::json vec2(const Eigen::Vector2d& v) { return {{"hip", v[0]}, {"knee", v[1]}}; }
 template <class T>
 nlohmann::json opt(const std::optional<T>& v) {
@@ -23,10 +20,7 @@ nlohmann::json configJson(const SimConfig& c) {
   nlohmann::json j;
   j["model_path"] = c.model_path;
   j["trajectory"] = c.trajectory;
-  j["trajectory_spec"] = {{"base_frequency_Hz", spec.f0_hz},
-                          {"hip", joint(spec, 0)},
-                          {"knee", joint(spec, 1)},
-                          {"lock_hip", spec.locked_joints > 0}};
+  j["trajectory_spec"] = trajectoryJson(spec, {"hip", "knee"});
   j["ramp_s"] = c.ramp_s;
   j["record_after_ramp"] = c.record_after_ramp;
   j["duration_s"] = c.duration_s;

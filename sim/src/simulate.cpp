@@ -87,7 +87,7 @@ struct Simulator::Impl {
   std::optional<IdealInverseDynamics> controller_model;  // the feedforward's model
   std::optional<Trajectory> traj;
   std::optional<Sensors> sensors;
-  std::optional<PidController> pid;
+  std::optional<core::PidController> pid;
   std::optional<Actuators> act;
   std::optional<FloorForce> floor;
   Eigen::MatrixX2d ff_cmd;  // feedforward command per step (pre-roll included), when enabled

@@ -4,6 +4,7 @@
 #include "exoid/sim/serial_chain.hpp"
 
 #include "urdf_file.hpp"
+#include "exoid/core/format.hpp"
 
 #include <Eigen/Geometry>
 
@@ -105,12 +106,6 @@ void leavesBelow(const urdf::Link& from, std::vector<std::string>& out) {
   for (const auto& c : from.child_links) leavesBelow(*c, out);
 }
 
-std::string joined(const std::vector<std::string>& names) {
-  std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
-
 // The links from `base` down to `tip`, both included. Throws when tip is not below base.
 std::set<std::string> pathLinks(const std::string& path, const urdf::ModelInterface& model, const std::string& base, const std::string& tip) {
   std::set<std::string> links;
@@ -165,7 +160,7 @@ SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& s
         leavesBelow(*base, leaves);
         throw std::invalid_argument("'" + path + "': joints '" + next[0].first->name + "' and '" + next[1].first->name +
                                     "' both move links below link '" + below + "': a tree, not a serial chain. Choose the chain with --tip LINK " +
-                                    "(and --base LINK, default '" + base->name + "'); the leaf links below '" + base->name + "': " + joined(leaves));
+                                    "(and --base LINK, default '" + base->name + "'); the leaf links below '" + base->name + "': " + core::joined(leaves));
       } else {
         throw std::invalid_argument("'" + path + "': joint '" + s.first->name + "' (" + typeName(s.first->type) + ") moves a branch off chain link '" +
                                     below + "': hold it with --lock " + s.first->name + "=VALUE (rad, or m for a prismatic joint; lumped at that posture), or choose " +

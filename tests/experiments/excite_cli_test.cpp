@@ -61,8 +61,8 @@ TEST(ExciteCli, DesignFileSimulatesInsideItsLimits) {
                 0.01 * lim["tau_max_Nm"][k].get<double>()) << tau_cols[k];
   }
   // The design round-trips through the file.
-  const core::FourierSeries t = readExcitationFile(design);
-  EXPECT_EQ(t.a_rad(0, 0), j["trajectory"]["a_rad"]["hip"][0].get<double>());
+  const core::FourierSeries t = readExcitationFile(design, kLegJoints).series;
+  EXPECT_EQ(t.a_rad(0, 1), j["trajectory"]["joints"][1]["cos_rad"][0].get<double>());
 }
 
 // Same seed, same bytes: the design, its series and its figure (no times or dates in them).
@@ -89,12 +89,23 @@ TEST(ExciteCli, SameSeedSameBytes) {
 
 TEST(ExciteCli, BadExcitationFileIsNamed) {
   const std::string bad = ::testing::TempDir() + "/bad_excitation.json";
-  std::ofstream(bad) << R"({"trajectory": {"f0_hz": 0.1, "hip_locked": false}})";
+  std::ofstream(bad) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [{"name": "hip", "cos_rad": [0.1], "sin_rad": [0]}]}})";
   testing::internal::CaptureStderr();
   EXPECT_NE(runExoid({"simulate", "--excitation", bad, "--out", ::testing::TempDir() + "/never.csv"}), 0);
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("bad_excitation.json"), std::string::npos) << err;
   EXPECT_NE(err.find("offset_rad"), std::string::npos) << err;
+  // Another robot's design (leg3's three joints) on the APAL leg: refused, naming both joint lists.
+  const std::string other = ::testing::TempDir() + "/leg3_excitation.json";
+  std::ofstream(other) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
+                       << R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
+                       << R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]},)"
+                       << R"({"name": "ankle", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]}]}})";
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"simulate", "--excitation", other, "--out", ::testing::TempDir() + "/never.csv"}), 0);
+  const std::string err2 = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err2.find("--excitation"), std::string::npos) << err2;
+  EXPECT_NE(err2.find("hip, knee, ankle"), std::string::npos) << err2;
 }
 
 }  // namespace

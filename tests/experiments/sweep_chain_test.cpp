@@ -92,11 +92,13 @@ TEST(ChainSweepConfig, RefusesWhatTheChainRigLacksNamingTheKey) {
   EXPECT_NE(e.find("'simulation.excitation'"), std::string::npos) << e;
   // A design of another model (two joints for leg3's three) is refused before any run, by key.
   const std::string two = ::testing::TempDir() + "/chain_sweep_two_joints.json";
-  std::ofstream(two) << R"({"f0_hz": 0.2, "joints": [{"name": "a", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]},
-                                                    {"name": "b", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]}]})";
+  std::ofstream(two) << R"({"trajectory": {"f0_hz": 0.2, "locked_joints": 0,
+                                            "joints": [{"name": "a", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]},
+                                                       {"name": "b", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0.1]}]}})";
   e = chainConfigError(leg3 + "[simulation]\nexcitation = \"" + two + "\"\n");
   EXPECT_NE(e.find("'simulation.excitation'"), std::string::npos) << e;
-  EXPECT_NE(e.find("moves 2 joints"), std::string::npos) << e;
+  EXPECT_NE(e.find("moves 2 joints (a, b)"), std::string::npos) << e;
+  EXPECT_NE(e.find("hip, knee, ankle"), std::string::npos) << e;
   // --model on the APAL leg's grid: its APAL-only methods are refused by name.
   e = chainConfigError("[sweep]\nmethods = [\"ls\", \"idim-iv-base\"]\n", "leg3");
   EXPECT_NE(e.find("'sweep.methods'"), std::string::npos) << e;

@@ -24,7 +24,7 @@ TEST_F(SidecarTest, CarriesProvenanceSettingsAndTruths) {
   EXPECT_EQ(j["model"]["path"], defaultModelPath());
   EXPECT_EQ(j["seed"], 42u);
   EXPECT_EQ(j["settings"]["sensors"]["noise_tau_Nm"], 0.5);
-  EXPECT_EQ(j["settings"]["trajectory_spec"]["lock_hip"], true);
+  EXPECT_EQ(j["settings"]["trajectory_spec"]["locked_joints"], 1);
   EXPECT_EQ(j["truth"]["rigid"]["parameters"]["Jt"], r.truth.x[2]);
   EXPECT_NEAR(j["truth"]["rigid"]["parameters"]["Mxt"].get<double>(), 5.83, 1e-9);
   EXPECT_EQ(j["truth"]["thigh_length_m"], 0.45);

@@ -12,6 +12,7 @@
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/sim/data_dir.hpp"
+#include "exoid/sim/trajectory_json.hpp"
 #include "exoid/sim/truth.hpp"
 
 #include <filesystem>
@@ -66,13 +67,6 @@ void writeSeriesCsv(const std::string& path, const core::FourierSeries& design, 
   });
 }
 
-// A "hip,knee" override of one limit pair; `scale` converts to SI.
-void overrideLimit(Eigen::VectorXd& limit, const std::vector<double>& v, double scale, const char* flag) {
-  if (v.empty()) return;
-  if (v.size() != 2) throw CLI::ValidationError(flag, "expected hip,knee (two numbers)");
-  limit = Eigen::Vector2d(v[0] * scale, v[1] * scale);
-}
-
 // A chain model (not the APAL leg) is designed as a chain, with its own limits.
 void exciteChainModel(const ExciteArgs& args) {
   for (const char* apal_only : {"--knee-only", "--hip-locked-at-deg", "--limits", "--urdf", "--duration", "--noise-tau"}) {
@@ -88,10 +82,6 @@ void exciteChainModel(const ExciteArgs& args) {
   c.armature = args.armature;
   c.selection = args.selection;
   exciteChain(c);
-}
-
-bool limitsOverridden(const ExciteArgs& a) {
-  return !a.overrides.empty();
 }
 
 // The design's limits: the paper's envelope or the URDF's, then the command line's overrides.
@@ -110,11 +100,7 @@ ident::ExcitationLimits designLimits(const ExciteArgs& a, const ident::LegConsta
       limits.qdd_max_radps2[j] = 1e6;
     }
   }
-  overrideLimit(limits.q_min_rad, a.overrides.q_min_deg, M_PI / 180.0, "--q-min-deg");
-  overrideLimit(limits.q_max_rad, a.overrides.q_max_deg, M_PI / 180.0, "--q-max-deg");
-  overrideLimit(limits.qd_max_radps, a.overrides.qd_max, 1.0, "--qd-max");
-  overrideLimit(limits.qdd_max_radps2, a.overrides.qdd_max, 1.0, "--qdd-max");
-  overrideLimit(limits.tau_max_Nm, a.overrides.tau_max, 1.0, "--tau-max");
+  a.overrides.applyTo(limits);
   limits.validate({"hip", "knee"});
   return limits;
 }
@@ -142,23 +128,10 @@ ExciteComparison compareWithPaper(const ExciteArgs& a, const ident::ExcitationDe
   return k;
 }
 
-nlohmann::json limitsJson(const ExciteArgs& a, const ident::ExcitationLimits& limits) {
+std::string limitsSource(const ExciteArgs& a) {
   const std::string source = a.limits == "urdf" ? "the URDF's joint limits (" + a.urdf + "), acceleration bounded by the effort"
                                                 : "envelope of the paper's trajectories 1-4 on the nominal model";
-  return {{"source", limitsOverridden(a) ? source + ", with overrides" : source},
-          {"q_min_rad", {limits.q_min_rad[0], limits.q_min_rad[1]}},
-          {"q_max_rad", {limits.q_max_rad[0], limits.q_max_rad[1]}},
-          {"qd_max_radps", {limits.qd_max_radps[0], limits.qd_max_radps[1]}},
-          {"qdd_max_radps2", {limits.qdd_max_radps2[0], limits.qdd_max_radps2[1]}},
-          {"tau_max_Nm", {limits.tau_max_Nm[0], limits.tau_max_Nm[1]}}};
-}
-
-nlohmann::json reachedJson(const ident::ExcitationScore& s) {
-  return {{"q_min_rad", {s.q_min_rad[0], s.q_min_rad[1]}},
-          {"q_max_rad", {s.q_max_rad[0], s.q_max_rad[1]}},
-          {"qd_max_radps", {s.qd_max_radps[0], s.qd_max_radps[1]}},
-          {"qdd_max_radps2", {s.qdd_max_radps2[0], s.qdd_max_radps2[1]}},
-          {"tau_max_Nm", {s.tau_max_Nm[0], s.tau_max_Nm[1]}}};
+  return a.overrides.empty() ? source : source + ", with overrides";
 }
 
 // The design file (what `exoid simulate --excitation` reads), with its limits and comparison.
@@ -178,10 +151,9 @@ nlohmann::json designJson(const ExciteArgs& a, const ident::ExcitationDesign& d,
                         "correlations), minimised"
                       : "log condition number of the column-scaled regressor, minimised") +
       " over one period (both equations, 10 columns; knee-only: the knee equation's 5 shank columns)";
-  j["limits"] = limitsJson(a, limits);
-  j["trajectory"] = toJson(d.trajectory);
-  j["score"] = {{"condition_number", d.score.condition_number}, {"reached", reachedJson(d.score)},
-                {"evaluations", d.evaluations}, {"feasible_restarts", d.feasible_restarts}};  // no wall time: same seed, same bytes
+  j["limits"] = limitsJson(limits, limitsSource(a));
+  j["trajectory"] = sim::trajectoryJson(d.trajectory, {"hip", "knee"});
+  j["score"] = scoreJson(d);
   j["comparison"] = {{"footing", {{"duration_s", a.duration_s}, {"rate_hz", a.rate_hz}, {"sigma_Nm", a.sigma_Nm},
                                   {"note", "LS on raw torques, white noise on each joint"}}},
                      {"paper_trajectory", k.paper_id},

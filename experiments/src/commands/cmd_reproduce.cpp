@@ -87,8 +87,8 @@ void run(Args a) {
   // The optimised arm: the same protocol and seed, identified on the designed records.
   ProtocolConfig optimised_config = a.config;
   if (a.optimised_arm) {
-    optimised_config.knee_excitation = readExcitationFile(a.knee_excitation);
-    optimised_config.both_excitation = readExcitationFile(a.both_excitation);
+    optimised_config.knee_excitation = readExcitationFile(a.knee_excitation, kLegJoints).series;
+    optimised_config.both_excitation = readExcitationFile(a.both_excitation, kLegJoints).series;
     optimised_config.validate();
   }
   core::prepareOutputFolder(a.out.dir);  // before the work, not after it

@@ -1,6 +1,7 @@
 // `exoid simulate` and `exoid truth`.
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -50,7 +51,7 @@ void runChainSimulate(const SimulateArgs& a) {
   c.record_derivatives = a.record_derivatives;
   c.locked = a.lock;
   c.seed = a.config.seed;
-  if (a.cmd->count("--excitation") > 0) c.trajectory = readChainExcitation(a.cmd->get_option("--excitation")->as<std::string>());
+  if (a.cmd->count("--excitation") > 0) c.trajectory = a.config.fourier;
   simulateChainToFiles(c, a.out);
 }
 
@@ -62,8 +63,12 @@ void runSimulate(const SimulateArgs& a) {
                                              "--ramp and its gains from a sweep's [simulation]");
     }
   }
-  if (a.cmd->count("--excitation") > 0 && isChainExcitationFile(a.cmd->get_option("--excitation")->as<std::string>())) {
-    throw CLI::ValidationError("--excitation", "is a chain model's design (exoid excite --model ...): run it with that --model");
+  if (a.cmd->count("--excitation") > 0) {
+    try {
+      readExcitationFile(a.cmd->get_option("--excitation")->as<std::string>(), kLegJoints);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--excitation", e.what());
+    }
   }
   core::checkOutputWritable(a.out);  // before the simulation, not after it
   core::checkOutputWritable(sim::sidecarPathOf(a.out));

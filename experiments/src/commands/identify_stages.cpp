@@ -35,8 +35,7 @@ std::vector<ChainStageInput> stageInputs(const ChainIdentifyArgs& a, const ident
   for (const auto& [joint, file] : a.stages) {
     const auto it = std::find(names.begin(), names.end(), joint);
     if (it == names.end()) {
-      std::string all;
-      for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+      const std::string all = core::joined(names);
       throw std::invalid_argument("--stage " + joint + "=" + file + ": '" + joint + "' is not a joint of the model (" + all + ")");
     }
     const auto j = static_cast<Eigen::Index>(it - names.begin());

@@ -1,10 +1,14 @@
 // `exoid simulate` and `exoid identify` on a chain model (not the APAL leg).
 #include "exoid/experiments/commands/robot_commands.hpp"
 
+#include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/sim/trajectory_json.hpp"
+
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
@@ -22,6 +26,7 @@
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 #include "exoid/sim/sidecar.hpp"
+#include "exoid/sim/trajectory_json.hpp"
 
 #include <Eigen/Cholesky>
 #include <mujoco/mujoco.h>
@@ -109,7 +114,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"integral_hz", c.integral_hz},
                  {"record_derivatives", c.record_derivatives},
                  {"locked", c.locked},
-                 {"trajectory", chainFourierJson(c.trajectory)}};
+                 {"trajectory", sim::trajectoryJson(c.trajectory, model.jointNames())}};
   j["tracking_rms_rad"] = r.tracking_rms_rad;
   // The rig's controller in the form `identify --controller` reads (N m/rad, N m s/rad, Hz; also
   // the CSV's controller_* metadata lines): u = ff(ref) + kp (q_ref - q_read) [+ ki int(q_ref - q_read)] + kd (qd_ref - qd).
@@ -167,7 +172,6 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
 }
 
 namespace {
-
 Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd& model, double scale, const char* flag) {
   if (given.empty()) return model;
   if (static_cast<Eigen::Index>(given.size()) != model.size()) {
@@ -177,8 +181,16 @@ Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd&
   for (Eigen::Index j = 0; j < v.size(); ++j) v[j] = given[static_cast<std::size_t>(j)] * scale;
   return v;
 }
-
 }  // namespace
+
+void LimitOverrides::applyTo(ident::ExcitationLimits& lim) const {
+  const double deg = M_PI / 180.0;
+  lim.q_min_rad = limitOr(q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
+  lim.q_max_rad = limitOr(q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
+  lim.qd_max_radps = limitOr(qd_max, lim.qd_max_radps, 1.0, "--qd-max");
+  lim.qdd_max_radps2 = limitOr(qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
+  lim.tau_max_Nm = limitOr(tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
+}
 
 void exciteChain(const ChainExciteArgs& a) {
   core::prepareOutputFile(a.out);
@@ -198,99 +210,25 @@ void exciteChain(const ChainExciteArgs& a) {
     lim.qd_max_radps[j] = std::isfinite(l.qd_max_radps) ? l.qd_max_radps : 3.0;
     lim.tau_max_Nm[j] = l.tau_max_Nm;
   }
-  const double deg = M_PI / 180.0;
-  lim.q_min_rad = limitOr(a.limits.q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
-  lim.q_max_rad = limitOr(a.limits.q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
-  lim.qd_max_radps = limitOr(a.limits.qd_max, lim.qd_max_radps, 1.0, "--qd-max");
-  lim.qdd_max_radps2 = limitOr(a.limits.qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
-  lim.tau_max_Nm = limitOr(a.limits.tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
+  a.limits.applyTo(lim);
   if (a.options.locked_joints > 0) throw std::invalid_argument("excite --model: a chain's design moves every joint");
   const ident::ExcitationDesign d = ident::designExcitation(a.options, robot, base.combination * nominal, lim);
   nlohmann::json j;
   j["tool"] = toolJson();
+  j["command"] = "excite";
   j["model"] = {{"name", chain.name}, {"path", path}};
   j["criterion"] = ident::toString(a.options.criterion);
   j["seed"] = a.options.seed;
-  j["f0_hz"] = d.trajectory.f0_hz;
-  j["joints"] = nlohmann::json::array();
-  for (int k = 0; k < dof; ++k) {
-    j["joints"].push_back({{"name", model.joints[static_cast<std::size_t>(k)].name},
-                           {"offset_rad", d.trajectory.offset_rad[k]},
-                           {"cos_rad", toVector(d.trajectory.a_rad.col(k))},
-                           {"sin_rad", toVector(d.trajectory.b_rad.col(k))},
-                           {"limits", {{"q_min_rad", lim.q_min_rad[k]}, {"q_max_rad", lim.q_max_rad[k]}, {"qd_max_radps", lim.qd_max_radps[k]},
-                                       {"qdd_max_radps2", lim.qdd_max_radps2[k]}, {"tau_max_Nm", lim.tau_max_Nm[k]}}}});
-  }
-  j["score"] = {{"condition_number", d.score.condition_number},
-                {"sum_log_std", d.score.sum_log_std},
-                {"worst_violation", d.score.worst_violation},
-                {"evaluations", d.evaluations},
-                {"feasible_restarts", d.feasible_restarts}};
+  j["trajectory"] = sim::trajectoryJson(d.trajectory, model.jointNames());
+  j["limits"] = limitsJson(lim, std::string("the model's joint limits (speed 3 rad/s, acceleration 30 rad/s^2 where it gives none)") +
+                                    (a.limits.empty() ? "" : ", with overrides"));
+  j["score"] = scoreJson(d);
   writeJsonFile(a.out, j);
   std::cout << "wrote " << a.out << ": " << chain.name << ", " << dof << " joints, " << a.options.harmonics << " harmonics of "
             << fmt(d.trajectory.f0_hz, 3) << " Hz; condition number " << fmt(d.score.condition_number, 4) << " (column-scaled base regressor, "
             << base.rank << " base parameters), sum of log CRB stds " << fmt(d.score.sum_log_std, 5) << "; "
             << (d.score.worst_violation == 0.0 ? std::string("inside every limit") : "beyond " + d.score.worst_violation_name) << "; "
             << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
-}
-
-nlohmann::json chainFourierJson(const core::FourierSeries& f) {
-  nlohmann::json j = {{"base_frequency_hz", f.f0_hz}, {"offset_rad", toVector(f.offset_rad)},
-                      {"sin_rad", nlohmann::json::array()}, {"cos_rad", nlohmann::json::array()}};
-  for (Eigen::Index i = 0; i < f.dof(); ++i) {
-    j["sin_rad"].push_back(toVector(f.b_rad.col(i)));
-    j["cos_rad"].push_back(toVector(f.a_rad.col(i)));
-  }
-  return j;
-}
-
-namespace {
-// Joint k's harmonics from a JSON list of numbers.
-void readHarmonics(const nlohmann::json& list, Eigen::MatrixXd& m, Eigen::Index k) {
-  for (Eigen::Index h = 0; h < m.rows(); ++h) m(h, k) = list.at(static_cast<std::size_t>(h)).get<double>();
-}
-}  // namespace
-
-core::FourierSeries chainFourierFromJson(const nlohmann::json& j) {
-  const std::vector<double> offset = j.at("offset_rad").get<std::vector<double>>();
-  const auto dof = static_cast<int>(offset.size());
-  core::FourierSeries f = core::FourierSeries::still(dof, static_cast<int>(j.at("sin_rad").at(0).size()), j.at("base_frequency_hz").get<double>());
-  for (Eigen::Index k = 0; k < dof; ++k) {
-    f.offset_rad[k] = offset[static_cast<std::size_t>(k)];
-    readHarmonics(j.at("sin_rad").at(static_cast<std::size_t>(k)), f.b_rad, k);
-    readHarmonics(j.at("cos_rad").at(static_cast<std::size_t>(k)), f.a_rad, k);
-  }
-  f.validate();
-  return f;
-}
-
-bool isChainExcitationFile(const std::string& path) {
-  std::ifstream in(path);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  return !j.is_discarded() && j.is_object() && j.contains("joints");
-}
-
-core::FourierSeries readChainExcitation(const std::string& path) {
-  std::ifstream in(path);
-  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.contains("joints") || !j.contains("f0_hz")) {
-    throw std::invalid_argument("'" + path + "': expected a chain excitation design (exoid excite --model ...): f0_hz and joints");
-  }
-  core::FourierSeries f;
-  try {
-    const auto& joints = j.at("joints");
-    f = core::FourierSeries::still(static_cast<int>(joints.size()), static_cast<int>(joints.at(0).at("cos_rad").size()), j.at("f0_hz").get<double>());
-    for (Eigen::Index k = 0; k < f.dof(); ++k) {
-      const auto& jt = joints.at(static_cast<std::size_t>(k));
-      f.offset_rad[k] = jt.at("offset_rad").get<double>();
-      readHarmonics(jt.at("cos_rad"), f.a_rad, k);
-      readHarmonics(jt.at("sin_rad"), f.b_rad, k);
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument("'" + path + "': " + e.what());
-  }
-  f.validate();
-  return f;
 }
 
 std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,

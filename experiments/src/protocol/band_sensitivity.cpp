@@ -1,5 +1,6 @@
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/least_squares.hpp"
 #include "exoid/ident/signals/processing.hpp"
@@ -78,8 +79,7 @@ std::vector<std::string> describe(const BandSensitivity& s) {
                      (s.on_windows ? " on the central window its band was chosen on" : "") + "; change in standard errors):";
   for (Eigen::Index i = 0; i < s.shift_se.size(); ++i) line += " " + s.names[static_cast<std::size_t>(i)] + " " + fixed(s.shift_se[i], 2);
   if (s.over_one.empty()) return {line};
-  std::string names;
-  for (const std::string& n : s.over_one) names += (names.empty() ? "" : ", ") + n;
+  const std::string names = core::joined(s.over_one);
   return {line, "warning: a wider band moves " + names + " by more than one standard error: their errors-in-variables bias may exceed their noise"};
 }
 

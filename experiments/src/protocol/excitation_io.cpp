@@ -1,4 +1,5 @@
 #include "exoid/experiments/protocol/excitation_io.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 
 #include <Eigen/Cholesky>
@@ -8,55 +9,48 @@
 
 namespace exoid::experiments {
 
-nlohmann::json toJson(const core::FourierSeries& t) {
-  const auto col = [](const Eigen::MatrixXd& m, int j) {
-    std::vector<double> v(static_cast<std::size_t>(m.rows()));
-    for (Eigen::Index k = 0; k < m.rows(); ++k) v[static_cast<std::size_t>(k)] = m(k, j);
-    return v;
-  };
-  return {{"f0_hz", t.f0_hz},
-          {"hip_locked", t.locked_joints > 0},
-          {"offset_rad", {{"hip", t.offset_rad[0]}, {"knee", t.offset_rad[1]}}},
-          {"a_rad", {{"hip", col(t.a_rad, 0)}, {"knee", col(t.a_rad, 1)}}},
-          {"b_rad", {{"hip", col(t.b_rad, 0)}, {"knee", col(t.b_rad, 1)}}}};
+namespace {
+// The five bounds of a trajectory (its limits, or what it reached), per joint.
+template <class Bounds>
+nlohmann::json boundsJson(const Bounds& b) {
+  const auto list = [](const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); };
+  return {{"q_min_rad", list(b.q_min_rad)},
+          {"q_max_rad", list(b.q_max_rad)},
+          {"qd_max_radps", list(b.qd_max_radps)},
+          {"qdd_max_radps2", list(b.qdd_max_radps2)},
+          {"tau_max_Nm", list(b.tau_max_Nm)}};
+}
+}  // namespace
+
+nlohmann::json limitsJson(const ident::ExcitationLimits& limits, const std::string& source) {
+  nlohmann::json j = boundsJson(limits);
+  j["source"] = source;
+  return j;
 }
 
-core::FourierSeries readExcitationFile(const std::string& path) {
+nlohmann::json scoreJson(const ident::ExcitationDesign& d) {
+  // No wall time: same seed, same bytes.
+  return {{"condition_number", d.score.condition_number}, {"sum_log_std", d.score.sum_log_std},
+          {"worst_violation", d.score.worst_violation},   {"reached", boundsJson(d.score)},
+          {"evaluations", d.evaluations},                 {"feasible_restarts", d.feasible_restarts}};
+}
+
+sim::NamedTrajectory readExcitationFile(const std::string& path, const std::vector<std::string>& joints) {
   const nlohmann::json j = readUserJsonFile(path, "excitation file");
   if (!j.is_object() || !j.contains("trajectory") || !j["trajectory"].is_object()) {
     throw std::invalid_argument(path + ": expected an object with a \"trajectory\" object (as exoid excite writes)");
   }
-  const nlohmann::json& t = j["trajectory"];
-  const auto need = [&](const char* key) -> const nlohmann::json& {
-    if (!t.contains(key)) throw std::invalid_argument(path + ": trajectory." + key + " is missing");
-    return t[key];
-  };
-  core::FourierSeries out;
+  sim::NamedTrajectory t;
   try {
-    const double f0_hz = need("f0_hz").get<double>();
-    const bool hip_locked = need("hip_locked").get<bool>();
-    const double hip_offset = need("offset_rad").at("hip").get<double>(), knee_offset = need("offset_rad").at("knee").get<double>();
-    const auto hip_a = need("a_rad").at("hip").get<std::vector<double>>(), knee_a = need("a_rad").at("knee").get<std::vector<double>>();
-    const auto hip_b = need("b_rad").at("hip").get<std::vector<double>>(), knee_b = need("b_rad").at("knee").get<std::vector<double>>();
-    const std::size_t n = hip_a.size();
-    if (n == 0 || knee_a.size() != n || hip_b.size() != n || knee_b.size() != n) {
-      throw std::invalid_argument("a_rad and b_rad need the same number (>= 1) of harmonics for hip and knee");
-    }
-    out = core::FourierSeries::still(2, static_cast<int>(n), f0_hz);
-    out.locked_joints = hip_locked ? 1 : 0;
-    out.offset_rad << hip_offset, knee_offset;
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto K = static_cast<Eigen::Index>(k);
-      out.a_rad.row(K) << hip_a[k], knee_a[k];
-      out.b_rad.row(K) << hip_b[k], knee_b[k];
-    }
-    out.validate();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::invalid_argument(path + ": trajectory: " + e.what());
+    t = sim::trajectoryFromJson(j["trajectory"]);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": trajectory: " + e.what());
+    throw std::invalid_argument(path + ": trajectory." + e.what());
   }
-  return out;
+  if (!joints.empty() && t.joints != joints) {
+    throw std::invalid_argument(path + ": the design moves " + core::joined(t.joints, ", ") + "; this robot's joints are " +
+                                core::joined(joints, ", ") + " (design it with exoid excite --model for this robot)");
+  }
+  return t;
 }
 
 ident::ExcitationLimits paperEnvelope(const ident::LegConstants& c, const ident::ParamVector& nominal) {

@@ -49,8 +49,7 @@ std::set<std::string> exoidColumns(const std::vector<std::string>& joints) {
 }
 
 std::string unknownColumnMessage(const std::string& name, const std::set<std::string>& known) {
-  std::string list;
-  for (const std::string& c : known) list += (list.empty() ? "" : ", ") + c;
+  const std::string list = core::joined(known);
   return "unknown exoid column '" + name + "' (a column map is exoid name = log name, e.g. t=time); exoid's names: " + list;
 }
 

@@ -1,5 +1,6 @@
 #include "exoid/experiments/protocol/robot_loader.hpp"
 
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/sim/model.hpp"
 
@@ -39,8 +40,7 @@ ident::ChainModel withArmature(ident::ChainModel model, const std::vector<std::s
       }
     }
     if (!found) {
-      std::string all;
-      for (const std::string& j : model.jointNames()) all += (all.empty() ? "" : ", ") + j;
+      const std::string all = core::joined(model.jointNames());
       throw std::invalid_argument("--armature: '" + name + "' is not a joint of " + model.name + " (its joints: " + all + "; or all)");
     }
   }

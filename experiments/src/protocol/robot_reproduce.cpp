@@ -3,6 +3,7 @@
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
@@ -70,7 +71,7 @@ struct ChainRecords {
 
 ChainRecords simulateRecords(const ChainReproduceArgs& a, const std::string& dir, const std::string& design) {
   sim::ChainSimConfig c = a.sim;
-  c.trajectory = readChainExcitation(design);
+  c.trajectory = readExcitationFile(design).series;
   c.seed = core::deriveSeed(a.seed, 1);
   simulateChainToFiles(c, dir + "fit.csv");
   sim::ChainSimConfig check = a.sim;

@@ -161,8 +161,8 @@ void addTrajectoryOptions(CLI::App& app, sim::SimConfig& c) {
   CLI::Option* ex = app.add_option_function<std::string>(
                            "--excitation",
                            [&c](const std::string& path) {
-                             if (isChainExcitationFile(path)) return;  // a chain model's design: the chain simulator reads it
-                             c.fourier = readExcitationFile(path);
+                             // Any robot's design: the command checks its joints against the model's.
+                             c.fourier = readExcitationFile(path).series;
                              c.trajectory = 0;
                            },
                            "Excitation design JSON from `exoid excite` (replaces --trajectory)")

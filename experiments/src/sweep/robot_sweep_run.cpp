@@ -3,6 +3,7 @@
 
 #include "exoid/core/random.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -93,7 +94,7 @@ ident::Estimate otherEstimate(ident::Method m, const ident::Robot& robot,
 nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
   using namespace robot_sweep_run;  // this file's helpers (named, not anonymous, for the unity build)
   sim::ChainSimConfig fit_config = recordConfig(c, cond, core::deriveSeed(seed, 1));
-  if (cond.trajectories == "optimised") fit_config.trajectory = *c.chain_design;
+  if (cond.trajectories == "optimised") fit_config.trajectory = c.chain_design->series;
   const sim::ChainSimResult fit = sim::simulateChain(fit_config);
   const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
   const ident::Dataset d = chainDataset(fit);
@@ -158,7 +159,7 @@ SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ost
     const nlohmann::json old = readJsonFile(cfg);
     if (old.contains("simulation") && old["simulation"].contains("excitation")) {
       try {
-        config.chain_design = chainFourierFromJson(old["simulation"]["excitation"]);
+        config.chain_design = sim::trajectoryFromJson(old["simulation"]["excitation"]);
       } catch (const std::exception& e) {
         throw std::invalid_argument(cfg + ": its simulation.excitation is not a chain design (" + e.what() + ")");
       }
@@ -173,7 +174,7 @@ SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ost
   ex.out = dir + "/design.json";
   ex.options.seed = core::deriveSeed(config.master_seed, 0);
   exciteChain(ex);
-  config.chain_design = readChainExcitation(ex.out);
+  config.chain_design = readExcitationFile(ex.out);
   return config;
 }
 

@@ -203,10 +203,12 @@ void validateChain(const SweepConfig& c) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
   if (c.chain_design) {
-    const std::size_t dof = sim::serialChainFromMjcfFile(c.chain_model_path).links.size();
-    if (static_cast<std::size_t>(c.chain_design->dof()) != dof) {
-      throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->dof()) + " joints; " +
-                             model + " has " + core::toText(dof) + " (a design of another model?)");
+    std::vector<std::string> joints;
+    for (const sim::ChainLinkBody& l : sim::serialChainFromMjcfFile(c.chain_model_path).links) joints.push_back(l.joint);
+    if (c.chain_design->joints != joints) {
+      throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->joints.size()) +
+                             " joints (" + core::joined(c.chain_design->joints) + "); " + model + " has " + core::joined(joints) +
+                             " (a design of another model?)");
     }
   }
   sim::ChainSimConfig s;
@@ -215,7 +217,7 @@ void validateChain(const SweepConfig& c) {
   s.dt_s = c.base.sim.dt_s;
   try {
     s.validate();
-    if (c.chain_design) c.chain_design->validate();
+    if (c.chain_design) c.chain_design->series.validate();
   } catch (const std::invalid_argument& e) {
     throw SweepConfigError(std::string("invalid [simulation] setting: ") + e.what());
   }
@@ -372,7 +374,7 @@ nlohmann::json SweepConfig::chainJson() const {
   nlohmann::json simj = {{"duration_s", base.sim.duration_s}, {"dt_s", base.sim.dt_s}};
   const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
   if (optimised && chain_design) {
-    simj["excitation"] = chainFourierJson(*chain_design);
+    simj["excitation"] = sim::trajectoryJson(chain_design->series, chain_design->joints);
   }
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(defaultArmSignals(base));
@@ -395,8 +397,8 @@ nlohmann::json SweepConfig::toJson() const {
   for (const char* k : {"seed", "trajectory"}) simj.erase(k);  // set per job / per record
   // Designed identification records change every result: their coefficients are part of the config.
   const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
-  if (optimised && optimised_knee) simj["excitation_knee"] = experiments::toJson(*optimised_knee);
-  if (optimised && optimised_both) simj["excitation_both"] = experiments::toJson(*optimised_both);
+  if (optimised && optimised_knee) simj["excitation_knee"] = sim::trajectoryJson(*optimised_knee, kLegJoints);
+  if (optimised && optimised_both) simj["excitation_both"] = sim::trajectoryJson(*optimised_both, kLegJoints);
   j["simulation"] = simj;
   j["signal_options"] = experiments::toJson(base.signals);
   j["band_rule"] = bandRuleJson(base.band_rule);  // the 'default' arm's
@@ -464,7 +466,7 @@ core::FourierSeries readExcitationKey(const Reader& r, const std::string& full, 
   const std::filesystem::path fp(*file);
   const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(r.file).parent_path() / fp).string();
   try {
-    return readExcitationFile(resolved);
+    return readExcitationFile(resolved, kLegJoints).series;
   } catch (const std::invalid_argument& e) {
     throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
   }
@@ -492,7 +494,7 @@ void readSimulationKey(Reader& r, const std::string& full, const toml::node& v) 
     const std::filesystem::path fp(*file);
     const std::string resolved = fp.is_absolute() ? *file : (std::filesystem::path(r.file).parent_path() / fp).string();
     try {
-      c.chain_design = readChainExcitation(resolved);
+      c.chain_design = readExcitationFile(resolved);
     } catch (const std::exception& e) {
       throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
     }
@@ -571,8 +573,7 @@ void readSection(Reader& r, const std::string& s, const toml::node& node) {
   for (const auto& [k, v] : *tab) {
     const std::string key(k.str());
     if (!known->second.keys.count(key)) {
-      std::string list;
-      for (const std::string& n : known->second.keys) list += (list.empty() ? "" : ", ") + n;
+      const std::string list = core::joined(known->second.keys);
       throw SweepConfigError("unknown key '" + s + "." + key + "' (" + at(r.file, v.source()) + "); [" + s + "] keys: " + list);
     }
     known->second.read(r, s + "." + key, v);

@@ -44,12 +44,6 @@ std::vector<std::string> requiredColumns(const std::vector<std::string>& joints)
   return out;
 }
 
-std::string joinNames(const std::vector<std::string>& names, const char* separator) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
-  return out;
-}
-
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r");
   if (b == std::string::npos) return "";
@@ -73,8 +67,8 @@ DatasetError::DatasetError(std::string source, long line, long column, const std
 
 void Dataset::requireJoints(const std::vector<std::string>& expected, const std::string& who) const {
   if (joints != expected) {
-    throw std::invalid_argument(who + " needs a record of the joints " + joinNames(expected, ", ") + "; this one has " +
-                                joinNames(joints, ", ") + " (pass the robot's model, --model)");
+    throw std::invalid_argument(who + " needs a record of the joints " + core::joined(expected, ", ") + "; this one has " +
+                                core::joined(joints, ", ") + " (pass the robot's model, --model)");
   }
 }
 
@@ -145,12 +139,6 @@ bool parseNumber(std::string_view cell, double& v) {
   if (cell.empty()) return false;
   const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), v);
   return r.ec == std::errc() && r.ptr == cell.data() + cell.size();
-}
-
-std::string listNames(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
 }
 
 }  // namespace
@@ -294,7 +282,7 @@ class LogParser {
 
   Dataset finish() {
     if (header_line_ == 0) {
-      throw DatasetError(source_, 0, 0, "empty file: expected a header line '" + joinNames(requiredColumns(options_.joints), ",") +
+      throw DatasetError(source_, 0, 0, "empty file: expected a header line '" + core::joined(requiredColumns(options_.joints), ",") +
                                             "' followed by data rows");
     }
     const long min_rows = std::max(options_.min_rows, 2L);  // a time axis needs an interval
@@ -342,7 +330,7 @@ class LogParser {
       const auto it = std::find(names_.begin(), names_.end(), theirs);
       if (it == names_.end()) {
         throw DatasetError(source_, header_line_, 0,
-                           "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + listNames(file_names));
+                           "column '" + theirs + "' (mapped to " + ours + ") is not in the header; it has: " + core::joined(file_names));
       }
       if (ours != theirs && std::find(names_.begin(), names_.end(), ours) != names_.end()) {
         throw DatasetError(source_, header_line_, static_cast<long>(std::find(names_.begin(), names_.end(), ours) - names_.begin()) + 1,
@@ -364,9 +352,9 @@ class LogParser {
     for (const std::string& r : required) {
       if (!index_.count(r)) {
         throw DatasetError(source_, header_line_, 0,
-                           "missing required column '" + r + "' (required: " + joinNames(required, ",") +
+                           "missing required column '" + r + "' (required: " + core::joined(required, ",") +
                                "; a log with its own names needs a column map, e.g. --columns t=time,q_" + options_.joints.front() +
-                               "=pos_meas1,...); the header has: " + listNames(names_));
+                               "=pos_meas1,...); the header has: " + core::joined(names_));
       }
     }
     // A joint the model does not have (q_X and tau_X, X not one of its joints nor a variant
@@ -380,7 +368,7 @@ class LogParser {
       if (!variant) {
         throw DatasetError(source_, header_line_, col + 1,
                            "the record has a joint '" + joint + "' (q_" + joint + ", tau_" + joint + ") that the model (" +
-                               joinNames(options_.joints, ", ") + ") does not: it is another robot's record; give its model (--model)");
+                               core::joined(options_.joints, ", ") + ") does not: it is another robot's record; give its model (--model)");
       }
     }
     // Derivative columns: all joints or none.
@@ -392,7 +380,7 @@ class LogParser {
         if (!index_.count(prefix + j)) {
           throw DatasetError(source_, header_line_, 0,
                              std::string("missing column '") + prefix + j + "': derivative columns come for every joint (" +
-                                 joinNames(options_.joints, ", ") + ") or for none");
+                                 core::joined(options_.joints, ", ") + ") or for none");
         }
       }
     }
@@ -635,12 +623,12 @@ Dataset parseLog(Open&& open, std::int64_t total_bytes, const std::string& sourc
     if (options.joints.empty()) throw std::invalid_argument("dataset: the model names no joints");
     for (std::size_t j = 0; j < options.joints.size(); ++j) {
       if (options.joints[j].empty() || std::count(options.joints.begin(), options.joints.end(), options.joints[j]) > 1) {
-        throw std::invalid_argument("dataset: joint names must be distinct and non-empty, got " + joinNames(options.joints, ", "));
+        throw std::invalid_argument("dataset: joint names must be distinct and non-empty, got " + core::joined(options.joints, ", "));
       }
     }
     if (!options.format.torque_sign.empty() && options.format.torque_sign.size() != options.joints.size()) {
       throw std::invalid_argument("log format: " + core::toText(options.format.torque_sign.size()) + " torque signs for " +
-                                  core::toText(options.joints.size()) + " joints (" + joinNames(options.joints, ", ") + ")");
+                                  core::toText(options.joints.size()) + " joints (" + core::joined(options.joints, ", ") + ")");
     }
     if (options.threads < 0) throw std::invalid_argument("'threads' must be >= 0 (0 = the machine's cores), got " + core::toText(options.threads));
   } catch (const std::invalid_argument& e) {

@@ -118,24 +118,37 @@ int substepsAtStart(Dynamics& dyn, const Controller& ctl, const Eigen::VectorXd&
   return std::max(1, static_cast<int>(std::ceil(omega * dt / 0.05)));
 }
 
-// The controller at the samples: the feedforward plus PID on the tracking error, held until the
-// next sample.
+// The rig's feedback law (core::PidController) from the controller's description: an empty ki is
+// no integral term.
+core::PidGains pidGains(const Controller& ctl) {
+  core::PidGains g;
+  g.kp_Nm_per_rad = ctl.kp_Nm_per_rad;
+  g.ki_Nm_per_rad_s = ctl.ki_Nm_per_rad_s.size() > 0 ? ctl.ki_Nm_per_rad_s : Eigen::VectorXd::Zero(ctl.kp_Nm_per_rad.size());
+  g.kd_Nms_per_rad = ctl.kd_Nms_per_rad;
+  g.derivative = ctl.derivative;
+  g.derivative_cutoff_Hz = ctl.derivative_cutoff_hz;
+  g.integral_limit_Nm = ctl.integral_limit_Nm;
+  return g;
+}
+
+// The controller at the samples: the feedforward plus the rig's PID on the tracking error, held
+// until the next sample.
 class SampledController {
  public:
   SampledController(const Controller& ctl, Dynamics& dyn, const Reference& ref, double dt, const Eigen::VectorXd& q0)
-      : ctl_(ctl), dyn_(dyn), ref_(ref), dt_(dt),
-        alpha_(ctl.derivative_cutoff_hz > 0 ? dt / (dt + 1.0 / (2 * M_PI * ctl.derivative_cutoff_hz)) : 1.0),
-        integral_(Eigen::VectorXd::Zero(q0.size())), e_prev_(Eigen::VectorXd::Zero(q0.size())), e_dot_(Eigen::VectorXd::Zero(q0.size())) {
+      : ctl_(ctl), dyn_(dyn), ref_(ref), pid_(pidGains(ctl), dt) {
     // As if the controller had held the initial pose before the record: an integral term holds the
     // gravity torque the feedforward leaves to it (all of it without feedforward, none with the
     // model's own); without an integral term nothing is preloaded.
+    Eigen::VectorXd integral0 = Eigen::VectorXd::Zero(q0.size());
     if (ctl.feedforward == Feedforward::kNone && ctl.ki_Nm_per_rad_s.size() > 0) {
       const Eigen::VectorXd zero = Eigen::VectorXd::Zero(q0.size());
       const Eigen::VectorXd gravity = dyn.torque(q0, zero, zero);
       for (Eigen::Index j = 0; j < q0.size(); ++j) {
-        if (ctl.ki_Nm_per_rad_s[j] > 0) integral_[j] = std::clamp(gravity[j], -ctl.integral_limit_Nm, ctl.integral_limit_Nm);
+        if (ctl.ki_Nm_per_rad_s[j] > 0) integral0[j] = gravity[j];
       }
     }
+    pid_.reset(std::vector<bool>(static_cast<std::size_t>(q0.size()), true), integral0);
   }
 
   // The command at sample i, the joints at (q, qd).
@@ -143,22 +156,7 @@ class SampledController {
     Eigen::VectorXd u = ctl_.feedforward == Feedforward::kNone
                             ? Eigen::VectorXd(Eigen::VectorXd::Zero(q.size()))
                             : dyn_.torque(ref_.q_rad.row(i).transpose(), ref_.qd_radps.row(i).transpose(), ref_.qdd_radps2.row(i).transpose());
-    for (Eigen::Index j = 0; j < q.size(); ++j) {
-      const double e = ref_.q_rad(i, j) - q[j];
-      double derivative = 0.0;
-      if (ctl_.derivative == DerivativeSource::kErrorDifference) {
-        const double e_dot_raw = i == 0 ? 0.0 : (e - e_prev_[j]) / dt_;
-        e_dot_[j] += alpha_ * (e_dot_raw - e_dot_[j]);
-        e_prev_[j] = e;
-        derivative = e_dot_[j];
-      } else {
-        derivative = ref_.qd_radps(i, j) - qd[j];
-      }
-      if (ctl_.ki_Nm_per_rad_s.size() > 0 && i > 0) {
-        integral_[j] = std::clamp(integral_[j] + ctl_.ki_Nm_per_rad_s[j] * e * dt_, -ctl_.integral_limit_Nm, ctl_.integral_limit_Nm);
-      }
-      u[j] += ctl_.kp_Nm_per_rad[j] * e + integral_[j] + ctl_.kd_Nms_per_rad[j] * derivative;
-    }
+    pid_.update(ref_.q_rad.row(i).transpose(), ref_.qd_radps.row(i).transpose(), q, qd, u);
     return u;
   }
 
@@ -166,8 +164,7 @@ class SampledController {
   const Controller& ctl_;
   Dynamics& dyn_;
   const Reference& ref_;
-  double dt_, alpha_;
-  Eigen::VectorXd integral_, e_prev_, e_dot_;
+  core::PidController pid_;
 };
 
 // The robot between two samples: semi-implicit Euler substeps of the free joints under the motor

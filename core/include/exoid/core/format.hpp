@@ -12,6 +12,14 @@ std::string formatNumber(double v, int significant = 6);
 /// v with exactly `decimals` digits after the point ("%.*f"), for aligned tables.
 std::string formatFixed(double v, int decimals);
 
+/// Names in a message: "hip, knee, ankle" (or with another separator); any container of strings.
+template <typename Names>
+std::string joined(const Names& names, const char* separator = ", ") {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : separator) + n;
+  return out;
+}
+
 /// Any number as text: integers exactly, floating point by formatNumber.
 template <typename T>
 std::string toText(T v) {

@@ -62,7 +62,7 @@ struct ChainSimConfig {
   /// exactly (the regressor's own shape: exact data are then exact).
   double coulomb_v0_radps = -1.0;
   double bandwidth_hz = 4.0;     ///< PD closed-loop natural frequency, > 0
-  /// The feedback's integral (the APAL rig's PID, sim/controller.hpp): ki = kp 2 pi integral_hz
+  /// The feedback's integral (the APAL rig's PID, core/pid.hpp): ki = kp 2 pi integral_hz
   /// per joint, 0 = PD; |integral term| <= integral_limit_Nm.
   double integral_hz = 0.0;
   double integral_limit_Nm = 500.0;

@@ -15,7 +15,7 @@
 // Row k therefore satisfies the continuous-time dynamics exactly: tau_true(k) is the torque
 // that produced qdd_true(k) at (q_true(k), qd_true(k)).
 #include "exoid/sim/actuators.hpp"
-#include "exoid/sim/controller.hpp"
+#include "exoid/core/pid.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/sensors.hpp"
 #include "exoid/sim/table.hpp"
@@ -29,6 +29,19 @@
 #include <string>
 
 namespace exoid::sim {
+
+/// The APAL rig's feedback (hip, knee), that of a rig with model-based feedforward: a critically
+/// damped position loop at wn = 2 pi 4 Hz on the joint inertias (hip J ~ 3.5 kg m^2, knee ~ 0.6
+/// kg m^2 with the cylinder): kp = J wn^2, kd = 2 J wn, well below the knee's 20 Hz force loop; a
+/// slow integral (wi = 2 pi 0.5 Hz) for what the model misses; the error difference through a
+/// 100 Hz low-pass (>10x the position loop: the usual compromise between lag and encoder noise).
+inline core::PidGains apalLegGains() {
+  core::PidGains g;
+  g.kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);
+  g.ki_Nm_per_rad_s = Eigen::Vector2d(6900.0, 1200.0);
+  g.kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);
+  return g;
+}
 
 struct SimConfig {
   std::string model_path = defaultModelPath();  ///< MJCF file
@@ -46,7 +59,7 @@ struct SimConfig {
   SensorOptions sensors;
   ModelVariant variant;         ///< cylinder mass scale, vibration level, friction overrides
   FloorDisturbance floor;       ///< needs variant.vibration_level > 0 when active
-  PidGains gains;
+  core::PidGains gains = apalLegGains();
   ActuatorOptions actuators;    ///< command -> joint torque bandwidth of the hip motor and knee hydraulics
   /// Model-based feedforward: the ideal rig's inverse dynamics (IdealInverseDynamics) at the
   /// reference, passed through the actuators' inverse, planned before the run; the PID only

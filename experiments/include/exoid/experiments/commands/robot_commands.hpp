@@ -55,15 +55,10 @@ nlohmann::json baseErrorsJson(const Eigen::VectorXd& reported, const ident::Repo
 struct LimitOverrides {
   std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
   bool empty() const { return q_min_deg.empty() && q_max_deg.empty() && qd_max.empty() && qdd_max.empty() && tau_max.empty(); }
+  /// Replaces the limits given (one value per joint, in the design's order; deg for the angles);
+  /// throws CLI::ValidationError naming the option when a count is wrong.
+  void applyTo(ident::ExcitationLimits& limits) const;
 };
-
-/// A chain's Fourier motion in the form the simulation sidecar's "config.trajectory" and a chain
-/// sweep's config.json ("simulation.excitation") hold: base_frequency_hz, offset_rad, and sin_rad
-/// and cos_rad as joints x harmonics. (`exoid excite --model`'s design file lists it per joint
-/// instead, with each joint's limits: readChainExcitation.)
-nlohmann::json chainFourierJson(const core::FourierSeries& f);
-/// Reads that form back, validated; throws (nlohmann's or std::invalid_argument) naming the key.
-core::FourierSeries chainFourierFromJson(const nlohmann::json& j);
 
 struct ChainExciteArgs {
   std::string model, out;
@@ -76,10 +71,6 @@ struct ChainExciteArgs {
 };
 /// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
 void exciteChain(const ChainExciteArgs& args);
-/// A chain design file as the simulator's trajectory; throws std::invalid_argument naming the file.
-core::FourierSeries readChainExcitation(const std::string& path);
-/// True when the JSON file at `path` is a chain design (it has "joints").
-bool isChainExcitationFile(const std::string& path);
 
 struct ChainIdentifyArgs {
   std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)

@@ -1,21 +1,29 @@
 #pragma once
-// The APAL leg's excitation trajectories (core::FourierSeries of hip and knee, what ident designs
-// and the simulator runs) and the JSON file `exoid excite` writes and `exoid simulate
-// --excitation` reads.
+// Excitation designs: the file `exoid excite` writes for any leg and `exoid simulate --excitation`,
+// sweeps and reproduce read (its "trajectory" in sim/trajectory_json.hpp's form), and the APAL
+// leg's comparison footing (the paper's envelope, the Cramer-Rao bound in X).
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/sim/trajectory.hpp"
+#include "exoid/sim/trajectory_json.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace exoid::experiments {
 
-/// {"f0_hz", "hip_locked", "offset_rad": {"hip", "knee"}, "a_rad": {"hip": [...], "knee": [...]}, "b_rad": ...}
-nlohmann::json toJson(const core::FourierSeries& t);
-/// Reads the "trajectory" object of an excitation file; throws std::invalid_argument naming the
-/// file and the key.
-core::FourierSeries readExcitationFile(const std::string& path);
+/// The "trajectory" of an excitation design file. With `joints` given, the design's joints must be
+/// these, in order. Throws std::invalid_argument naming the file and the key (or both joint lists).
+sim::NamedTrajectory readExcitationFile(const std::string& path, const std::vector<std::string>& joints = {});
+/// The APAL leg's (hip, knee).
+inline const std::vector<std::string> kLegJoints = {"hip", "knee"};
+
+/// What every design file holds beside its trajectory: the limits it was designed under, from
+/// `source`, and its score with what it reached; both per quantity, one value per joint in the
+/// trajectory's order ("q_min_rad": [...], ..., "tau_max_Nm": [...]).
+nlohmann::json limitsJson(const ident::ExcitationLimits& limits, const std::string& source);
+nlohmann::json scoreJson(const ident::ExcitationDesign& d);
 
 /// The envelope of the paper's trajectories 1-4 on the nominal model: their joint ranges, largest
 /// |qd|, |qdd| and |tau|: designs under these limits ask no more of the rig than the paper did.

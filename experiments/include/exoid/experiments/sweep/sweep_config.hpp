@@ -7,6 +7,7 @@
 #include "exoid/experiments/protocol/protocol.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/sim/motor_rig.hpp"
+#include "exoid/sim/trajectory_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -74,7 +75,7 @@ struct SweepConfig {
                                            ident::Method::kIdimIv};
   /// A chain sweep's "optimised" record ([simulation] excitation: an `exoid excite --model` file);
   /// when absent, runSweep designs one (exoid excite --model's defaults, seed from master_seed).
-  std::optional<core::FourierSeries> chain_design;
+  std::optional<sim::NamedTrajectory> chain_design;
   /// Where each key's value came from ("file:line:col" or "--flag"), for error messages.
   std::map<std::string, std::string> origin;
 

@@ -2,8 +2,8 @@
 // A robot's identified model simulated under its rig's tracking controller: what IDIM-IV (Janot,
 // Vandanjon, Gautier) needs to build instruments that share the motion of a record but not its
 // measurement noise. Pure Eigen: the controller is whatever the user describes, so it serves real
-// logs as well as exoid's simulators (whose controllers it mirrors: sim/controller.hpp for the
-// APAL leg's rig, sim/motor_rig.hpp for a chain's).
+// logs as well as exoid's simulators, whose feedback law it runs (core/pid.hpp, both rigs').
+#include "exoid/core/pid.hpp"
 #include "exoid/ident/model/robot.hpp"
 #include "exoid/ident/signals/sampled_reference.hpp"
 
@@ -23,15 +23,9 @@ enum class Feedforward {
 /// Parses "none" | "model"; throws std::invalid_argument naming the valid values.
 Feedforward parseFeedforward(const std::string& name);
 
-/// Where the feedback's derivative term comes from.
-enum class DerivativeSource {
-  /// The backward difference of the tracking error e = q_ref - q through a first-order low-pass
-  /// at derivative_cutoff_hz (0 = none): the reference and the measurement see the same lag (the
-  /// APAL rig's PID).
-  kErrorDifference,
-  /// qd_ref - qd with the measured velocity (a tachometer: a chain rig's PD).
-  kMeasuredVelocity,
-};
+/// Where the feedback's derivative term comes from: the error's filtered difference (the APAL
+/// rig's PID) or the measured velocity (a chain rig's tachometer).
+using DerivativeSource = core::DerivativeSource;
 
 /// The tracking law, per joint j: u_j = ff_j + kp_j e_j + ki_j int(e_j) + kd_j de_j, updated once
 /// per sample and held; |ki int(e)| <= integral_limit_Nm. The motor torque follows u through a

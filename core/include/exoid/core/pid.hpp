@@ -1,27 +1,30 @@
 #pragma once
-// Joint tracking feedback at the sample rate, for every rig: PID on the encoder readings. The
-// error e = q_ref - q_meas; its derivative either a first-order low-pass filtered backward
-// difference of e itself (the APAL rig: the reference and the measurement see the same filter
-// lag, so the D term does not fight the feedforward) or qd_ref - qd_meas from a tachometer (the
-// motor rig; unfiltered, as ident's closed-loop model has it): u = kp e + ki int(e) + kd de_est.
+// Joint tracking feedback at the sample rate: PID on the encoder readings, the one law of every
+// simulated rig (sim) and of ident's model of a rig's controller (ident/model/closed_loop.hpp), so
+// the model runs the rig's arithmetic. The error e = q_ref - q_meas; its derivative either a
+// first-order low-pass filtered backward difference of e itself (the APAL rig: the reference and
+// the measurement see the same filter lag, so the D term does not fight the feedforward) or
+// qd_ref - qd_meas from a tachometer (the motor rig; unfiltered): u = kp e + ki int(e) + kd de_est.
 #include <Eigen/Core>
 
 #include <string>
 #include <vector>
 
-namespace exoid::sim {
+namespace exoid::core {
 
-enum class DerivativeSource { kErrorDifference, kMeasuredVelocity };
+/// Where the feedback's derivative term comes from.
+enum class DerivativeSource {
+  /// The backward difference of e through a first-order low-pass at derivative_cutoff_Hz (0 = none).
+  kErrorDifference,
+  /// qd_ref - qd with the measured velocity (a tachometer).
+  kMeasuredVelocity,
+};
 
-/// One entry per joint. Defaults: the APAL leg's (hip, knee), the feedback of a rig with
-/// model-based feedforward, a critically damped position loop at wn = 2 pi 4 Hz on the joint
-/// inertias (hip J ~ 3.5 kg m^2, knee ~ 0.6 kg m^2 with the cylinder): kp = J wn^2, kd = 2 J wn,
-/// well below the knee's 20 Hz force loop; a slow integral (wi = 2 pi 0.5 Hz) for what the model
-/// misses.
+/// One entry per joint (sim::apalLegGains() are the APAL rig's).
 struct PidGains {
-  Eigen::VectorXd kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);   ///< >= 0
-  Eigen::VectorXd ki_Nm_per_rad_s = Eigen::Vector2d(6900.0, 1200.0);  ///< >= 0
-  Eigen::VectorXd kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);    ///< >= 0
+  Eigen::VectorXd kp_Nm_per_rad;    ///< >= 0
+  Eigen::VectorXd ki_Nm_per_rad_s;  ///< >= 0
+  Eigen::VectorXd kd_Nms_per_rad;   ///< >= 0
   DerivativeSource derivative = DerivativeSource::kErrorDifference;
   /// Cutoff of the error difference's low-pass (Hz); 0 = unfiltered. 100 Hz: >10x the position loop,
   /// the usual compromise between lag and encoder noise.
@@ -56,4 +59,4 @@ class PidController {
   std::vector<bool> enabled_;
 };
 
-}  // namespace exoid::sim
+}  // namespace exoid::core

@@ -1,11 +1,11 @@
-#include "exoid/sim/controller.hpp"
+#include "exoid/core/pid.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 
-namespace exoid::sim {
+namespace exoid::core {
 
 void PidGains::validate(const std::vector<std::string>& names) const {
   std::vector<std::string> joints = names;
@@ -83,4 +83,4 @@ void PidController::update(const Eigen::Ref<const Eigen::VectorXd>& q_ref, const
   first_ = false;
 }
 
-}  // namespace exoid::sim
+}  // namespace exoid::core

@@ -1,11 +1,21 @@
-// The rigs' one PID: its terms, the preloaded and clamped integral, a disabled joint, both
-// derivative sources on any number of joints, and validation naming the joint.
-#include "exoid/sim/controller.hpp"
+// The one PID of the rigs and of ident's model of them: its terms, the preloaded and clamped
+// integral, a disabled joint, both derivative sources on any number of joints, and validation
+// naming the joint.
+#include "exoid/core/pid.hpp"
 
 #include <gtest/gtest.h>
 
-namespace exoid::sim {
+namespace exoid::core {
 namespace {
+
+// Gains of two joints (the APAL rig's magnitudes).
+PidGains twoJointGains() {
+  PidGains g;
+  g.kp_Nm_per_rad = Eigen::Vector2d(2200.0, 380.0);
+  g.ki_Nm_per_rad_s = Eigen::Vector2d(6900.0, 1200.0);
+  g.kd_Nms_per_rad = Eigen::Vector2d(176.0, 30.0);
+  return g;
+}
 
 // u = 0 + the feedback, as the APAL rig adds its feedforward after.
 Eigen::Vector2d feedback(PidController& pid, const Eigen::Vector2d& q_ref, const Eigen::Vector2d& q_meas,
@@ -16,7 +26,7 @@ Eigen::Vector2d feedback(PidController& pid, const Eigen::Vector2d& q_ref, const
 }
 
 TEST(PidControllerTest, ProportionalIntegralDerivativeTerms) {
-  PidGains g;
+  PidGains g = twoJointGains();
   g.kp_Nm_per_rad = Eigen::Vector2d(100.0, 10.0);
   g.ki_Nm_per_rad_s = Eigen::Vector2d(1000.0, 0.0);
   g.kd_Nms_per_rad = Eigen::Vector2d(2.0, 0.0);
@@ -34,7 +44,7 @@ TEST(PidControllerTest, ProportionalIntegralDerivativeTerms) {
 }
 
 TEST(PidControllerTest, DisabledJointOutputsZeroAndIntegralIsPreloaded) {
-  PidController pid(PidGains{}, 1e-3);
+  PidController pid(twoJointGains(), 1e-3);
   pid.reset({false, true}, Eigen::Vector2d(5.0, 7.0));
   const Eigen::Vector2d u = feedback(pid, Eigen::Vector2d(0.3, 0.2), Eigen::Vector2d(0.1, 0.2));
   EXPECT_EQ(u[0], 0.0);
@@ -42,7 +52,7 @@ TEST(PidControllerTest, DisabledJointOutputsZeroAndIntegralIsPreloaded) {
 }
 
 TEST(PidControllerTest, IntegralIsClamped) {
-  PidGains g;
+  PidGains g = twoJointGains();
   g.integral_limit_Nm = 3.0;
   g.kp_Nm_per_rad.setZero();
   g.kd_Nms_per_rad.setZero();
@@ -69,7 +79,7 @@ TEST(PidControllerTest, MeasuredVelocityOnAnyNumberOfJoints) {
 }
 
 TEST(PidControllerTest, ValidationNamesTheField) {
-  PidGains g;
+  PidGains g = twoJointGains();
   g.kd_Nms_per_rad[1] = -1;
   try {
     g.validate({"hip", "knee"});
@@ -77,13 +87,13 @@ TEST(PidControllerTest, ValidationNamesTheField) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("gains.kd_Nms_per_rad[knee]"), std::string::npos) << e.what();
   }
-  g = {};
+  g = twoJointGains();
   g.integral_limit_Nm = 0;
   EXPECT_THROW(g.validate(), std::invalid_argument);
-  g = {};
+  g = twoJointGains();
   g.ki_Nm_per_rad_s = Eigen::Vector3d::Ones();
   EXPECT_THROW(PidController(g, 1e-3), std::invalid_argument);  // a gain per joint
 }
 
 }  // namespace
-}  // namespace exoid::sim
+}  // namespace exoid::core

@@ -1,0 +1,81 @@
+#include "exoid/sim/trajectory_json.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace exoid::sim {
+
+namespace {
+std::vector<double> column(const Eigen::MatrixXd& m, Eigen::Index j) {
+  std::vector<double> v(static_cast<std::size_t>(m.rows()));
+  for (Eigen::Index k = 0; k < m.rows(); ++k) v[static_cast<std::size_t>(k)] = m(k, j);
+  return v;
+}
+
+// j[key], or an error naming where + key.
+const nlohmann::json& need(const nlohmann::json& j, const char* key, const std::string& where) {
+  if (!j.is_object() || !j.contains(key)) throw std::invalid_argument(where + key + " is missing");
+  return j[key];
+}
+
+double number(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = need(j, key, where);
+  if (!v.is_number()) throw std::invalid_argument(where + key + ": expected a number, got " + v.dump());
+  return v.get<double>();
+}
+
+std::vector<double> numbers(const nlohmann::json& j, const char* key, const std::string& where) {
+  const nlohmann::json& v = need(j, key, where);
+  if (!v.is_array() || v.empty()) throw std::invalid_argument(where + key + ": expected a non-empty list of numbers");
+  std::vector<double> out;
+  for (const nlohmann::json& x : v) {
+    if (!x.is_number()) throw std::invalid_argument(where + key + ": expected numbers, got " + x.dump());
+    out.push_back(x.get<double>());
+  }
+  return out;
+}
+}  // namespace
+
+nlohmann::json trajectoryJson(const core::FourierSeries& f, const std::vector<std::string>& joints) {
+  if (static_cast<int>(joints.size()) != f.dof()) throw std::invalid_argument("trajectoryJson: one name per joint");
+  nlohmann::json list = nlohmann::json::array();
+  for (Eigen::Index k = 0; k < f.dof(); ++k) {
+    list.push_back({{"name", joints[static_cast<std::size_t>(k)]},
+                    {"offset_rad", f.offset_rad[k]},
+                    {"cos_rad", column(f.a_rad, k)},
+                    {"sin_rad", column(f.b_rad, k)}});
+  }
+  return {{"f0_hz", f.f0_hz}, {"locked_joints", f.locked_joints}, {"joints", list}};
+}
+
+NamedTrajectory trajectoryFromJson(const nlohmann::json& j) {
+  const nlohmann::json& joints = need(j, "joints", "");
+  if (!joints.is_array() || joints.empty()) throw std::invalid_argument("joints: expected a non-empty list of joints");
+  const double locked = number(j, "locked_joints", "");
+  if (!(locked >= 0 && locked <= static_cast<double>(joints.size()) && locked == std::floor(locked))) {
+    throw std::invalid_argument("locked_joints: expected a whole number in [0, " + std::to_string(joints.size()) + "]");
+  }
+  const std::size_t harmonics = numbers(joints[0], "cos_rad", "joints[0].").size();
+  NamedTrajectory out;
+  out.series = core::FourierSeries::still(static_cast<int>(joints.size()), static_cast<int>(harmonics), number(j, "f0_hz", ""));
+  out.series.locked_joints = static_cast<int>(locked);
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const std::string where = "joints[" + std::to_string(k) + "].";
+    const nlohmann::json& name = need(joints[k], "name", where);
+    if (!name.is_string()) throw std::invalid_argument(where + "name: expected a string");
+    out.joints.push_back(name.get<std::string>());
+    const auto K = static_cast<Eigen::Index>(k);
+    out.series.offset_rad[K] = number(joints[k], "offset_rad", where);
+    for (const auto& [key, m] : {std::pair{"cos_rad", &out.series.a_rad}, std::pair{"sin_rad", &out.series.b_rad}}) {
+      const std::vector<double> v = numbers(joints[k], key, where);
+      if (v.size() != harmonics) {
+        throw std::invalid_argument(where + key + ": " + std::to_string(v.size()) + " harmonics, joints[0] has " + std::to_string(harmonics));
+      }
+      for (std::size_t h = 0; h < harmonics; ++h) (*m)(static_cast<Eigen::Index>(h), K) = v[h];
+    }
+  }
+  out.series.validate();
+  return out;
+}
+
+}  // namespace exoid::sim
