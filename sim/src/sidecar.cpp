@@ -71,7 +71,7 @@ nlohmann::json paramsJson(const ParamArray& x) {
 
 nlohmann::json sidecar(const SimResult& r, const std::string& exoid_version) {
   nlohmann::json j;
-  j["format"] = "exoid-sim-sidecar/1";
+  j["format"] = "exoid-sim-sidecar/2";  // 2: trajectory_spec in sim/trajectory_json.hpp's form
   j["exoid_version"] = exoid_version;
   j["mujoco_version"] = r.mujoco_version;
   j["mujoco_header_version"] = mjVERSION_HEADER;

@@ -1,5 +1,6 @@
 #include "exoid/sim/trajectory_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -61,8 +62,12 @@ NamedTrajectory trajectoryFromJson(const nlohmann::json& j) {
   out.series.locked_joints = static_cast<int>(locked);
   for (std::size_t k = 0; k < joints.size(); ++k) {
     const std::string where = "joints[" + std::to_string(k) + "].";
+    if (!joints[k].is_object()) throw std::invalid_argument("joints[" + std::to_string(k) + "]: expected an object (name, offset_rad, cos_rad, sin_rad)");
     const nlohmann::json& name = need(joints[k], "name", where);
-    if (!name.is_string()) throw std::invalid_argument(where + "name: expected a string");
+    if (!name.is_string() || name.get<std::string>().empty()) throw std::invalid_argument(where + "name: expected a non-empty string");
+    if (std::find(out.joints.begin(), out.joints.end(), name.get<std::string>()) != out.joints.end()) {
+      throw std::invalid_argument(where + "name: '" + name.get<std::string>() + "' names two joints");
+    }
     out.joints.push_back(name.get<std::string>());
     const auto K = static_cast<Eigen::Index>(k);
     out.series.offset_rad[K] = number(joints[k], "offset_rad", where);
@@ -74,7 +79,12 @@ NamedTrajectory trajectoryFromJson(const nlohmann::json& j) {
       for (std::size_t h = 0; h < harmonics; ++h) (*m)(static_cast<Eigen::Index>(h), K) = v[h];
     }
   }
-  out.series.validate();
+  try {
+    out.series.validate();
+  } catch (const std::invalid_argument& e) {  // its "trajectory: " is the caller's to say
+    const std::string what = e.what(), prefix = "trajectory: ";
+    throw std::invalid_argument(what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what);
+  }
   return out;
 }
 

@@ -106,6 +106,23 @@ TEST(ExciteCli, BadExcitationFileIsNamed) {
   const std::string err2 = testing::internal::GetCapturedStderr();
   EXPECT_NE(err2.find("--excitation"), std::string::npos) << err2;
   EXPECT_NE(err2.find("hip, knee, ankle"), std::string::npos) << err2;
+  // And the other way: the APAL leg's two joints on leg3, named the same way.
+  const std::string two = ::testing::TempDir() + "/apal_excitation.json";
+  std::ofstream(two) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
+                     << R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
+                     << R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]}]}})";
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"simulate", "--model", "leg3", "--excitation", two, "--out", ::testing::TempDir() + "/never.csv"}), 0);
+  const std::string err3 = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err3.find("the design moves hip, knee; this robot's joints are hip, knee, ankle"), std::string::npos) << err3;
+  // A design in the form exoid wrote before (a_rad, b_rad) is named as such.
+  const std::string older = ::testing::TempDir() + "/older_excitation.json";
+  std::ofstream(older) << R"({"trajectory": {"f0_hz": 0.1, "hip_locked": false, "offset_rad": {"hip": 0, "knee": 0.5},)"
+                       << R"("a_rad": {"hip": [0.1], "knee": [0.1]}, "b_rad": {"hip": [0], "knee": [0]}}})";
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"simulate", "--excitation", older, "--out", ::testing::TempDir() + "/never.csv"}), 0);
+  const std::string err4 = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err4.find("older exoid's form"), std::string::npos) << err4;
 }
 
 }  // namespace

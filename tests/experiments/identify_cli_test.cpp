@@ -188,6 +188,21 @@ TEST(IdentifyCli, SegmentalStrategyWithValidationAndTruth) {
   EXPECT_LT(ls["validation"][val]["knee"]["max_abs_Nm"].get<double>(), 1e-8);
   EXPECT_EQ(j["methods"]["rls-pso"]["stages"].size(), 2u);
   EXPECT_TRUE(j["methods"]["rls-pso"]["stages"][0].contains("box"));
+  // Every leg's spelling of the stages (a chain's --stage JOINT=FILE, --data last) is the same
+  // strategy on the APAL leg, to the bit; a stage it does not have is refused by name.
+  const std::string spelled = ::testing::TempDir() + "/seg_spelled.json";
+  ASSERT_EQ(runExoid({"identify", "--stage", "knee=" + knee, "--data", both, "--method", "ls,rls-pso", "--no-filter",
+                      "--validate", val, "--truth", truth, "--pso-iterations", "200", "--json", spelled}),
+            0);
+  const nlohmann::json k = readJson(spelled);
+  EXPECT_EQ(k["strategy"], "segmental");
+  EXPECT_EQ(k["parameters"], j["parameters"]);
+  EXPECT_EQ(k["methods"]["rls-pso"]["parameters"], j["methods"]["rls-pso"]["parameters"]);
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"identify", "--stage", "hip=" + knee, "--data", both}), 0);
+  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("--stage"), std::string::npos) << err;
+  EXPECT_NE(err.find("knee=FILE"), std::string::npos) << err;
 }
 
 TEST(IdentifyCli, RankDeficientRecordExitsWithCode3AndNamesParameters) {
@@ -542,6 +557,17 @@ TEST(IdentifyCli, KneeArmatureFromBothEquationsOfOneRecord) {
     const std::string n(ident::paramName(i));
     EXPECT_NEAR(j["parameters"][n].get<double>(), truth[i], 1e-6 * std::abs(truth[i])) << n;
   }
+  // Every leg's spelling (--armature JOINT) is the same fit on the APAL leg; a hip armature, which
+  // Jt absorbs, is refused by name.
+  const std::string spelled = ::testing::TempDir() + "/armature_spelled.json";
+  ASSERT_EQ(runExoid({"identify", "--data", csv, "--method", "ls", "--armature", "knee", "--json", spelled}), 0);
+  EXPECT_EQ(readJson(spelled)["methods"]["ls"]["knee_armature"], j["methods"]["ls"]["knee_armature"]);
+  EXPECT_EQ(readJson(spelled)["parameters"], j["parameters"]);
+  testing::internal::CaptureStderr();
+  EXPECT_NE(runExoid({"identify", "--data", csv, "--armature", "hip"}), 0);
+  const std::string hip = testing::internal::GetCapturedStderr();
+  EXPECT_NE(hip.find("--armature"), std::string::npos) << hip;
+  EXPECT_NE(hip.find("Jt"), std::string::npos) << hip;
   // The segmental strategy cannot separate it (hip fixed: Ia2's column is Js's): refused.
   testing::internal::CaptureStderr();
   EXPECT_NE(runExoid({"identify", "--knee-data", csv, "--both-data", csv, "--knee-armature"}), 0);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <complex>
+#include <limits>
 
 namespace exoid::ident {
 namespace {
@@ -69,6 +70,26 @@ TEST(ClosedLoop, PdLoopOnAnInertiaMatchesItsClosedFormResponse) {
   const double e1 = maxSteadyStateError(1e-3), e2 = maxSteadyStateError(5e-4);
   EXPECT_LT(e1, 0.5 * 24.0 * 1e-3);
   EXPECT_NEAR(e1 / e2, 2.0, 0.2);
+}
+
+// A controller file may say the integral has no limit (inf): the rig's PID takes it as the largest.
+TEST(ClosedLoop, AnIntegralWithoutLimitRunsAsWithTheLargestLimit) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(kNumParams);
+  x[kJs] = 0.5;
+  x[kFv2] = 2.0;
+  Controller ctl;
+  ctl.kp_Nm_per_rad = Eigen::Vector2d(100.0, 100.0);
+  ctl.ki_Nm_per_rad_s = Eigen::Vector2d(0.0, 50.0);
+  ctl.kd_Nms_per_rad = Eigen::Vector2d(10.0, 10.0);
+  ctl.feedforward = Feedforward::kNone;
+  ctl.locked = {true, false};
+  const Reference ref = sineReference(2.0, 1e-3, -0.3, 0.0, 0.0, 0.5, 1.0);
+  ctl.integral_limit_Nm = std::numeric_limits<double>::infinity();
+  const ClosedLoopRun unlimited = simulateClosedLoop(twoLinkLeg(test::kLeg), x, ctl, ref);
+  ctl.integral_limit_Nm = std::numeric_limits<double>::max();
+  const ClosedLoopRun largest = simulateClosedLoop(twoLinkLeg(test::kLeg), x, ctl, ref);
+  ASSERT_TRUE(unlimited.ok) << unlimited.message;
+  EXPECT_EQ(unlimited.states.q_rad, largest.states.q_rad);
 }
 
 TEST(ClosedLoop, ForwardDynamicsInvertTheRegressorsInverseDynamics) {

@@ -291,7 +291,8 @@ nlohmann::json reportBlock(const ident::Robot& robot, const Block& b, const Refe
   return bj;
 }
 
-void run(const Args& a) {
+void run(const Args& given) {
+  Args a = given;
   if (!a.model.empty() && a.data.empty()) {
 #ifdef EXOID_WITH_MUJOCO
     return reportModel(a.model, a.json_out, std::cout, a.armature, a.selection);  // what the model lets any record identify
@@ -304,8 +305,9 @@ void run(const Args& a) {
     throw CLI::ValidationError(a.constants.thigh_length_m ? "--thigh-length" : "--gravity",
                                "is the APAL leg's; a chain model (--model " + a.model + ") takes its lengths and gravity from its file");
   }
-  if (!a.armature.empty() && !chainModel(a)) {
-    throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
+  if (!chainModel(a)) {  // the APAL leg: --armature knee is its --knee-armature (options.hpp)
+    a.knee_armature = apalKneeArmature(a.armature) || a.knee_armature;
+    a.armature.clear();
   }
   if (a.knee_armature && chainModel(a)) {
     throw CLI::ValidationError("--knee-armature", "is the APAL leg's; a chain model's armatures are --armature JOINT,...");
@@ -346,7 +348,7 @@ void addIdentifiabilityCommand(CLI::App& app) {
   addChainSelectionOptions(*cmd, args->selection);
   cmd->add_option("--armature", args->armature,
                   "--model: joints (comma-separated, or all) given an armature parameter (a geared motor's reflected rotor\n"
-                  "inertia) where the file has none, as identify --armature")
+                  "inertia) where the file has none, as identify --armature; the APAL leg: knee (= --knee-armature)")
       ->delimiter(',');
 #endif
   cmd->add_flag("--knee-armature", args->knee_armature,

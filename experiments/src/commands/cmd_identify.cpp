@@ -476,16 +476,7 @@ bool runChainModel(const IdentifyArgs& a) {
   ChainIdentifyArgs c;
   c.model = a.model;
   c.data = a.data;
-  for (const std::string& s : a.stages) {
-    const auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) {
-      throw CLI::ValidationError("--stage", "expected JOINT=FILE (the record's first moving joint, the joints above it locked), got '" + s + "'");
-    }
-    c.stages.emplace_back(s.substr(0, eq), s.substr(eq + 1));
-    if (!std::filesystem::is_regular_file(c.stages.back().second)) {
-      throw CLI::ValidationError("--stage", "file '" + c.stages.back().second + "' does not exist");
-    }
-  }
+  for (const std::string& s : a.stages) c.stages.push_back(parseStage(s));
   c.validate = a.validate;
   c.plot = a.plot;
   c.armature = a.armature;
@@ -514,16 +505,34 @@ bool runChainModel(const IdentifyArgs& a) {
 }
 #endif
 
+// The APAL leg's arguments, a chain's spelling read as its own (parseStage, apalKneeArmature):
+// --stage knee=FILE with --data is --knee-data FILE --both-data; --armature knee is --knee-armature.
+IdentifyArgs legArguments(IdentifyArgs a) {
+  if (apalKneeArmature(a.armature)) a.knee_armature = true;
+  a.armature.clear();
+  if (a.stages.empty()) return a;
+  if (!a.knee_data.empty() || !a.both_data.empty()) {
+    throw CLI::ValidationError("--stage", "give the APAL leg's stages once: --stage knee=FILE with --data, or --knee-data with --both-data");
+  }
+  for (const std::string& s : a.stages) {
+    const auto [joint, file] = parseStage(s);
+    if (joint != "knee") {
+      throw CLI::ValidationError("--stage", "the APAL leg's first stage is knee=FILE (a record with the hip locked), its last --data; got '" + s + "'");
+    }
+    a.knee_data.push_back(file);
+  }
+  a.both_data = a.data;
+  a.data.clear();
+  a.stages.clear();
+  return a;
+}
+
 // What a chain model's identify takes and the APAL leg's does not.
 void checkLegArguments(const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
-  if (!a.armature.empty()) throw CLI::ValidationError("--armature", "is for a chain model (--model leg3|FILE); the APAL leg's knee armature is --knee-armature");
   if (a.moving_base_parameters) throw CLI::ValidationError("--moving-base-parameters", "is for a chain model (--model leg3|FILE); the APAL leg's X is the paper's");
   if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
 #endif
-  if (!a.stages.empty()) {
-    throw CLI::ValidationError("--stage", "is the segmental strategy of a chain model (--model leg3|FILE); the APAL leg's is --knee-data and --both-data");
-  }
 }
 
 // The records of both roles read, the leg's constants resolved, each record processed.
@@ -684,10 +693,11 @@ SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const i
   return out;
 }
 
-void run(const IdentifyArgs& a) {
+void run(const IdentifyArgs& given) {
 #ifdef EXOID_WITH_MUJOCO
-  if (runChainModel(a)) return;
+  if (runChainModel(given)) return;
 #endif
+  const IdentifyArgs a = legArguments(given);
   checkLegArguments(a);
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   checkArguments(a, methods);
@@ -838,8 +848,9 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
       ->group("Output");
   addChainSelectionOptions(cmd, args.selection);
   cmd.add_option("--armature", args.armature,
-                 "Chain models: joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own\n"
-                 "diagonal (a geared motor's reflected rotor inertia), where the model file gives none (a URDF never does)")
+                 "Joints (comma-separated, or all) that get an armature parameter, Ia qdd on the joint's own diagonal (a geared\n"
+                 "motor's reflected rotor inertia), where the model file gives none (a URDF never does); the APAL leg: knee\n"
+                 "(= --knee-armature)")
       ->delimiter(',')->group("Identification");
   cmd.add_flag("--moving-base-parameters", args.moving_base_parameters,
                "Chain models, records on a moving base (IMU columns): fit the base parameters of a moving base, where a\n"
@@ -848,9 +859,10 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
                "base's parameters, with the base-motion terms in every column")
       ->group("Identification");
   cmd.add_option("--stage", args.stages,
-                 "Chain models: the segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints\n"
-                 "above JOINT are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations\n"
-                 "determine that the more distal stages left open; --data, every joint moving, is the last stage")
+                 "The segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints above JOINT\n"
+                 "are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations determine\n"
+                 "that the more distal stages left open; --data, every joint moving, is the last stage. The APAL leg: knee=FILE\n"
+                 "(= --knee-data FILE, --data as --both-data)")
       ->group("Input");
 }
 #endif

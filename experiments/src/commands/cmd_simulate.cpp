@@ -11,6 +11,7 @@
 #include "exoid/sim/sidecar.hpp"
 #include "exoid/sim/truth.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -51,7 +52,21 @@ void runChainSimulate(const SimulateArgs& a) {
   c.record_derivatives = a.record_derivatives;
   c.locked = a.lock;
   c.seed = a.config.seed;
-  if (a.cmd->count("--excitation") > 0) c.trajectory = a.config.fourier;
+  if (a.cmd->count("--excitation") > 0) {
+    // The design's joints must be the chain's, in order; the joints it holds are the rig's locks.
+    std::vector<std::string> joints;
+    for (const sim::ChainLinkBody& l : sim::serialChainFromFile(c.model_path).links) joints.push_back(l.joint);
+    sim::NamedTrajectory design;
+    try {
+      design = readExcitationFile(a.cmd->get_option("--excitation")->as<std::string>(), joints);
+    } catch (const std::invalid_argument& e) {
+      throw CLI::ValidationError("--excitation", e.what());
+    }
+    c.trajectory = design.series;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(design.series.locked_joints); ++k) {
+      if (std::find(c.locked.begin(), c.locked.end(), joints[k]) == c.locked.end()) c.locked.push_back(joints[k]);
+    }
+  }
   simulateChainToFiles(c, a.out);
 }
 

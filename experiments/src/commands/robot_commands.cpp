@@ -1,9 +1,6 @@
 // `exoid simulate` and `exoid identify` on a chain model (not the APAL leg).
 #include "exoid/experiments/commands/robot_commands.hpp"
 
-#include "exoid/experiments/protocol/excitation_io.hpp"
-#include "exoid/sim/trajectory_json.hpp"
-
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"

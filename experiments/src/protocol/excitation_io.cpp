@@ -37,6 +37,14 @@ nlohmann::json scoreJson(const ident::ExcitationDesign& d) {
 
 sim::NamedTrajectory readExcitationFile(const std::string& path, const std::vector<std::string>& joints) {
   const nlohmann::json j = readUserJsonFile(path, "excitation file");
+  // Before a6738e0 an APAL design's trajectory had a_rad/b_rad per joint and a chain design its
+  // joints at the top: said as such, not as a missing key.
+  const bool older = j.is_object() && ((j.contains("trajectory") && j["trajectory"].is_object() && j["trajectory"].contains("a_rad")) ||
+                                       (!j.contains("trajectory") && j.contains("joints")));
+  if (older) {
+    throw std::invalid_argument(path + ": a design in an older exoid's form (before a6738e0); design it again with exoid excite, or "
+                                "move its coefficients to trajectory.joints[k] {name, offset_rad, cos_rad (a_rad), sin_rad (b_rad)}");
+  }
   if (!j.is_object() || !j.contains("trajectory") || !j["trajectory"].is_object()) {
     throw std::invalid_argument(path + ": expected an object with a \"trajectory\" object (as exoid excite writes)");
   }
@@ -44,11 +52,11 @@ sim::NamedTrajectory readExcitationFile(const std::string& path, const std::vect
   try {
     t = sim::trajectoryFromJson(j["trajectory"]);
   } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(path + ": trajectory." + e.what());
+    throw std::invalid_argument(path + ": trajectory: " + e.what());
   }
   if (!joints.empty() && t.joints != joints) {
-    throw std::invalid_argument(path + ": the design moves " + core::joined(t.joints, ", ") + "; this robot's joints are " +
-                                core::joined(joints, ", ") + " (design it with exoid excite --model for this robot)");
+    throw std::invalid_argument(path + ": the design moves " + core::joined(t.joints) + "; this robot's joints are " +
+                                core::joined(joints) + " (a design of another robot: exoid excite designs one for this robot)");
   }
   return t;
 }

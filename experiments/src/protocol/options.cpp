@@ -2,6 +2,7 @@
 
 #include "exoid/core/format.hpp"
 
+#include <filesystem>
 #include <cmath>
 #include <map>
 #include <optional>
@@ -336,6 +337,26 @@ void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection) {
          "Robot trees: JOINT=VALUE holds a joint at VALUE (rad; m for a prismatic one); a moving branch off the chain\n"
          "is refused unless locked, and is lumped into its link at that posture. Repeatable")
       ->group("Robot");
+}
+
+std::pair<std::string, std::string> parseStage(const std::string& s) {
+  const auto eq = s.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == s.size()) {
+    throw CLI::ValidationError("--stage", "expected JOINT=FILE (the record's first moving joint, the joints above it locked), got '" + s + "'");
+  }
+  const std::string file = s.substr(eq + 1);
+  if (!std::filesystem::is_regular_file(file)) throw CLI::ValidationError("--stage", "file '" + file + "' does not exist");
+  return {s.substr(0, eq), file};
+}
+
+bool apalKneeArmature(const std::vector<std::string>& armature) {
+  for (const std::string& joint : armature) {
+    if (joint != "knee" && joint != "all") {
+      throw CLI::ValidationError("--armature", "the APAL leg takes a knee armature (knee or all): Jt absorbs a hip rotor's inertia "
+                                               "(it adds to the hip's diagonal alone); got '" + joint + "'");
+    }
+  }
+  return !armature.empty();
 }
 
 }  // namespace exoid::experiments

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -127,7 +128,8 @@ core::PidGains pidGains(const Controller& ctl) {
   g.kd_Nms_per_rad = ctl.kd_Nms_per_rad;
   g.derivative = ctl.derivative;
   g.derivative_cutoff_Hz = ctl.derivative_cutoff_hz;
-  g.integral_limit_Nm = ctl.integral_limit_Nm;
+  // No limit (inf, which a controller file may say) is the largest one.
+  g.integral_limit_Nm = std::min(ctl.integral_limit_Nm, std::numeric_limits<double>::max());
   return g;
 }
 

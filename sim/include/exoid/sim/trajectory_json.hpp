@@ -21,8 +21,8 @@ struct NamedTrajectory {
   core::FourierSeries series;
   std::vector<std::string> joints;
 };
-/// Reads that form back, validated (FourierSeries::validate); throws std::invalid_argument naming
-/// the key ("joints[2].cos_rad: ...").
+/// Reads that form back, validated (FourierSeries::validate; the names non-empty and distinct);
+/// throws std::invalid_argument naming the key ("joints[2].cos_rad: ...").
 NamedTrajectory trajectoryFromJson(const nlohmann::json& j);
 
 }  // namespace exoid::sim

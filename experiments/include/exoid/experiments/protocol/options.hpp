@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace exoid::experiments {
@@ -33,6 +34,14 @@ void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection);
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
 void addMethodOptions(CLI::App& app, ident::MethodOptions& o);
+
+/// One spelling of the options that differ by leg, for every leg: --stage JOINT=FILE (the record's
+/// first moving joint, the joints above it locked) and --armature JOINT,... The APAL leg reads
+/// them as its own: a knee stage is --knee-data; --armature knee (or all) is its knee armature Ia2
+/// (a hip rotor's inertia adds to Jt alone, which the model fits already). Throw
+/// CLI::ValidationError naming the option and what was expected.
+std::pair<std::string, std::string> parseStage(const std::string& joint_equals_file);
+bool apalKneeArmature(const std::vector<std::string>& armature);
 
 /// Leg constants from flags, else from the dataset's "# thigh_length_m:" / "# gravity_mps2:"
 /// metadata, else the defaults (0.45 m, 9.81 m/s^2). `origin` says which, for the output.
