@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds exoid's libFuzzer targets (fuzz/) with clang, ASan and UBSan and runs each for SECONDS
 # (default 60) from its seed corpus (fuzz/corpus/<target>/), new inputs going to <build>/corpus/.
-# The four targets run at the same time, one process each (model_fuzz, the URDF and MJCF readers,
-# in a tree built with MuJoCo). Installs clang and its fuzzer runtime
+# The five targets run at the same time, one process each (model_fuzz, the URDF and MJCF readers,
+# and excitation_fuzz, the design files, in a tree built with MuJoCo). Installs clang and its fuzzer runtime
 # when missing (scripts/deps.sh --with-fuzz). A crash fails the run, with the reproducer in the
 # build folder and a non-zero exit.
 #   scripts/fuzz.sh [SECONDS]
@@ -15,7 +15,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 root=$PWD
 seconds=${1:-60}
 dir=${FUZZ_BUILD_DIR:-build-fuzz}
-targets=(dataset_fuzz log_profile_fuzz controller_json_fuzz model_fuzz)
+targets=(dataset_fuzz log_profile_fuzz controller_json_fuzz model_fuzz excitation_fuzz)
 scripts/deps.sh --with-fuzz
 if ! grep -qs '^EXOID_FUZZ:BOOL=ON' "$dir/CMakeCache.txt"; then
   # libFuzzer's recommended flags (-O1, line tables only): a quarter of -O2 -g's compile time.

@@ -56,10 +56,15 @@ NamedTrajectory trajectoryFromJson(const nlohmann::json& j) {
   if (!(locked >= 0 && locked <= static_cast<double>(joints.size()) && locked == std::floor(locked))) {
     throw std::invalid_argument("locked_joints: expected a whole number in [0, " + std::to_string(joints.size()) + "]");
   }
-  const std::size_t harmonics = numbers(joints[0], "cos_rad", "joints[0].").size();
+  const double f0_hz = number(j, "f0_hz", "");
+  // Every joint read and its sizes checked before the series is allocated (joints x harmonics): a
+  // file's size bounds what it costs.
+  struct Joint {
+    double offset;
+    std::vector<double> cos, sin;
+  };
+  std::vector<Joint> read;
   NamedTrajectory out;
-  out.series = core::FourierSeries::still(static_cast<int>(joints.size()), static_cast<int>(harmonics), number(j, "f0_hz", ""));
-  out.series.locked_joints = static_cast<int>(locked);
   for (std::size_t k = 0; k < joints.size(); ++k) {
     const std::string where = "joints[" + std::to_string(k) + "].";
     if (!joints[k].is_object()) throw std::invalid_argument("joints[" + std::to_string(k) + "]: expected an object (name, offset_rad, cos_rad, sin_rad)");
@@ -69,15 +74,22 @@ NamedTrajectory trajectoryFromJson(const nlohmann::json& j) {
       throw std::invalid_argument(where + "name: '" + name.get<std::string>() + "' names two joints");
     }
     out.joints.push_back(name.get<std::string>());
-    const auto K = static_cast<Eigen::Index>(k);
-    out.series.offset_rad[K] = number(joints[k], "offset_rad", where);
-    for (const auto& [key, m] : {std::pair{"cos_rad", &out.series.a_rad}, std::pair{"sin_rad", &out.series.b_rad}}) {
-      const std::vector<double> v = numbers(joints[k], key, where);
-      if (v.size() != harmonics) {
-        throw std::invalid_argument(where + key + ": " + std::to_string(v.size()) + " harmonics, joints[0] has " + std::to_string(harmonics));
+    read.push_back({number(joints[k], "offset_rad", where), numbers(joints[k], "cos_rad", where), numbers(joints[k], "sin_rad", where)});
+    for (const auto& [key, v] : {std::pair{"cos_rad", &read.back().cos}, std::pair{"sin_rad", &read.back().sin}}) {
+      if (v->size() != read.front().cos.size()) {
+        throw std::invalid_argument(where + key + ": " + std::to_string(v->size()) + " harmonics, joints[0] has " +
+                                    std::to_string(read.front().cos.size()));
       }
-      for (std::size_t h = 0; h < harmonics; ++h) (*m)(static_cast<Eigen::Index>(h), K) = v[h];
     }
+  }
+  const auto harmonics = static_cast<Eigen::Index>(read.front().cos.size());
+  out.series = core::FourierSeries::still(static_cast<int>(read.size()), static_cast<int>(harmonics), f0_hz);
+  out.series.locked_joints = static_cast<int>(locked);
+  for (std::size_t k = 0; k < read.size(); ++k) {
+    const auto K = static_cast<Eigen::Index>(k);
+    out.series.offset_rad[K] = read[k].offset;
+    out.series.a_rad.col(K) = Eigen::Map<const Eigen::VectorXd>(read[k].cos.data(), harmonics);
+    out.series.b_rad.col(K) = Eigen::Map<const Eigen::VectorXd>(read[k].sin.data(), harmonics);
   }
   try {
     out.series.validate();

@@ -528,7 +528,7 @@ IdentifyArgs legArguments(IdentifyArgs a) {
 }
 
 // What a chain model's identify takes and the APAL leg's does not.
-void checkLegArguments(const IdentifyArgs& a) {
+void checkLegArguments([[maybe_unused]] const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (a.moving_base_parameters) throw CLI::ValidationError("--moving-base-parameters", "is for a chain model (--model leg3|FILE); the APAL leg's X is the paper's");
   if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
