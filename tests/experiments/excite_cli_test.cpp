@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
 
 namespace exoid::experiments {
 namespace {
@@ -87,41 +89,40 @@ TEST(ExciteCli, SameSeedSameBytes) {
   }
 }
 
-TEST(ExciteCli, BadExcitationFileIsNamed) {
-  const std::string bad = ::testing::TempDir() + "/bad_excitation.json";
-  std::ofstream(bad) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [{"name": "hip", "cos_rad": [0.1], "sin_rad": [0]}]}})";
+// `exoid simulate --excitation FILE` (FILE holding `design`, after `model_args`): a non-zero exit,
+// and what it printed on stderr.
+std::string refusedDesign(const std::string& name, const std::string& design, std::vector<std::string> model_args = {}) {
+  const std::string file = ::testing::TempDir() + "/" + name;
+  std::ofstream(file) << design;
+  std::vector<std::string> args = {"simulate"};
+  args.insert(args.end(), model_args.begin(), model_args.end());
+  for (const std::string& s : {std::string("--excitation"), file, std::string("--out"), ::testing::TempDir() + "/never.csv"}) args.push_back(s);
   testing::internal::CaptureStderr();
-  EXPECT_NE(runExoid({"simulate", "--excitation", bad, "--out", ::testing::TempDir() + "/never.csv"}), 0);
-  const std::string err = testing::internal::GetCapturedStderr();
+  EXPECT_NE(runExoid(args), 0) << name;
+  return testing::internal::GetCapturedStderr();
+}
+
+TEST(ExciteCli, BadExcitationFileIsNamed) {
+  const std::string err = refusedDesign(
+      "bad_excitation.json", R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [{"name": "hip", "cos_rad": [0.1], "sin_rad": [0]}]}})");
   EXPECT_NE(err.find("bad_excitation.json"), std::string::npos) << err;
   EXPECT_NE(err.find("offset_rad"), std::string::npos) << err;
   // Another robot's design (leg3's three joints) on the APAL leg: refused, naming both joint lists.
-  const std::string other = ::testing::TempDir() + "/leg3_excitation.json";
-  std::ofstream(other) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
-                       << R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
-                       << R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]},)"
-                       << R"({"name": "ankle", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]}]}})";
-  testing::internal::CaptureStderr();
-  EXPECT_NE(runExoid({"simulate", "--excitation", other, "--out", ::testing::TempDir() + "/never.csv"}), 0);
-  const std::string err2 = testing::internal::GetCapturedStderr();
+  const std::string err2 = refusedDesign("leg3_excitation.json", R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
+                                                                 R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
+                                                                 R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]},)"
+                                                                 R"({"name": "ankle", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]}]}})");
   EXPECT_NE(err2.find("--excitation"), std::string::npos) << err2;
   EXPECT_NE(err2.find("hip, knee, ankle"), std::string::npos) << err2;
   // And the other way: the APAL leg's two joints on leg3, named the same way.
-  const std::string two = ::testing::TempDir() + "/apal_excitation.json";
-  std::ofstream(two) << R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
-                     << R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
-                     << R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]}]}})";
-  testing::internal::CaptureStderr();
-  EXPECT_NE(runExoid({"simulate", "--model", "leg3", "--excitation", two, "--out", ::testing::TempDir() + "/never.csv"}), 0);
-  const std::string err3 = testing::internal::GetCapturedStderr();
+  const std::string err3 = refusedDesign("apal_excitation.json", R"({"trajectory": {"f0_hz": 0.1, "locked_joints": 0, "joints": [)"
+                                                                 R"({"name": "hip", "offset_rad": 0, "cos_rad": [0.1], "sin_rad": [0]},)"
+                                                                 R"({"name": "knee", "offset_rad": 0.5, "cos_rad": [0.1], "sin_rad": [0]}]}})",
+                                         {"--model", "leg3"});
   EXPECT_NE(err3.find("the design moves hip, knee; this robot's joints are hip, knee, ankle"), std::string::npos) << err3;
   // A design in the form exoid wrote before (a_rad, b_rad) is named as such.
-  const std::string older = ::testing::TempDir() + "/older_excitation.json";
-  std::ofstream(older) << R"({"trajectory": {"f0_hz": 0.1, "hip_locked": false, "offset_rad": {"hip": 0, "knee": 0.5},)"
-                       << R"("a_rad": {"hip": [0.1], "knee": [0.1]}, "b_rad": {"hip": [0], "knee": [0]}}})";
-  testing::internal::CaptureStderr();
-  EXPECT_NE(runExoid({"simulate", "--excitation", older, "--out", ::testing::TempDir() + "/never.csv"}), 0);
-  const std::string err4 = testing::internal::GetCapturedStderr();
+  const std::string err4 = refusedDesign("older_excitation.json", R"({"trajectory": {"f0_hz": 0.1, "hip_locked": false, "offset_rad": {"hip": 0, "knee": 0.5},)"
+                                                                  R"("a_rad": {"hip": [0.1], "knee": [0.1]}, "b_rad": {"hip": [0], "knee": [0]}}})");
   EXPECT_NE(err4.find("older exoid's form"), std::string::npos) << err4;
 }
 

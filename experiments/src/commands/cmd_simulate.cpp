@@ -31,6 +31,15 @@ struct SimulateArgs {
   CLI::App* cmd = nullptr;
 };
 
+// --excitation's design for a robot with these joints (in order); refused naming the option.
+sim::NamedTrajectory excitationFor(const SimulateArgs& a, const std::vector<std::string>& joints) {
+  try {
+    return readExcitationFile(a.cmd->get_option("--excitation")->as<std::string>(), joints);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--excitation", e.what());
+  }
+}
+
 // A model other than the APAL leg: the serial-chain simulator. The APAL rig's own options (its
 // pedestal, four-bar, actuators, paper trajectories) do not apply and are refused by name.
 void runChainSimulate(const SimulateArgs& a) {
@@ -54,14 +63,8 @@ void runChainSimulate(const SimulateArgs& a) {
   c.seed = a.config.seed;
   if (a.cmd->count("--excitation") > 0) {
     // The design's joints must be the chain's, in order; the joints it holds are the rig's locks.
-    std::vector<std::string> joints;
-    for (const sim::ChainLinkBody& l : sim::serialChainFromFile(c.model_path).links) joints.push_back(l.joint);
-    sim::NamedTrajectory design;
-    try {
-      design = readExcitationFile(a.cmd->get_option("--excitation")->as<std::string>(), joints);
-    } catch (const std::invalid_argument& e) {
-      throw CLI::ValidationError("--excitation", e.what());
-    }
+    const std::vector<std::string> joints = sim::serialChainFromFile(c.model_path).jointNames();
+    const sim::NamedTrajectory design = excitationFor(a, joints);
     c.trajectory = design.series;
     for (std::size_t k = 0; k < static_cast<std::size_t>(design.series.locked_joints); ++k) {
       if (std::find(c.locked.begin(), c.locked.end(), joints[k]) == c.locked.end()) c.locked.push_back(joints[k]);
@@ -78,13 +81,7 @@ void runSimulate(const SimulateArgs& a) {
                                              "--ramp and its gains from a sweep's [simulation]");
     }
   }
-  if (a.cmd->count("--excitation") > 0) {
-    try {
-      readExcitationFile(a.cmd->get_option("--excitation")->as<std::string>(), kLegJoints);
-    } catch (const std::invalid_argument& e) {
-      throw CLI::ValidationError("--excitation", e.what());
-    }
-  }
+  if (a.cmd->count("--excitation") > 0) excitationFor(a, kLegJoints);  // the design's joints must be the leg's
   core::checkOutputWritable(a.out);  // before the simulation, not after it
   core::checkOutputWritable(sim::sidecarPathOf(a.out));
   const sim::SimResult r = sim::simulate(a.config);

@@ -266,10 +266,6 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
   return j;
 }
 
-}  // namespace
-
-namespace {
-
 // The stages against one fit of the last stage's records (stages_check.hpp), when those records
 // alone determine every base parameter and the model does not explain them to rounding (exact
 // data leave no term out; their errors are rounding too).

@@ -81,8 +81,7 @@ sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
 
 ident::Dataset chainDataset(const sim::ChainSimResult& r) {
   ident::CsvReadOptions o;
-  o.joints.clear();
-  for (const sim::ChainLinkBody& l : r.chain.links) o.joints.push_back(l.joint);
+  o.joints = r.chain.jointNames();
   return ident::parseDatasetText(sim::tableCsv(r.table), r.chain.name + " simulation", o);
 }
 

@@ -203,8 +203,7 @@ void validateChain(const SweepConfig& c) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
   if (c.chain_design) {
-    std::vector<std::string> joints;
-    for (const sim::ChainLinkBody& l : sim::serialChainFromMjcfFile(c.chain_model_path).links) joints.push_back(l.joint);
+    const std::vector<std::string> joints = sim::serialChainFromMjcfFile(c.chain_model_path).jointNames();
     if (c.chain_design->joints != joints) {
       throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->joints.size()) +
                              " joints (" + core::joined(c.chain_design->joints) + "); " + model + " has " + core::joined(joints) +

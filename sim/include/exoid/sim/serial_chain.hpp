@@ -41,6 +41,12 @@ struct SerialChain {
   /// Bodies with their own degrees of freedom hanging off the chain (e.g. the four-bar's
   /// cylinder and rod): left out of every link, named here so that nothing is dropped silently.
   std::vector<std::string> left_out;
+  /// The joints that move the links, base to tip.
+  std::vector<std::string> jointNames() const {
+    std::vector<std::string> names;
+    for (const ChainLinkBody& l : links) names.push_back(l.joint);
+    return names;
+  }
 };
 
 /// The body whose frame a chain starting at `first_body` is expressed in: the nearest ancestor
