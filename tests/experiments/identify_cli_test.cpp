@@ -327,11 +327,13 @@ TEST(IdentifyCli, AnImplausibleFitThatAKneeArmatureExplainsNamesTheOption) {
   EXPECT_EQ(runExoid({"identify", "--data", armed, "--json", out}), 3);
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("physically implausible"), std::string::npos) << err;
-  EXPECT_NE(err.find("the records show a knee armature the model leaves out"), std::string::npos) << err;
+  EXPECT_NE(err.find("the records show a joint armature the model leaves out (Ia2 = "), std::string::npos) << err;
   EXPECT_NE(err.find("rerun with --knee-armature"), std::string::npos) << err;
+  // The same JSON as a chain's (ChainCli): the armature by joint, and the hint.
   const nlohmann::json j = readJson(out);
-  EXPECT_TRUE(j["optional_terms"]["knee_armature"]["significant"].get<bool>());
-  EXPECT_GT(j["optional_terms"]["knee_armature"]["Ia2_kgm2"].get<double>(), 0.0);
+  EXPECT_TRUE(j["optional_terms"]["armature"]["knee"]["significant"].get<bool>());
+  EXPECT_GT(j["optional_terms"]["armature"]["knee"]["value_kgm2"].get<double>(), 0.0);
+  EXPECT_NE(j["optional_terms"]["hint"].get<std::string>().find("--knee-armature"), std::string::npos);
   EXPECT_EQ(runExoid({"identify", "--data", plain, "--json", out}), 0);
   EXPECT_FALSE(readJson(out).contains("optional_terms"));
 }

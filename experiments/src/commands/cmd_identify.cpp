@@ -632,28 +632,12 @@ std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(co
   return validations;
 }
 
-// An optional term the records may need: when the fit without the knee armature
-// is physically implausible, the same records (each in its band) fitted with it. The term is named
-// when it is significant: Ia2 more than --significance reported standard errors above 0 (an
-// armature is a positive inertia).
-struct OptionalTerm {
-  double value = 0.0, std_error = 0.0;
-  bool significant = false;
-};
-
-OptionalTerm kneeArmatureTest(const LegRecords& r, const ident::MethodOptions& mo, double significance_sigmas) {
+// The knee armature tested when the fit without it is physically implausible (identification.hpp).
+ArmatureTest kneeArmatureTest(const LegRecords& r, const ident::MethodOptions& mo, double significance_sigmas) {
   const ident::Robot with = ident::twoLinkLeg(r.c, true);
   std::vector<ident::RecordRows> rows;
   for (std::size_t k = 0; k < r.primary.data.size(); ++k) rows.push_back(ident::processRecord(r.primary.data[k], with, r.primary.signals[k]));
-  const std::vector<OptionalTermFit> fit = fitOptionalTerms(with, rows, {std::string(ident::paramName(ident::kKneeArmature))}, significance_sigmas,
-                                                            mo.ls.max_condition);
-  if (fit.empty()) return {};
-  return {fit.front().value, fit.front().std_error, fit.front().significant};
-}
-
-std::string optionalTermHint(const OptionalTerm& t) {
-  return "the records show a knee armature the model leaves out (Ia2 = " + fmt(t.value, 4) + " +- " + fmt(t.std_error, 2) + " kg m^2, " +
-         fmt(t.value / t.std_error, 3) + " standard errors above 0): rerun with --knee-armature";
+  return armatureTest(with, rows, {"knee"}, significance_sigmas, mo.ls.max_condition);
 }
 
 // The segmental strategy against one fit of the both-joint records (stages_check.hpp), as a
@@ -688,8 +672,7 @@ SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const i
   std::cout << wrapped(describe(c, r.robot.names())) << '\n';
   out.json = toJson(c, r.robot.names());
   if (c.one_fit_inconsistency.empty()) return out;
-  const OptionalTerm armature = kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas);
-  out.problem = stagesHidProblem(c, armature.significant ? optionalTermHint(armature) : "");
+  out.problem = stagesHidProblem(c, kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas).hint());
   return out;
 }
 
@@ -723,7 +706,7 @@ void run(const IdentifyArgs& given) {
       if (segmental && m.segmental_errors) applySegmentalConsistency(m, r.c, a.consistency_options);
     }
   }
-  std::optional<OptionalTerm> armature;
+  std::optional<ArmatureTest> armature;
   const bool implausible = std::any_of(outcomes.begin(), outcomes.end(), [](const MethodOutcome& m) { return !m.implausible.empty(); });
   if (single && !a.knee_armature && implausible) armature = kneeArmatureTest(r, mo, a.consistency_options.significance_sigmas);
   const std::optional<BandSensitivity> sensitivity = single ? lsBandSensitivity(a, r.primary, r.robot, outcomes) : std::nullopt;
@@ -734,22 +717,18 @@ void run(const IdentifyArgs& given) {
   if (sensitivity) {
     for (const std::string& line : describe(*sensitivity)) std::cout << line << '\n';
   }
-  if (armature && armature->significant) std::cout << "implausible: " << optionalTermHint(*armature) << '\n';
+  if (armature && !armature->joints.empty()) std::cout << "implausible: " << armature->hint() << '\n';
   const SegmentalCheck against = segmental ? againstOneFit(a, r, mo, outcomes) : SegmentalCheck{};
   if (!a.json_out.empty()) {
     nlohmann::json reports = nlohmann::json::object();
     if (!against.json.is_null()) reports["against_one_fit"] = against.json;
-    if (armature) {
-      reports["optional_terms"]["knee_armature"] = {{"Ia2_kgm2", armature->value}, {"std_error", jsonNumber(armature->std_error)}, {"significant", armature->significant},
-                                         {"rule", "fitted with the records when the estimate is physically implausible; significant when Ia2 > "
-                                                  "--significance reported standard errors"}};
-    }
+    if (armature) reports["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
     writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination,
                       reports, !against.problem.empty());
   }
   std::string problems = undeterminedProblem(r.robot, r.determination);
   if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;
-  if (armature && armature->significant) problems += "; " + optionalTermHint(*armature);
+  if (armature && !armature->joints.empty()) problems += "; " + armature->hint();
   if (!against.problem.empty()) problems += (problems.empty() ? "" : "; ") + against.problem;
   if (!problems.empty()) throw UnusableResult(problems);
 }

@@ -362,13 +362,10 @@ MethodEstimates otherMethods(const ChainIdentifyArgs& a, const LoadedChain& load
   return others;
 }
 
-// The RMS of each joint's entries of a sample-major residual (or torque) over the record, N m.
-std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& residual, int dof) {
-  std::vector<double> rms(static_cast<std::size_t>(dof), 0.0);
-  for (Eigen::Index k = 0; k < v.samples(); ++k) {
-    for (int j = 0; j < dof; ++j) rms[static_cast<std::size_t>(j)] += residual[k * dof + j] * residual[k * dof + j];
-  }
-  for (double& x : rms) x = std::sqrt(x / static_cast<double>(v.samples()));
+// Each joint's RMS torque error of theta on v, N m.
+std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& theta) {
+  std::vector<double> rms;
+  for (const ident::TorqueErrorStats& e : jointTorqueErrors(v, theta)) rms.push_back(e.rms);
   return rms;
 }
 
@@ -377,7 +374,7 @@ std::vector<double> jointRms(const ident::RecordRows& v, const Eigen::VectorXd& 
 nlohmann::json validationJson(const std::string& file, const ident::RecordRows& v, const LoadedChain& loaded, const Eigen::VectorXd& ls,
                               const std::vector<NamedEstimate>& others, const Eigen::VectorXd& cad) {
   const ident::ChainModel& model = loaded.model;
-  const std::vector<double> error = jointRms(v, v.y - v.W * ls, model.dof()), measured = jointRms(v, v.y, model.dof());
+  const std::vector<double> error = jointRms(v, ls), measured = jointRms(v, Eigen::VectorXd::Zero(ls.size()));
   nlohmann::json vj = {{"file", file}, {"joints", nlohmann::json::array()}};
   std::ostringstream line;
   line << "validation " << file << ": torque error RMS";
@@ -389,7 +386,7 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   }
   std::cout << wrapped(line.str()) << "\n";
   // The model file's own parameters (the CAD's) on the same record: how much the identification gained.
-  const std::vector<double> cad_rms = jointRms(v, v.y - v.W * cad, model.dof());
+  const std::vector<double> cad_rms = jointRms(v, cad);
   std::ostringstream cad_line;
   cad_line << "validation " << file << ": the model file's own parameters (CAD): torque error RMS";
   for (int j = 0; j < model.dof(); ++j) {
@@ -398,7 +395,7 @@ nlohmann::json validationJson(const std::string& file, const ident::RecordRows& 
   }
   std::cout << wrapped(cad_line.str()) << "\n";
   // Every other method's estimate on the same record: RMS torque error per joint, N m.
-  for (const auto& [m, x] : others) vj["methods_rms_error_Nm"][m] = jointRms(v, v.y - v.W * x, model.dof());
+  for (const auto& [m, x] : others) vj["methods_rms_error_Nm"][m] = jointRms(v, x);
   return vj;
 }
 
@@ -493,40 +490,20 @@ ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& 
 
 }  // namespace
 
-std::string ArmatureTest::hint() const {
-  if (joints.empty()) return "";
-  std::string s, list;
-  for (std::size_t k = 0; k < joints.size(); ++k) {
-    s += (k ? ", " : "") + shown[k];
-    list += (k ? "," : "") + joints[k];
-  }
-  return "the records show a joint armature the model leaves out (" + s + "): rerun with --armature " + list;
-}
-
 ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
                           const std::vector<ident::SignalOptions>& signals) {
-  ArmatureTest t;
   std::vector<std::string> missing;
   for (const ident::ChainJoint& j : loaded.model.joints) {
     if (!j.armature) missing.push_back(j.name);
   }
-  if (missing.empty()) return t;
+  if (missing.empty()) return {};
   const ident::ChainModel with = withArmature(loaded.model, missing);
   ident::BaseParameterOptions bo;
   bo.planar_base_motion = a.moving_base_parameters;
   const ident::Robot robot = ident::chainRobot(with, bo);
   std::vector<ident::RecordRows> rows;
   for (std::size_t r = 0; r < files.size(); ++r) rows.push_back(ident::processRecord(readLog(files[r], log), robot, signals[r]));
-  std::vector<std::string> terms;
-  for (const std::string& joint : missing) terms.push_back(joint + ".Ia");
-  for (const OptionalTermFit& f : fitOptionalTerms(robot, rows, terms, a.significance_sigmas, a.max_condition)) {
-    const std::string joint = f.name.substr(0, f.name.size() - 3);
-    t.json[joint] = {{"value_kgm2", f.value}, {"std_error_kgm2", f.std_error}, {"significant", f.significant}};
-    if (!f.significant) continue;
-    t.joints.push_back(joint);
-    t.shown.push_back(f.name + " = " + fmt(f.value, 4) + " +- " + fmt(f.std_error, 2) + " kg m^2, " + fmt(f.value / f.std_error, 3) + " standard errors above 0");
-  }
-  return t;
+  return armatureTest(robot, rows, missing, a.significance_sigmas, a.max_condition);
 }
 
 namespace {

@@ -242,11 +242,18 @@ MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLo
   return allOutcome(ident::Method::kIdimIv, ident::identifyIdimIv(robot, {record}, options), robot.knee_armature);
 }
 
+std::vector<ident::TorqueErrorStats> jointTorqueErrors(const ident::RecordRows& r, const Eigen::VectorXd& theta) {
+  std::vector<ident::TorqueErrorStats> out;
+  for (Eigen::Index j = 0; j < r.dof; ++j) out.push_back(ident::torqueError(r.jointY(j), r.jointW(j) * theta));
+  return out;
+}
+
 Validation validate(const ident::RecordRows& r, const ident::ParamVector& x, double knee_armature) {
-  const Eigen::MatrixXd hip = r.jointW(0), knee = r.jointW(1);
-  const Eigen::VectorXd ia2_column = knee.cols() > kNumParams ? Eigen::VectorXd(knee.col(ident::kKneeArmature)) : Eigen::VectorXd::Zero(knee.rows());
-  return {ident::torqueError(r.jointY(0), hip.leftCols<kNumParams>() * x),
-          ident::torqueError(r.jointY(1), knee.leftCols<kNumParams>() * x + knee_armature * ia2_column)};
+  Eigen::VectorXd theta(r.W.cols());
+  theta.head<kNumParams>() = x;
+  if (theta.size() > kNumParams) theta[ident::kKneeArmature] = knee_armature;  // the rows of a leg with the knee's armature
+  const std::vector<ident::TorqueErrorStats> e = jointTorqueErrors(r, theta);
+  return {e[0], e[1]};
 }
 
 nlohmann::json paramsJson(const Eigen::VectorXd& values, const std::vector<int>& indices) {
@@ -453,23 +460,34 @@ std::string undeterminedProblem(const ident::Robot& robot, const ident::Determin
          "; fit them from a record that moves their joints, or leave them to another stage";
 }
 
-std::vector<OptionalTermFit> fitOptionalTerms(const ident::Robot& with, const std::vector<ident::RecordRows>& rows,
-                                              const std::vector<std::string>& names, double significance_sigmas, double max_condition) {
+std::string ArmatureTest::hint() const {
+  if (joints.empty()) return "";
+  return "the records show a joint armature the model leaves out (" + core::joined(shown, ", ") + "): rerun with " +
+         (two_link ? "--knee-armature" : "--armature " + core::joined(joints, ","));
+}
+
+ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::RecordRows>& rows, const std::vector<std::string>& joints,
+                          double significance_sigmas, double max_condition) {
   ident::ChainEstimateOptions eo;
   eo.ls.max_condition = max_condition;
   eo.consistent = false;
   const ident::ChainEstimate e =
       ident::estimateChain(with, ident::stackRecords(rows), Eigen::VectorXd::Zero(with.chain.standardParameterCount()), eo);
-  std::vector<OptionalTermFit> out;
-  if (e.ls.rank < with.parameters()) return out;
-  for (const std::string& name : names) {
+  ArmatureTest t;
+  t.two_link = with.two_link.has_value();
+  if (e.ls.rank < with.parameters()) return t;
+  for (const std::string& joint : joints) {
+    const std::string name = t.two_link ? std::string(ident::paramName(ident::kKneeArmature)) : joint + ".Ia";
     const auto it = std::find(with.names().begin(), with.names().end(), name);
-    if (it == with.names().end()) continue;
-    const Eigen::Index i = it - with.names().begin();
-    const double value = e.beta[i], se = e.std_error[i];
-    out.push_back({name, value, se, se > 0.0 && value > significance_sigmas * se});
+    if (it == with.names().end()) continue;  // regrouped into a link's inertia: not a term of its own
+    const double value = e.beta[it - with.names().begin()], se = e.std_error[it - with.names().begin()];
+    const bool significant = se > 0.0 && value > significance_sigmas * se;
+    t.json[joint] = {{"value_kgm2", value}, {"std_error_kgm2", se}, {"significant", significant}};
+    if (!significant) continue;
+    t.joints.push_back(joint);
+    t.shown.push_back(name + " = " + fmt(value, 4) + " +- " + fmt(se, 2) + " kg m^2, " + fmt(value / se, 3) + " standard errors above 0");
   }
-  return out;
+  return t;
 }
 
 }  // namespace exoid::experiments

@@ -2,6 +2,7 @@
 // The commands on a robot model other than the APAL leg (any serial chain of revolute joints, from
 // its MJCF or URDF): simulate it, identify its base parameters from logs.
 #include "exoid/core/tree_selection.hpp"
+#include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/ident/io/dataset.hpp"
 #include "exoid/ident/design/excitation.hpp"
@@ -158,15 +159,8 @@ void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loade
 ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<ChainStageInput>& inputs,
                    const std::vector<std::vector<ident::Dataset>>& data, const std::optional<Eigen::VectorXd>& truth);
 
-/// An optional term the records may need: the records `files` (each processed as `signals`)
-/// fitted with an armature on every joint the model gives none. Each armature that is a base
-/// parameter of its own and lies more than --significance reported standard errors above 0 (a
-/// rotor inertia is positive) is named, with the option that adds it.
-struct ArmatureTest {
-  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value, std_error, significant
-  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
-  std::string hint() const;                        ///< "...: rerun with --armature knee,ankle"; empty: none
-};
+/// The optional-term test (identification.hpp) of the records `files` (each processed as
+/// `signals`): an armature on every joint the model gives none.
 ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
                           const std::vector<ident::SignalOptions>& signals);
 

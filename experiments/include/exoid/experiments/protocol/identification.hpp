@@ -67,19 +67,22 @@ struct MethodOutcome {
   double wallTime_s() const;
 };
 
-/// One optional term (a joint's armature) tested on the records: fitted by LS with the model plus
-/// the term, its value and reported error; significant when it lies more than the significance
-/// in reported errors above 0 (a rotor inertia is positive).
-struct OptionalTermFit {
-  std::string name;  ///< the robot's parameter ("Ia2", "knee.Ia")
-  double value = 0.0, std_error = 0.0;
-  bool significant = false;
+/// An optional term the records may need, on every leg: an armature (a geared motor's reflected
+/// rotor inertia, Ia qdd on its joint's own diagonal) on each joint the model gives none, fitted
+/// by LS with the model. Each that is a parameter of its own (not regrouped into a link's
+/// inertia) and lies more than the significance in reported errors above 0 (a rotor inertia is
+/// positive) is named, with the option that adds it.
+struct ArmatureTest {
+  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value_kgm2, std_error_kgm2, significant
+  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
+  bool two_link = false;                            ///< the APAL leg: its option is --knee-armature
+  std::string hint() const;  ///< "...: rerun with --armature knee,ankle" (--knee-armature); empty: none
 };
-/// `with` is the model with the optional terms; rows its rows of each record (each processed in its
-/// own band). Each of `names` that is a parameter of `with` is tested (a term a record cannot
-/// separate, regrouped into a link's inertia, is not one); none when the fit is not full rank.
-std::vector<OptionalTermFit> fitOptionalTerms(const ident::Robot& with, const std::vector<ident::RecordRows>& rows,
-                                              const std::vector<std::string>& names, double significance_sigmas, double max_condition);
+/// `with` is the robot with an armature on each of `joints` (the 2-link leg's is Ia2, a chain's
+/// "<joint>.Ia"); rows its rows of each record (each processed in its own band). Nothing is
+/// tested when that fit is not full rank.
+ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::RecordRows>& rows, const std::vector<std::string>& joints,
+                          double significance_sigmas, double max_condition);
 
 /// Reported errors as identify's JSON gives them, by parameter name: standard_errors (the
 /// reported), _newey_west, _jackknife, _record_jackknife, _from, _are.
@@ -131,6 +134,9 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& r, const ident:
 /// reported covariance C, min (x' - x)' C^-1 (x' - x), and each condition is judged by its
 /// distance in the reported errors. Nothing changes when C is not finite and positive definite.
 void applySegmentalConsistency(MethodOutcome& m, const ident::LegConstants& c, const ident::ConsistencyOptions& options = {});
+
+/// Each joint's torque error of theta (every parameter of the rows' robot) on a record.
+std::vector<ident::TorqueErrorStats> jointTorqueErrors(const ident::RecordRows& r, const Eigen::VectorXd& theta);
 
 /// Per-joint validation torque errors of X on a record.
 struct Validation {
