@@ -572,6 +572,29 @@ TEST(ChainCli, TheStagesNameATermAnEarlierStageAbsorbed) {
   }
 }
 
+// A record too short to choose a band from is refused naming its file, on every leg (one
+// processing of a fit's records: fit_records.hpp).
+TEST(ChainCli, ARecordTooShortForABandIsNamedOnEveryLeg) {
+  const std::string dir = ::testing::TempDir();
+  for (const std::string leg : {"apal", "leg3"}) {
+    const std::string csv = dir + "/short_" + leg + ".csv", cut = dir + "/short_" + leg + "_cut.csv";
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(runExoid({"simulate", "--model", leg, "--duration", "1", "--seed", "4", "--out", csv}), 0);
+    testing::internal::GetCapturedStdout();
+    // The metadata and the header, then 59 samples.
+    std::ifstream in(csv);
+    std::ofstream out(cut);
+    int samples = 0;
+    for (std::string line; std::getline(in, line) && samples < 60;) {
+      out << line << '\n';
+      if (line.rfind('#', 0) != 0) ++samples;
+    }
+    out.close();
+    const std::string err = stderrOf({"identify", "--model", leg, "--data", cut}, 1);
+    EXPECT_NE(err.find(cut + ": record too short to choose a band"), std::string::npos) << leg << ": " << err;
+  }
+}
+
 // What identify reports as the band sensitivity, on both legs: each parameter's change, in its
 // reported standard errors, when the record is refitted with the chosen cutoff a quarter wider;
 // the same as a user's own refit with that cutoff given (--cutoff-hz), to rounding.
@@ -598,7 +621,7 @@ TEST(ChainCli, TheBandSensitivityIsTheRefitInAQuarterWiderBandOnEveryLeg) {
     const nlohmann::json& s = j["band_sensitivity"];
     ASSERT_EQ(s["cutoff_factor"].get<double>(), 1.25) << leg.name;
     const bool apal = leg.model.empty();
-    const double cutoff = apal ? j["processing_per_record"][csv]["cutoff_hz"].get<double>() : j["records"][0]["band"]["cutoff_hz"].get<double>();
+    const double cutoff = j["processing_per_record"][csv]["cutoff_hz"].get<double>();  // one form for every leg
     // The chosen band is well below the cap of a fifth of the 1 kHz rate.
     ASSERT_LT(1.25 * cutoff, 200.0) << leg.name;
     testing::internal::CaptureStdout();

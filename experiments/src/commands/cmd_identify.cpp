@@ -8,6 +8,7 @@
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
+#include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/stages_check.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
@@ -167,7 +168,7 @@ struct Role {
   /// Each record's processing as used: the options with every choice made from the data.
   std::vector<ident::SignalOptions> signals;
   std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
-  std::vector<std::optional<ident::BaseTermsChoice>> base_terms;  ///< whether each record's base-motion terms were kept, if judged
+  nlohmann::json processing = nlohmann::json::object();  ///< each record's processing as used, by file
 };
 
 // The command line's combinations: one kind of input, what each method needs of it.
@@ -222,39 +223,21 @@ void checkThighLengths(const IdentifyArgs& a, const LogInput& log, const ident::
 // Each role's records processed and stacked, with how well they excite the parameters.
 void processRoles(const LogInput& log, const ident::Robot& robot, const ident::SignalOptions& signals, bool segmental, Role& primary,
                   Role& knee) {
+  // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
+  const ident::Robot leg = ident::twoLinkLeg(*robot.two_link);
   for (Role* role : {&knee, &primary}) {
-    const auto naming = [&](std::size_t k, const std::invalid_argument& e) {
-      return std::invalid_argument(role->files[k] + ": " + e.what() + timeUnitHint(role->data[k]));
-    };
+    if (role->files.empty()) continue;
     for (std::size_t k = 0; k < role->files.size(); ++k) {
       std::cout << "record " << role->files[k] << ": " << samplingSummary(role->data[k], log.csv) << '\n';
-      try {
-        // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
-        std::optional<ident::BandChoice> band;
-        std::optional<ident::BaseTermsChoice> base;
-        ident::BandRule rule;
-        rule.first_moving_joint = role == &knee ? 1 : 0;
-        // The band is the leg's own (X): an optional term (the knee armature) is judged on the same rows as without it.
-        role->signals.push_back(ident::resolveSignalOptions(role->data[k], ident::twoLinkLeg(*robot.two_link), signals, rule, &band, &base));
-        if (band) std::cout << "  band: " << band->describe() << " (--cutoff-hz, --derivative-cutoff-hz, --decimation override)\n";
-        if (base) std::cout << "  " << baseTermsNote(*base) << '\n';
-        role->bands.push_back(band);
-        role->base_terms.push_back(base);
-      } catch (const std::invalid_argument& e) {
-        throw naming(k, e);
-      }
     }
-    if (const auto shared = ident::shareBaseTerms(role->signals, role->base_terms)) std::cout << sharedBaseTermsNote(*shared) << '\n';
-    std::vector<ident::RecordRows> rows;
-    for (std::size_t k = 0; k < role->files.size(); ++k) {
-      try {
-        rows.push_back(ident::processRecord(role->data[k], robot, role->signals[k]));
-      } catch (const std::invalid_argument& e) {
-        throw naming(k, e);
-      }
-    }
-    if (rows.empty()) continue;
-    role->rows = ident::stackRecords(rows);
+    // The segmental knee record's hip is locked (no hip torque): its band is judged by its knee equation.
+    ident::BandRule rule;
+    rule.first_moving_joint = role == &knee ? 1 : 0;
+    FitRecords fit = processFitRecords(role->files, role->data, robot, signals, rule, &leg);
+    role->signals = fit.signals;
+    role->bands = fit.bands;
+    role->processing = fit.json;
+    role->rows = ident::stackRecords(fit.rows);
     const bool knee_role = role == &knee;
     // X's ten parameters (a fitted knee armature's column left out), or the knee role's shank columns.
     const int first = knee_role ? ident::kShankFirst : 0, count = knee_role ? ident::kGroupSize : ident::kNumParams;
@@ -365,39 +348,6 @@ nlohmann::json rolesSamplingJson(const Role& primary, const Role& knee) {
   return sampling;
 }
 
-// A band chosen from a record: what limited it, the pilot and the consistency scan.
-void addBandChoice(const ident::BandChoice& band, nlohmann::json& b) {
-  b["motion_bandwidth_hz"] = band.motion_bandwidth_hz;
-  b["joint_motion_bandwidth_hz"] =
-      std::vector<double>(band.joint_motion_bandwidth_hz.data(), band.joint_motion_bandwidth_hz.data() + band.joint_motion_bandwidth_hz.size());
-  b["limited_by"] = band.limited_by;
-  b["reason"] = band.describe();
-  b["pilot_cutoff_hz"] = band.pilot_cutoff_hz;
-  b["pilot_samples"] = band.pilot_samples;  // the pilot's central window (all samples when shorter)
-  nlohmann::json scan = nlohmann::json::array();
-  for (const ident::BandScan& r : band.scan) {
-    scan.push_back({{"from_hz", r.from_hz}, {"to_hz", r.to_hz}, {"predicted_rms_Nm", r.predicted_rms_Nm}, {"measured_rms_Nm", r.measured_rms_Nm}});
-  }
-  b["consistency_scan"] = scan;
-}
-
-// Each record's processing as used, by file.
-nlohmann::json processingJson(const Role& primary, const Role& knee) {
-  nlohmann::json bands = nlohmann::json::object();
-  for (const Role* role : {&knee, &primary}) {
-    for (std::size_t k = 0; k < role->files.size() && k < role->signals.size(); ++k) {
-      const ident::SignalOptions& o = role->signals[k];
-      nlohmann::json b = {{"cutoff_hz", o.cutoff_hz}, {"derivative_cutoff_hz", o.derivative_cutoff_hz},
-                          {"decimation", o.decimationFactor(1.0 / role->data[k].sampleInterval_s())},
-                          {"chosen_from_data", role->bands[k].has_value()}, {"base_terms_used", usesBaseMotion(role->data[k], o)}};
-      if (const auto& band = role->bands[k]) addBandChoice(*band, b);
-      if (const auto& base = role->base_terms[k]) b["base_terms_choice"] = toJson(*base);
-      bands[role->files[k]] = b;
-    }
-  }
-  return bands;
-}
-
 // Each method's outcome, problems, validation and parameter errors, by method.
 nlohmann::json methodsJson(const IdentifyArgs& a, const std::vector<MethodOutcome>& outcomes,
                            const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
@@ -429,7 +379,8 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
   if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
   j["inputs"]["sampling"] = rolesSamplingJson(primary, knee);
-  j["processing_per_record"] = processingJson(primary, knee);
+  j["processing_per_record"] = knee.processing;
+  j["processing_per_record"].update(primary.processing);
   // Whether the base-motion terms were in the first record's rows (processing_per_record: each record's, and why).
   j["base_terms_used"] = usesBaseMotion(primary.data.front(), primary.signals.front());
   j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};

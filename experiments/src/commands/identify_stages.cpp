@@ -2,6 +2,7 @@
 // chain (ident/estimators/segmental.hpp), every method stage by stage.
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
@@ -79,34 +80,21 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     const ChainStageInput& in = inputs[s];
     ident::BandRule rule;
     rule.first_moving_joint = in.first_joint;
-    std::vector<ident::RecordRows> records;
-    nlohmann::json files = nlohmann::json::array();
     // The stage's records are stacked into one fit: one choice of the base-motion terms for them.
-    const ident::ResolvedRecords resolved = ident::resolveRecords(data[s], loaded.robot, a.signals, rule);
-    out.signals.push_back(resolved.signals);
-    out.bands.push_back(resolved.bands);
-    for (std::size_t r = 0; r < in.files.size(); ++r) {
-      const std::string& file = in.files[r];
-      const std::optional<ident::BandChoice>& band = resolved.bands[r];
-      const std::optional<ident::BaseTermsChoice>& base = resolved.base_terms[r];
-      const ident::SignalOptions& used = resolved.signals[r];
-      records.push_back(ident::processRecord(data[s][r], loaded.robot, used));
-      if (band) std::cout << wrapped(file + ": " + band->describe()) << "\n";
-      if (base) std::cout << wrapped(file + ": " + baseTermsNote(*base)) << "\n";
-      if (s + 1 == inputs.size() && r == 0) {
-        out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-        out.fit_signals.base_terms = used.base_terms;  // judged: as made for the fit
-        if (!a.plot.empty() && a.validate.empty()) out.shown = records.back();
-      }
-      files.push_back({{"file", file}, {"rows", records.back().y.size()}, {"cutoff_hz", band ? band->cutoff_hz : a.signals.cutoff_hz},
-                       {"base_terms_used", usesBaseMotion(data[s][r], used)}});
-      if (base) files.back()["base_terms_choice"] = toJson(*base);
+    FitRecords fit = processFitRecords(in.files, data[s], loaded.robot, a.signals, rule);
+    out.signals.push_back(fit.signals);
+    out.bands.push_back(fit.bands);
+    if (s + 1 == inputs.size()) {
+      // The last stage's first record: the validation records' processing, and --plot's rows without them.
+      const std::optional<ident::BandChoice>& band = fit.bands.front();
+      out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
+      out.fit_signals.base_terms = fit.signals.front().base_terms;  // judged: as made for the fit
+      if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
     }
-    if (resolved.shared) std::cout << wrapped(sharedBaseTermsNote(*resolved.shared)) << "\n";
-    out.stages.push_back({in.first_joint, ident::stackRecords(records)});
+    out.stages.push_back({in.first_joint, ident::stackRecords(fit.rows)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
                         {"locked", lockedJoints(model, in.first_joint)},
-                        {"records", files}});
+                        {"processing_per_record", fit.json}});
   }
   return out;
 }

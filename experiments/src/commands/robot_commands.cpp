@@ -7,6 +7,7 @@
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
+#include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -273,12 +274,8 @@ std::string inconsistencyProblem(double distance, const char* errors, double sig
 namespace {
 
 // The fit records, each processed in its own band (unless the flags fix it).
-struct ChainFitRecords {
-  std::vector<ident::RecordRows> records;
-  nlohmann::json json = nlohmann::json::array();
+struct ChainFitRecords : FitRecords {
   std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
-  std::vector<ident::SignalOptions> signals;         ///< each record's, its band chosen
-  std::vector<std::optional<ident::BandChoice>> bands;  ///< the band chosen from each record, if any
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
   std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
@@ -287,16 +284,11 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
   const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
   ChainFitRecords fit;
-  const ident::ResolvedRecords resolved = ident::resolveRecords(data, loaded.robot, a.signals);
-  fit.signals = resolved.signals;
-  fit.bands = resolved.bands;
+  static_cast<FitRecords&>(fit) = processFitRecords(a.data, data, loaded.robot, a.signals);
   for (std::size_t r = 0; r < data.size(); ++r) {
-    const std::string& file = a.data[r];
     const ident::Dataset& d = data[r];
-    const std::optional<ident::BandChoice>& band = resolved.bands[r];
-    const std::optional<ident::BaseTermsChoice>& base = resolved.base_terms[r];
+    const std::optional<ident::BandChoice>& band = fit.bands[r];
     const ident::SignalOptions& used = fit.signals[r];
-    fit.records.push_back(ident::processRecord(d, loaded.robot, used));
     if (band_iv) {
       // Instruments from the angles low-passed at the motion's bandwidth, in the record's own band.
       const double fm = band ? band->motion_bandwidth_hz : ident::motionBandwidth(d);
@@ -304,29 +296,15 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
     }
     if (idim_iv) {
       if (const auto locked = d.metadata("locked_joints"); locked && !locked->empty()) {
-        throw std::invalid_argument(file + ": joints " + *locked + " are locked in this record (metadata 'locked_joints'); IDIM-IV "
+        throw std::invalid_argument(a.data[r] + ": joints " + *locked + " are locked in this record (metadata 'locked_joints'); IDIM-IV "
                                     "fits every joint's equation of --data: give it records in which every joint moves");
       }
-      fit.closed_loop.push_back(closedLoopRecord(d, file, fit.records.back(), used, a.controller));
+      fit.closed_loop.push_back(closedLoopRecord(d, a.data[r], fit.rows[r], used, a.controller));
     }
-    if (!fit.fit_signals) {
-      // The validation records: the fit's band and its base-motion terms' choice (judged: made).
-      fit.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-      fit.fit_signals->base_terms = used.base_terms;
-    }
-    nlohmann::json rj = {{"file", file}, {"samples", d.size()}, {"rows", fit.records.back().y.size()}, {"base_terms_used", usesBaseMotion(d, used)}};
-    if (band) {
-      std::cout << wrapped(file + ": " + band->describe()) << "\n";
-      rj["band"] = {{"cutoff_hz", band->cutoff_hz}, {"derivative_cutoff_hz", band->derivative_cutoff_hz}, {"decimation", band->decimation},
-                    {"limited_by", band->limited_by}, {"reason", band->describe()}};
-    }
-    if (base) {
-      std::cout << wrapped(file + ": " + baseTermsNote(*base)) << "\n";
-      rj["base_terms_choice"] = toJson(*base);
-    }
-    fit.json.push_back(rj);
   }
-  if (resolved.shared) std::cout << wrapped(sharedBaseTermsNote(*resolved.shared)) << "\n";
+  // The validation records: the fit's first record's band and its base-motion terms' choice (judged: made).
+  fit.fit_signals = fit.bands.front() ? ident::withBand(a.signals, *fit.bands.front()) : a.signals;
+  fit.fit_signals->base_terms = fit.signals.front().base_terms;
   return fit;
 }
 
@@ -542,7 +520,7 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
 nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
                           const MethodEstimates& others, const ChainVerdict& verdict, bool with_history) {
   nlohmann::json j;
-  j["records"] = records_json;
+  j["processing_per_record"] = records_json;
   j["base_parameters"] = {{"condition_number", est.ls.condition_number}, {"residual_rms_Nm", est.ls.residual_rms}, {"rows", est.rows}};
   j["base_parameters"].update(baseErrorsJson(est.std_error, est.errors, kReportedErrorsAre));
   if (est.consistent) {
@@ -568,7 +546,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
                  const std::optional<Eigen::VectorXd>& truth) {
   const ident::BaseParameters& base = loaded.base;
   const ChainFitRecords fit = readFitRecords(a, loaded, data);
-  const ident::RecordRows stacked = ident::stackRecords(fit.records);
+  const ident::RecordRows stacked = ident::stackRecords(fit.rows);
   std::vector<int> every(static_cast<std::size_t>(base.rank));
   for (int i = 0; i < base.rank; ++i) every[static_cast<std::size_t>(i)] = i;
   const ident::Determination determination = ident::determination(loaded.robot, data, stacked, every);
@@ -621,7 +599,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   for (const auto& [m, e] : others) out.others.emplace_back(ident::toString(m), e.x);
   out.method_options = mo;
   out.fit_signals = *fit.fit_signals;
-  if (!a.plot.empty() && a.validate.empty()) out.shown = fit.records.front();
+  if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
   out.problems = verdict.problems;
   out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history);
   out.json["base_parameters"]["wall_time_s"] = ls_time_s;  // LS with its errors and consistent estimate

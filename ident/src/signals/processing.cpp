@@ -314,15 +314,4 @@ SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const S
   return r;
 }
 
-ResolvedRecords resolveRecords(const std::vector<Dataset>& records, const Robot& robot, const SignalOptions& o, const BandRule& rule) {
-  ResolvedRecords out;
-  out.bands.resize(records.size());
-  out.base_terms.resize(records.size());
-  for (std::size_t r = 0; r < records.size(); ++r) {
-    out.signals.push_back(resolveSignalOptions(records[r], robot, o, rule, &out.bands[r], &out.base_terms[r]));
-  }
-  out.shared = shareBaseTerms(out.signals, out.base_terms);
-  return out;
-}
-
 }  // namespace exoid::ident

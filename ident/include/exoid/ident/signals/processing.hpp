@@ -76,15 +76,4 @@ BandChoice chooseBand(const Dataset& d, const Robot& robot, const SignalOptions&
 SignalOptions resolveSignalOptions(const Dataset& d, const Robot& robot, const SignalOptions& o, const BandRule& rule = {},
                                    std::optional<BandChoice>* chosen = nullptr, std::optional<BaseTermsChoice>* base_terms = nullptr);
 
-/// Records to be stacked into one fit, their choices made: each record's options
-/// (resolveSignalOptions with `rule`), band and base-motion terms' choice; records judged
-/// differently take the pooled choice (shareBaseTerms), kept in `shared`.
-struct ResolvedRecords {
-  std::vector<SignalOptions> signals;
-  std::vector<std::optional<BandChoice>> bands;
-  std::vector<std::optional<BaseTermsChoice>> base_terms;
-  std::optional<BaseTermsChoice> shared;
-};
-ResolvedRecords resolveRecords(const std::vector<Dataset>& records, const Robot& robot, const SignalOptions& o, const BandRule& rule = {});
-
 }  // namespace exoid::ident
