@@ -583,7 +583,8 @@ std::vector<std::pair<std::string, std::vector<Validation>>> validateOutcomes(co
   return validations;
 }
 
-// The knee armature tested when the fit without it is physically implausible (identification.hpp).
+// The knee armature tested on the --data (or --both-data) records (identification.hpp): when one fit
+// of them is physically implausible.
 ArmatureTest kneeArmatureTest(const LegRecords& r, const ident::MethodOptions& mo, double significance_sigmas) {
   const ident::Robot with = ident::twoLinkLeg(r.c, true);
   std::vector<ident::RecordRows> rows;

@@ -2,14 +2,13 @@
 // chain (ident/estimators/segmental.hpp), every method stage by stage.
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
-#include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
+#include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/stages_check.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
-#include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/table.hpp"
 #include "exoid/ident/estimators/segmental.hpp"
 #include "exoid/ident/estimators/segmental_errors.hpp"
@@ -86,9 +85,7 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     out.bands.push_back(fit.bands);
     if (s + 1 == inputs.size()) {
       // The last stage's first record: the validation records' processing, and --plot's rows without them.
-      const std::optional<ident::BandChoice>& band = fit.bands.front();
-      out.fit_signals = band ? ident::withBand(a.signals, *band) : a.signals;
-      out.fit_signals.base_terms = fit.signals.front().base_terms;  // judged: as made for the fit
+      out.fit_signals = fit.validationSignals(a.signals);
       if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
     }
     out.stages.push_back({in.first_joint, ident::stackRecords(fit.rows)});

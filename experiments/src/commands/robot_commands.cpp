@@ -275,7 +275,6 @@ namespace {
 
 // The fit records, each processed in its own band (unless the flags fix it).
 struct ChainFitRecords : FitRecords {
-  std::optional<ident::SignalOptions> fit_signals;  ///< the first record's, for the validation records
   std::vector<ident::BandIvRows> iv_rows;           ///< iv-band's rows and instruments, record by record
   std::vector<ident::ClosedLoopRecord> closed_loop;  ///< IDIM-IV's records: rows, reference, controller
 };
@@ -302,9 +301,6 @@ ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& lo
       fit.closed_loop.push_back(closedLoopRecord(d, a.data[r], fit.rows[r], used, a.controller));
     }
   }
-  // The validation records: the fit's first record's band and its base-motion terms' choice (judged: made).
-  fit.fit_signals = fit.bands.front() ? ident::withBand(a.signals, *fit.bands.front()) : a.signals;
-  fit.fit_signals->base_terms = fit.signals.front().base_terms;
   return fit;
 }
 
@@ -517,10 +513,10 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
 }
 
 // The one fit's own JSON: its records, LS's errors, the consistent estimate, the other methods.
-nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& records_json, const ident::ChainEstimate& est,
+nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& processing_per_record, const ident::ChainEstimate& est,
                           const MethodEstimates& others, const ChainVerdict& verdict, bool with_history) {
   nlohmann::json j;
-  j["processing_per_record"] = records_json;
+  j["processing_per_record"] = processing_per_record;
   j["base_parameters"] = {{"condition_number", est.ls.condition_number}, {"residual_rms_Nm", est.ls.residual_rms}, {"rows", est.rows}};
   j["base_parameters"].update(baseErrorsJson(est.std_error, est.errors, kReportedErrorsAre));
   if (est.consistent) {
@@ -598,7 +594,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   out.std_error = est.std_error;
   for (const auto& [m, e] : others) out.others.emplace_back(ident::toString(m), e.x);
   out.method_options = mo;
-  out.fit_signals = *fit.fit_signals;
+  out.fit_signals = fit.validationSignals(a.signals);
   if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
   out.problems = verdict.problems;
   out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history);

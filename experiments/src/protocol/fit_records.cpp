@@ -34,9 +34,18 @@ nlohmann::json recordProcessingJson(const ident::Dataset& d, const ident::Signal
   return b;
 }
 
+ident::SignalOptions FitRecords::validationSignals(const ident::SignalOptions& given) const {
+  ident::SignalOptions o = bands.front() ? ident::withBand(given, *bands.front()) : given;
+  o.base_terms = signals.front().base_terms;
+  return o;
+}
+
 FitRecords processFitRecords(const std::vector<std::string>& files, const std::vector<ident::Dataset>& data, const ident::Robot& robot,
                              const ident::SignalOptions& options, const ident::BandRule& rule, const ident::Robot* band_robot) {
-  if (files.size() != data.size()) throw std::invalid_argument("processFitRecords: one file name per record");
+  if (files.size() != data.size() || data.empty()) {
+    throw std::invalid_argument("processFitRecords: " + std::to_string(files.size()) + " file names for " + std::to_string(data.size()) +
+                                " records (one per record, at least one)");
+  }
   const auto naming = [&](std::size_t r, const std::invalid_argument& e) {
     return std::invalid_argument(files[r] + ": " + e.what() + timeUnitHint(data[r]));
   };

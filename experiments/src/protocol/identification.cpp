@@ -3,6 +3,7 @@
 #include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/experiments/report/cells.hpp"
+#include "exoid/experiments/report/table.hpp"
 
 #include "exoid/core/format.hpp"
 #include "exoid/ident/leg/plausibility.hpp"
@@ -244,12 +245,15 @@ MethodOutcome identifyAllIdimIv(const ident::Robot& robot, const ident::ClosedLo
 
 std::vector<ident::TorqueErrorStats> jointTorqueErrors(const ident::RecordRows& r, const Eigen::VectorXd& theta) {
   std::vector<ident::TorqueErrorStats> out;
+  if (theta.size() != r.W.cols()) {
+    throw std::invalid_argument("joint torque errors: " + core::toText(theta.size()) + " parameters for rows of " + core::toText(r.W.cols()));
+  }
   for (Eigen::Index j = 0; j < r.dof; ++j) out.push_back(ident::torqueError(r.jointY(j), r.jointW(j) * theta));
   return out;
 }
 
 Validation validate(const ident::RecordRows& r, const ident::ParamVector& x, double knee_armature) {
-  Eigen::VectorXd theta(r.W.cols());
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(r.W.cols());
   theta.head<kNumParams>() = x;
   if (theta.size() > kNumParams) theta[ident::kKneeArmature] = knee_armature;  // the rows of a leg with the knee's armature
   const std::vector<ident::TorqueErrorStats> e = jointTorqueErrors(r, theta);
@@ -475,6 +479,7 @@ ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::Rec
       ident::estimateChain(with, ident::stackRecords(rows), Eigen::VectorXd::Zero(with.chain.standardParameterCount()), eo);
   ArmatureTest t;
   t.two_link = with.two_link.has_value();
+  if (t.two_link && joints != std::vector<std::string>{"knee"}) throw std::invalid_argument("armatureTest: the 2-link leg's armature is the knee's (Ia2)");
   if (e.ls.rank < with.parameters()) return t;
   for (const std::string& joint : joints) {
     const std::string name = t.two_link ? std::string(ident::paramName(ident::kKneeArmature)) : joint + ".Ia";

@@ -21,12 +21,16 @@ struct FitRecords {
   std::optional<ident::BaseTermsChoice> shared;  ///< the pooled choice, when the records were judged differently
   std::vector<ident::RecordRows> rows;           ///< each record's rows
   nlohmann::json json = nlohmann::json::object();  ///< by file: its processing as used (identify's processing_per_record)
+  /// What a record checked against the fit (--validate) is processed with: `given` in the first
+  /// record's band, with its base-motion terms' choice (judged: as made for the fit).
+  ident::SignalOptions validationSignals(const ident::SignalOptions& given) const;
 };
 
 /// Chooses each record's processing (ident::resolveSignalOptions with `rule`, by `band_robot`, or
 /// by `robot` when null), shares the base-motion terms' choice between them, processes each into
 /// `robot`'s rows and prints each choice under its file. std::invalid_argument naming the file
-/// when a record cannot be processed.
+/// when a record cannot be processed, and for no record at all. A file given twice is processed
+/// twice (its rows stacked twice) and has one entry in the JSON.
 FitRecords processFitRecords(const std::vector<std::string>& files, const std::vector<ident::Dataset>& data, const ident::Robot& robot,
                              const ident::SignalOptions& options, const ident::BandRule& rule = {}, const ident::Robot* band_robot = nullptr);
 

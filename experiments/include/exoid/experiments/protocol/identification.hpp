@@ -74,13 +74,13 @@ struct MethodOutcome {
 /// positive) is named, with the option that adds it.
 struct ArmatureTest {
   nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value_kgm2, std_error_kgm2, significant
-  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = ... (z sigma)"
+  std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = 0.1 +- 0.01 kg m^2, 10 standard errors above 0"
   bool two_link = false;                            ///< the APAL leg: its option is --knee-armature
   std::string hint() const;  ///< "...: rerun with --armature knee,ankle" (--knee-armature); empty: none
 };
 /// `with` is the robot with an armature on each of `joints` (the 2-link leg's is Ia2, a chain's
-/// "<joint>.Ia"); rows its rows of each record (each processed in its own band). Nothing is
-/// tested when that fit is not full rank.
+/// "<joint>.Ia"; std::invalid_argument for another joint of the 2-link leg); rows its rows of each
+/// record (each processed in its own band). Nothing is tested when that fit is not full rank.
 ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::RecordRows>& rows, const std::vector<std::string>& joints,
                           double significance_sigmas, double max_condition);
 
@@ -135,7 +135,8 @@ void applyConsistency(MethodOutcome& m, const ident::RecordRows& r, const ident:
 /// distance in the reported errors. Nothing changes when C is not finite and positive definite.
 void applySegmentalConsistency(MethodOutcome& m, const ident::LegConstants& c, const ident::ConsistencyOptions& options = {});
 
-/// Each joint's torque error of theta (every parameter of the rows' robot) on a record.
+/// Each joint's torque error of theta (every parameter of the rows' robot: std::invalid_argument
+/// when its size is not the rows' columns) on a record.
 std::vector<ident::TorqueErrorStats> jointTorqueErrors(const ident::RecordRows& r, const Eigen::VectorXd& theta);
 
 /// Per-joint validation torque errors of X on a record.
