@@ -234,9 +234,9 @@ void processRoles(const LogInput& log, const ident::Robot& robot, const ident::S
     ident::BandRule rule;
     rule.first_moving_joint = role == &knee ? 1 : 0;
     FitRecords fit = processFitRecords(role->files, role->data, robot, signals, rule, &leg);
-    role->signals = fit.signals;
-    role->bands = fit.bands;
-    role->processing = fit.json;
+    role->signals = std::move(fit.signals);
+    role->bands = std::move(fit.bands);
+    role->processing = std::move(fit.json);
     role->rows = ident::stackRecords(fit.rows);
     const bool knee_role = role == &knee;
     // X's ten parameters (a fitted knee armature's column left out), or the knee role's shank columns.

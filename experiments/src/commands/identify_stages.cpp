@@ -81,13 +81,13 @@ StageRecords readStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, c
     rule.first_moving_joint = in.first_joint;
     // The stage's records are stacked into one fit: one choice of the base-motion terms for them.
     FitRecords fit = processFitRecords(in.files, data[s], loaded.robot, a.signals, rule);
-    out.signals.push_back(fit.signals);
-    out.bands.push_back(fit.bands);
     if (s + 1 == inputs.size()) {
       // The last stage's first record: the validation records' processing, and --plot's rows without them.
       out.fit_signals = fit.validationSignals(a.signals);
       if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
     }
+    out.signals.push_back(std::move(fit.signals));
+    out.bands.push_back(std::move(fit.bands));
     out.stages.push_back({in.first_joint, ident::stackRecords(fit.rows)});
     out.json.push_back({{"first_joint", model.joints[static_cast<std::size_t>(in.first_joint)].name},
                         {"locked", lockedJoints(model, in.first_joint)},

@@ -282,8 +282,7 @@ struct ChainFitRecords : FitRecords {
 ChainFitRecords readFitRecords(const ChainIdentifyArgs& a, const LoadedChain& loaded, const std::vector<ident::Dataset>& data) {
   const bool band_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIvBand) != a.methods.end();
   const bool idim_iv = std::find(a.methods.begin(), a.methods.end(), ident::Method::kIdimIv) != a.methods.end();
-  ChainFitRecords fit;
-  static_cast<FitRecords&>(fit) = processFitRecords(a.data, data, loaded.robot, a.signals);
+  ChainFitRecords fit{processFitRecords(a.data, data, loaded.robot, a.signals), {}, {}};
   for (std::size_t r = 0; r < data.size(); ++r) {
     const ident::Dataset& d = data[r];
     const std::optional<ident::BandChoice>& band = fit.bands[r];

@@ -9,6 +9,11 @@
 
 namespace exoid::experiments {
 
+namespace {
+
+// One record's processing as identify's JSON gives it: cutoffs, decimation, whether the band was
+// chosen from the data (then what limited it, the pilot and the consistency scan) and the
+// base-motion terms' use (and their choice, when judged).
 nlohmann::json recordProcessingJson(const ident::Dataset& d, const ident::SignalOptions& used, const std::optional<ident::BandChoice>& band,
                                     const std::optional<ident::BaseTermsChoice>& base_terms) {
   nlohmann::json b = {{"cutoff_hz", used.cutoff_hz},
@@ -33,6 +38,8 @@ nlohmann::json recordProcessingJson(const ident::Dataset& d, const ident::Signal
   if (base_terms) b["base_terms_choice"] = toJson(*base_terms);
   return b;
 }
+
+}  // namespace
 
 ident::SignalOptions FitRecords::validationSignals(const ident::SignalOptions& given) const {
   ident::SignalOptions o = bands.front() ? ident::withBand(given, *bands.front()) : given;

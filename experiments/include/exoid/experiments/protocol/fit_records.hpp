@@ -34,10 +34,4 @@ struct FitRecords {
 FitRecords processFitRecords(const std::vector<std::string>& files, const std::vector<ident::Dataset>& data, const ident::Robot& robot,
                              const ident::SignalOptions& options, const ident::BandRule& rule = {}, const ident::Robot* band_robot = nullptr);
 
-/// One record's processing as identify's JSON gives it: cutoffs, decimation, whether the band was
-/// chosen from the data (then what limited it, the pilot and the consistency scan) and the
-/// base-motion terms' use (and their choice, when judged).
-nlohmann::json recordProcessingJson(const ident::Dataset& d, const ident::SignalOptions& used, const std::optional<ident::BandChoice>& band,
-                                    const std::optional<ident::BaseTermsChoice>& base_terms);
-
 }  // namespace exoid::experiments
