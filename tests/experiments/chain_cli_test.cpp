@@ -728,6 +728,38 @@ TEST(ChainCli, WallTimesAndHistoriesOnlyWhenAskedAndTheBytesRepeat) {
   }
 }
 
+// A stage's record designed for a chain, as for the APAL leg's knee-only one: the hip held where
+// the design says, the knee armature (its column is the shank's inertia's while the hip is held)
+// named as not separable, the rest well conditioned; simulate locks the hip there.
+TEST(ChainCli, ExciteDesignsAStageRecordOfAChain) {
+  const std::string dir = ::testing::TempDir();
+  const std::string design = dir + "/leg3_stage_design.json", csv = dir + "/leg3_stage.csv";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"excite", "--model", "leg3", "--first-moving", "knee", "--held-at-deg", "5", "--restarts", "1", "--max-evaluations",
+                      "400", "--no-plot", "--out", design}),
+            0);
+  ASSERT_EQ(runExoid({"simulate", "--model", "leg3", "--excitation", design, "--duration", "2", "--out", csv}), 0);
+  testing::internal::GetCapturedStdout();
+  const nlohmann::json d = readJson(design);
+  EXPECT_EQ(d["options"]["held_joints"], nlohmann::json::array({"hip"}));
+  EXPECT_DOUBLE_EQ(d["options"]["held_at_rad"][0].get<double>(), 5.0 * M_PI / 180.0);
+  EXPECT_EQ(d["comparison"]["not_separable"], nlohmann::json::array({"knee.Ia"}));
+  EXPECT_FALSE(d["comparison"]["crb_std"].contains("knee.Ia"));
+  EXPECT_FALSE(d["comparison"]["crb_std"].contains("hip.fc"));  // the held hip's own equation is not in the record
+  EXPECT_LT(d["score"]["condition_number"].get<double>(), 100.0);
+  std::ifstream in(csv);
+  const std::string head((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(head.find("# locked_joints: hip"), std::string::npos);
+  // What is not a joint, or outside the joint's range, is refused naming the option.
+  EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--first-moving", "toe", "--out", dir + "/x.json"}, 105).find("hip, knee, ankle"),
+            std::string::npos);
+  EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--first-moving", "knee", "--held-at-deg", "500", "--out", dir + "/x.json"}, 105)
+                .find("--held-at-deg"),
+            std::string::npos);
+  EXPECT_NE(stderrOf({"excite", "--armature", "knee", "--out", dir + "/x.json"}, 105).find("--armature"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(dir + "/x.json"));
+}
+
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {
   const std::string dir = ::testing::TempDir();
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--knee-only", "--out", dir + "/x.json"}, 105).find("--knee-only"), std::string::npos);

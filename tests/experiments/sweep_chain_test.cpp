@@ -3,6 +3,7 @@
 // statistics a test recomputes from the run records; threads, shards + merge and resume give the
 // same bytes.
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/excitation_design.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/sweep/robot_sweep.hpp"
 #include "exoid/experiments/sweep/sweep_config.hpp"
@@ -107,12 +108,13 @@ TEST(ChainSweepConfig, RefusesWhatTheChainRigLacksNamingTheKey) {
 // A quick design (one restart) for the "optimised" level, written once per process.
 const std::string& designFile() {
   static const std::string path = [] {
-    ChainExciteArgs ex;
+    ExciteRequest ex;
     ex.model = "leg3";
     ex.out = ::testing::TempDir() + "/chain_sweep_design_" + std::to_string(::getpid()) + ".json";
     ex.options.restarts = 1;
     ex.options.max_evaluations = 400;
-    exciteChain(ex);
+    ex.plot = false;
+    excite(ex);
     return ex.out;
   }();
   return path;

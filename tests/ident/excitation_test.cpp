@@ -10,6 +10,10 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <Eigen/QR>
+#include <Eigen/SVD>
+
+#include <algorithm>
 
 #include <cmath>
 
@@ -131,6 +135,63 @@ TEST(Excitation, KneeOnlyDesignKeepsTheHipAtItsLock) {
   EXPECT_EQ(H.cols(), kGroupSize);
   EXPECT_EQ(crbFloor(ExcitationLimits::twoLinkLeg(), test::kLeg, true, o.locked_at_rad[0], 1.0, 1.0).size(), kGroupSize);
   std::printf("[ info ] knee-only design: condition number %.3g\n", d.score.condition_number);
+}
+
+// A stage's record (the hip held) of a leg whose knee has an armature: in the knee and ankle
+// equations the knee armature's column is its link inertia's, so the design leaves it out and is
+// for what such a record identifies. Checked on states the selection never saw: every column left
+// out lies in the span of those kept, which have full rank.
+TEST(Excitation, AHeldJointLeavesOutWhatItsRecordCannotSeparate) {
+  ChainModel m = testing::legChain();
+  m.joints[1].armature = m.joints[2].armature = true;
+  const Robot robot = chainRobot(m);
+  const Eigen::VectorXd held = Eigen::VectorXd::Constant(1, 0.1);
+  const std::vector<int> kept = excitationParameters(robot, 1, held);
+  std::vector<std::string> left_out;
+  for (std::size_t j = 1; j < robot.joint_columns.size(); ++j) {
+    for (int c : robot.joint_columns[j]) {
+      const std::string& name = robot.names()[static_cast<std::size_t>(c)];
+      if (std::count(kept.begin(), kept.end(), c) == 0 && std::count(left_out.begin(), left_out.end(), name) == 0) left_out.push_back(name);
+    }
+  }
+  EXPECT_EQ(left_out, std::vector<std::string>{"knee.Ia"});
+  // The knee and ankle rows at 200 states drawn here, the hip at its lock.
+  core::Rng rng(7);
+  Eigen::MatrixXd rows(3, robot.parameters()), H(400, robot.parameters());
+  RobotWorkspace work;
+  for (int k = 0; k < 200; ++k) {
+    Eigen::Vector3d q(held[0], rng.uniform(-2, 2), rng.uniform(-2, 2)), qd(0, rng.uniform(-2, 2), rng.uniform(-2, 2)),
+        qdd(0, rng.uniform(-5, 5), rng.uniform(-5, 5));
+    robotRowsInto(robot, q, qd, qdd, ChainBaseMotion::still(m), work, rows);
+    H.middleRows(2 * k, 2) = rows.bottomRows(2);
+  }
+  Eigen::MatrixXd K(H.rows(), static_cast<Eigen::Index>(kept.size()));
+  for (std::size_t c = 0; c < kept.size(); ++c) K.col(static_cast<Eigen::Index>(c)) = H.col(kept[c]).normalized();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(K);
+  EXPECT_GT(svd.singularValues().minCoeff(), 1e-3);  // well apart from rounding: full rank
+  const int knee_ia = static_cast<int>(std::find(robot.names().begin(), robot.names().end(), "knee.Ia") - robot.names().begin());
+  const Eigen::VectorXd col = H.col(knee_ia);
+  const Eigen::VectorXd residual = col - K * K.colPivHouseholderQr().solve(col);
+  EXPECT_LE(residual.norm(), 1e-12 * col.norm() * static_cast<double>(H.rows()));  // in their span, to rounding
+  // The design for that record is well conditioned.
+  ExcitationOptions o;
+  o.locked_joints = 1;
+  o.locked_at_rad = held;
+  o.restarts = 1;
+  o.max_evaluations = 400;
+  ExcitationLimits lim;
+  lim.q_min_rad = Eigen::Vector3d(-1.5, -0.1, -0.6);
+  lim.q_max_rad = Eigen::Vector3d(0.5, 2.0, 0.6);
+  lim.qd_max_radps = Eigen::Vector3d::Constant(3.0);
+  lim.qdd_max_radps2 = Eigen::Vector3d::Constant(30.0);
+  lim.tau_max_Nm = Eigen::Vector3d::Constant(1e3);
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(m.standardParameterCount());
+  for (int j = 0; j < 3; ++j) {
+    phi.segment<10>(m.layout()[static_cast<std::size_t>(j)].link) =
+        linkParameters(4.0, {0.0, 0.0, -0.2}, Eigen::Vector3d(0.06, 0.06, 0.01).asDiagonal());
+  }
+  const ExcitationDesign d = designExcitation(o, robot, robot.basis.combination * phi, lim);
+  EXPECT_LT(d.score.condition_number, 100.0);
 }
 
 // Every leg: the APAL leg in its X and the APAL chain in its base parameters (a chain from a

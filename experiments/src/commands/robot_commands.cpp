@@ -5,7 +5,6 @@
 #include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
-#include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
@@ -14,7 +13,6 @@
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/estimators/band_iv.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/stopwatch.hpp"
@@ -166,66 +164,6 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
   std::cout << "wrote " << csv_path << " (" << r.table.rows() << " samples of " << r.chain.name << ": ";
   for (std::size_t i = 0; i < r.chain.links.size(); ++i) std::cout << (i ? ", " : "") << r.chain.links[i].joint;
   std::cout << ") and " << json_path << "\ntracking error RMS " << fmt(r.tracking_rms_rad * 180.0 / M_PI, 3) << " deg (all joints)\n";
-}
-
-namespace {
-Eigen::VectorXd limitOr(const std::vector<double>& given, const Eigen::VectorXd& model, double scale, const char* flag) {
-  if (given.empty()) return model;
-  if (static_cast<Eigen::Index>(given.size()) != model.size()) {
-    throw CLI::ValidationError(flag, "expected one value per joint (" + core::toText(model.size()) + ")");
-  }
-  Eigen::VectorXd v(model.size());
-  for (Eigen::Index j = 0; j < v.size(); ++j) v[j] = given[static_cast<std::size_t>(j)] * scale;
-  return v;
-}
-}  // namespace
-
-void LimitOverrides::applyTo(ident::ExcitationLimits& lim) const {
-  const double deg = M_PI / 180.0;
-  lim.q_min_rad = limitOr(q_min_deg, lim.q_min_rad, deg, "--q-min-deg");
-  lim.q_max_rad = limitOr(q_max_deg, lim.q_max_rad, deg, "--q-max-deg");
-  lim.qd_max_radps = limitOr(qd_max, lim.qd_max_radps, 1.0, "--qd-max");
-  lim.qdd_max_radps2 = limitOr(qdd_max, lim.qdd_max_radps2, 1.0, "--qdd-max");
-  lim.tau_max_Nm = limitOr(tau_max, lim.tau_max_Nm, 1.0, "--tau-max");
-}
-
-void exciteChain(const ChainExciteArgs& a) {
-  core::prepareOutputFile(a.out);
-  const LoadedChain loaded = loadChain(a.model, a.armature, a.selection);
-  const auto& [path, chain, model, nominal, base, robot] = loaded;
-  const int dof = model.dof();
-  ident::ExcitationLimits lim;
-  lim.q_min_rad.resize(dof);
-  lim.q_max_rad.resize(dof);
-  lim.qd_max_radps.resize(dof);
-  lim.qdd_max_radps2 = Eigen::VectorXd::Constant(dof, 30.0);
-  lim.tau_max_Nm.resize(dof);
-  for (int j = 0; j < dof; ++j) {
-    const sim::ChainLinkBody& l = chain.links[static_cast<std::size_t>(j)];
-    lim.q_min_rad[j] = l.q_min_rad;
-    lim.q_max_rad[j] = l.q_max_rad;
-    lim.qd_max_radps[j] = std::isfinite(l.qd_max_radps) ? l.qd_max_radps : 3.0;
-    lim.tau_max_Nm[j] = l.tau_max_Nm;
-  }
-  a.limits.applyTo(lim);
-  if (a.options.locked_joints > 0) throw std::invalid_argument("excite --model: a chain's design moves every joint");
-  const ident::ExcitationDesign d = ident::designExcitation(a.options, robot, base.combination * nominal, lim);
-  nlohmann::json j;
-  j["tool"] = toolJson();
-  j["command"] = "excite";
-  j["model"] = {{"name", chain.name}, {"path", path}};
-  j["criterion"] = ident::toString(a.options.criterion);
-  j["seed"] = a.options.seed;
-  j["trajectory"] = sim::trajectoryJson(d.trajectory, model.jointNames());
-  j["limits"] = limitsJson(lim, std::string("the model's joint limits (speed 3 rad/s, acceleration 30 rad/s^2 where it gives none)") +
-                                    (a.limits.empty() ? "" : ", with overrides"));
-  j["score"] = scoreJson(d);
-  writeJsonFile(a.out, j);
-  std::cout << "wrote " << a.out << ": " << chain.name << ", " << dof << " joints, " << a.options.harmonics << " harmonics of "
-            << fmt(d.trajectory.f0_hz, 3) << " Hz; condition number " << fmt(d.score.condition_number, 4) << " (column-scaled base regressor, "
-            << base.rank << " base parameters), sum of log CRB stds " << fmt(d.score.sum_log_std, 5) << "; "
-            << (d.score.worst_violation == 0.0 ? std::string("inside every limit") : "beyond " + d.score.worst_violation_name) << "; "
-            << d.feasible_restarts << " of " << a.options.restarts << " restarts ended inside the limits\n";
 }
 
 std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,

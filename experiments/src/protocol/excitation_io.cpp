@@ -84,10 +84,10 @@ ident::ExcitationLimits paperEnvelope(const ident::LegConstants& c, const ident:
   return env;
 }
 
-Eigen::VectorXd excitationCrb(const core::FourierSeries& t, const ident::LegConstants& c, double duration_s,
-                              double rate_hz, double sigma_Nm) {
+Eigen::VectorXd excitationCrb(const core::FourierSeries& t, const ident::Robot& robot, double duration_s, double rate_hz,
+                              double sigma_Nm) {
   const int samples = static_cast<int>(std::lround(t.period_s() * rate_hz));
-  const Eigen::MatrixXd H = ident::excitationRegressor(ident::twoLinkLeg(c), t, samples);
+  const Eigen::MatrixXd H = ident::excitationRegressor(robot, t, samples);
   const double periods = duration_s / t.period_s();
   const Eigen::MatrixXd info = periods * H.transpose() * H / (sigma_Nm * sigma_Nm);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(info);

@@ -3,6 +3,7 @@
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
 #include "exoid/core/random.hpp"
+#include "exoid/experiments/protocol/excitation_design.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/commands/commands.hpp"
@@ -52,12 +53,13 @@ double medianAbsError(const std::vector<double>& estimate, const std::vector<dou
 
 // 1. The design (exoid excite --model); returns its file.
 std::string designFitRecord(const ChainReproduceArgs& a, const std::string& dir) {
-  ChainExciteArgs ex;
+  ExciteRequest ex;
   ex.model = a.sim.model_path;
   ex.out = dir + "design.json";
   ex.options.seed = core::deriveSeed(a.seed, 0);
   ex.options.restarts = a.design_restarts;
-  exciteChain(ex);
+  ex.plot = a.plots;
+  excite(ex);
   return ex.out;
 }
 
@@ -183,7 +185,7 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
      << fmt(readJsonFile(design)["score"]["condition_number"].get<double>(), 4) << "), `check.csv` another motion (validation), ";
   for (const auto& [joint, file] : records.stages) md << "`stage_" << joint << ".csv` (joints above " << joint << " locked), ";
   md << "each with its sidecar (settings, seed, truth). The stage records follow the simulator's default motion of "
-        "their seed, not a design (exoid excite designs with every joint free), as the paper's knee-only record was not one: "
+        "their seed, not a design (exoid excite --first-moving JOINT designs one), as the paper's knee-only record was not one: "
         "a stage's error reflects its record's excitation as much as the strategy.\n\n## Every base parameter, error against the truth (%)\n\n";
   writeErrorTable(md, names, truth, fits, staged);
   TextTable t({"method", "median |err| %", "validation RMS (N m), per joint"});

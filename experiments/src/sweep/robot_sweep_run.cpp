@@ -3,6 +3,7 @@
 
 #include "exoid/core/random.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/excitation_design.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
@@ -169,11 +170,12 @@ SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ost
   }
   log << "exoid sweep: designing the optimised record (exoid excite --model " << config.model << ", seed of master_seed "
       << config.master_seed << "; give [simulation] excitation to reuse a design)\n";
-  ChainExciteArgs ex;
+  ExciteRequest ex;
   ex.model = config.chain_model_path;
   ex.out = dir + "/design.json";
   ex.options.seed = core::deriveSeed(config.master_seed, 0);
-  exciteChain(ex);
+  ex.plot = false;
+  excite(ex);
   config.chain_design = readExcitationFile(ex.out);
   return config;
 }

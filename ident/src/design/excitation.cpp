@@ -57,15 +57,51 @@ ExcitationCriterion parseExcitationCriterion(const std::string& name) {
   throw std::invalid_argument("unknown excitation criterion '" + name + "'; expected crb or cond");
 }
 
-std::vector<int> excitationParameters(const Robot& robot, int locked_joints) {
-  std::vector<int> out;
-  for (int j = std::max(locked_joints, 0); j < robot.dof(); ++j) {
+std::vector<int> excitationParameters(const Robot& robot, int locked_joints, const Eigen::VectorXd& locked_at_rad) {
+  const int dof = robot.dof(), locked = std::max(locked_joints, 0);
+  std::vector<int> touched;
+  for (int j = locked; j < dof; ++j) {
     for (int c : robot.joint_columns[static_cast<std::size_t>(j)]) {
-      if (std::find(out.begin(), out.end(), c) == out.end()) out.push_back(c);
+      if (std::find(touched.begin(), touched.end(), c) == touched.end()) touched.push_back(c);
     }
   }
-  std::sort(out.begin(), out.end());
-  return out;
+  std::sort(touched.begin(), touched.end());
+  if (locked == 0) return touched;
+  // With joints held still, a column the moving equations touch can be a combination of the
+  // others (a held hip leaves the knee's armature column equal to its link inertia's): kept in
+  // column order when it adds a direction over fixed, well-spread states of the moving joints.
+  const int states = 3 * static_cast<int>(touched.size()) + 10;
+  const int moving = dof - locked;
+  Eigen::MatrixXd H(static_cast<Eigen::Index>(states) * moving, static_cast<Eigen::Index>(touched.size()));
+  Eigen::MatrixXd rows(dof, robot.parameters());
+  RobotWorkspace work;
+  const ChainBaseMotion still = ChainBaseMotion::still(robot.chain);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(dof), qd = Eigen::VectorXd::Zero(dof), qdd = Eigen::VectorXd::Zero(dof);
+  if (locked_at_rad.size() == locked) q.head(locked) = locked_at_rad;
+  for (int k = 0; k < states; ++k) {
+    for (int j = locked; j < dof; ++j) {
+      q[j] = 1.7 * std::sin(0.61 * k + 1.3 * j + 0.4);
+      qd[j] = 1.1 * std::sin(0.37 * k + 2.1 * j + 1.0);
+      qdd[j] = 2.3 * std::sin(0.83 * k + 0.9 * j + 2.0);
+    }
+    robotRowsInto(robot, q, qd, qdd, still, work, rows);
+    for (std::size_t c = 0; c < touched.size(); ++c) {
+      H.block(static_cast<Eigen::Index>(k) * moving, static_cast<Eigen::Index>(c), moving, 1) = rows.col(touched[c]).tail(moving);
+    }
+  }
+  std::vector<int> kept;
+  Eigen::MatrixXd basis(H.rows(), 0);
+  for (std::size_t c = 0; c < touched.size(); ++c) {
+    const double norm = H.col(static_cast<Eigen::Index>(c)).norm();
+    if (!(norm > 0.0)) continue;
+    Eigen::VectorXd v = H.col(static_cast<Eigen::Index>(c)) / norm;
+    for (int pass = 0; pass < 2; ++pass) v -= basis * (basis.transpose() * v);  // Gram-Schmidt, twice
+    if (v.norm() < 1e-8) continue;
+    basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
+    basis.col(basis.cols() - 1) = v.normalized();
+    kept.push_back(touched[c]);
+  }
+  return kept;
 }
 
 namespace {
@@ -111,10 +147,9 @@ void checkSizes(const Robot& robot, const core::FourierSeries& t, const Eigen::V
 // The moving joints' rows over the design's parameters (into rows_out when given), the reached
 // extremes and the limits' worst violation; the criterion's numbers when `rating` asks for them.
 ExcitationScore scoreOnGrid(const Robot& robot, const core::FourierSeries& t, const Eigen::VectorXd& theta_nominal, const ExcitationLimits& limits,
-                            const PeriodGrid& grid, Rating rating, Eigen::MatrixXd* rows_out = nullptr) {
+                            const PeriodGrid& grid, const std::vector<int>& columns, Rating rating, Eigen::MatrixXd* rows_out = nullptr) {
   const int dof = robot.dof(), locked = t.locked_joints, moving = dof - locked;
   const int samples = grid.samples();
-  const std::vector<int> columns = excitationParameters(robot, locked);
   Eigen::MatrixXd H(static_cast<Eigen::Index>(samples) * moving, static_cast<Eigen::Index>(columns.size()));
   Eigen::MatrixXd rows(dof, robot.parameters());
   RobotWorkspace work;
@@ -173,13 +208,18 @@ ExcitationScore scoreOnGrid(const Robot& robot, const core::FourierSeries& t, co
   return s;
 }
 
+// The parameters a trajectory's rows determine, its held joints where it holds them.
+std::vector<int> designColumns(const Robot& robot, const core::FourierSeries& t) {
+  return excitationParameters(robot, t.locked_joints, t.offset_rad.head(t.locked_joints));
+}
+
 }  // namespace
 
 ExcitationScore scoreExcitation(const Robot& robot, const core::FourierSeries& t, const Eigen::VectorXd& theta_nominal,
                                 const ExcitationLimits& limits, int samples) {
   checkSizes(robot, t, theta_nominal, limits);
   if (samples < 20) throw std::invalid_argument("excitation: need >= 20 samples per period");
-  return scoreOnGrid(robot, t, theta_nominal, limits, PeriodGrid(t.f0_hz, t.harmonics(), samples), Rating::kFull);
+  return scoreOnGrid(robot, t, theta_nominal, limits, PeriodGrid(t.f0_hz, t.harmonics(), samples), designColumns(robot, t), Rating::kFull);
 }
 
 Eigen::MatrixXd excitationRegressor(const Robot& robot, const core::FourierSeries& t, int samples) {
@@ -189,7 +229,8 @@ Eigen::MatrixXd excitationRegressor(const Robot& robot, const core::FourierSerie
   wide.q_max_rad = wide.qd_max_radps = wide.qdd_max_radps2 = wide.tau_max_Nm = Eigen::VectorXd::Constant(robot.dof(), kInf);
   checkSizes(robot, t, Eigen::VectorXd::Zero(robot.parameters()), wide);
   Eigen::MatrixXd H;
-  scoreOnGrid(robot, t, Eigen::VectorXd::Zero(robot.parameters()), wide, PeriodGrid(t.f0_hz, t.harmonics(), samples), Rating::kLimits, &H);
+  scoreOnGrid(robot, t, Eigen::VectorXd::Zero(robot.parameters()), wide, PeriodGrid(t.f0_hz, t.harmonics(), samples), designColumns(robot, t),
+              Rating::kLimits, &H);
   return H;
 }
 
@@ -345,8 +386,9 @@ ExcitationDesign designExcitation(const ExcitationOptions& o, const Robot& robot
   const Stopwatch watch;
   const int dim = (dof - o.locked_joints) * (2 * o.harmonics - 1);
   const PeriodGrid coarse(o.f0_hz, o.harmonics, o.samples), fine(o.f0_hz, o.harmonics, 1000);
+  const std::vector<int> columns = excitationParameters(robot, o.locked_joints, o.locked_at_rad);
   const auto score = [&](const core::FourierSeries& t, const PeriodGrid& grid, Rating rating) {
-    return scoreOnGrid(robot, t, theta_nominal, limits, grid, rating);
+    return scoreOnGrid(robot, t, theta_nominal, limits, grid, columns, rating);
   };
   const Rating criterion = o.criterion == ExcitationCriterion::kCrb ? Rating::kCrb : Rating::kFull;
   const auto objective = [&](const Eigen::VectorXd& p) {

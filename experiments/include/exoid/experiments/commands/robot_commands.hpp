@@ -5,7 +5,6 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/ident/io/dataset.hpp"
-#include "exoid/ident/design/excitation.hpp"
 #include "exoid/ident/estimators/idim_iv.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/ident/estimators/standard_errors.hpp"
@@ -45,33 +44,11 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r);
 /// the form identify --truth reads.
 void truthOfChain(const std::string& model_path, const std::string& json_out, const core::ChainSelection& selection = {});
 
-/// `exoid excite`'s overrides of the limits a design respects (--q-min-deg ... --tau-max), one
-/// value per joint; an empty one keeps the model's (or the envelope's) limit.
 /// An Eigen vector as a std::vector (for JSON).
 std::vector<double> toVector(const Eigen::VectorXd& v);
 /// A fit's standard errors as a chain's identify JSON gives them beside base_parameters.ls:
 /// std_error (`reported`, what the fit reports), _newey_west, _jackknife, _record_jackknife, _are.
 nlohmann::json baseErrorsJson(const Eigen::VectorXd& reported, const ident::ReportedErrors& e, const char* are);
-
-struct LimitOverrides {
-  std::vector<double> q_min_deg, q_max_deg, qd_max, qdd_max, tau_max;
-  bool empty() const { return q_min_deg.empty() && q_max_deg.empty() && qd_max.empty() && qdd_max.empty() && tau_max.empty(); }
-  /// Replaces the limits given (one value per joint, in the design's order; deg for the angles);
-  /// throws CLI::ValidationError naming the option when a count is wrong.
-  void applyTo(ident::ExcitationLimits& limits) const;
-};
-
-struct ChainExciteArgs {
-  std::string model, out;
-  ident::ExcitationOptions options;
-  /// Overrides of the model's limits (a joint the model leaves unlimited gets 3 rad/s, 30 rad/s^2
-  /// and no torque limit).
-  LimitOverrides limits;
-  std::vector<std::string> armature;  ///< joints (or "all") given an armature parameter the file lacks
-  core::ChainSelection selection;     ///< --base, --tip, --lock
-};
-/// `exoid excite --model` for a chain: the design JSON (simulate --model ... --excitation reads it).
-void exciteChain(const ChainExciteArgs& args);
 
 struct ChainIdentifyArgs {
   std::string model;                 ///< apal|leg3|FILE (.xml or .urdf)

@@ -1,7 +1,7 @@
 #pragma once
 // Excitation designs: the file `exoid excite` writes for any leg and `exoid simulate --excitation`,
-// sweeps and reproduce read (its "trajectory" in sim/trajectory_json.hpp's form), and the APAL
-// leg's comparison footing (the paper's envelope, the Cramer-Rao bound in X).
+// sweeps and reproduce read (its "trajectory" in sim/trajectory_json.hpp's form), the Cramer-Rao
+// footing of any leg's design, and the APAL leg's comparison (the paper's envelope).
 #include "exoid/ident/design/excitation.hpp"
 #include "exoid/sim/trajectory.hpp"
 #include "exoid/sim/trajectory_json.hpp"
@@ -31,8 +31,9 @@ ident::ExcitationLimits paperEnvelope(const ident::LegConstants& c, const ident:
 
 /// Noise-limited std of each parameter fitted by LS to `duration_s` of the trajectory at
 /// `rate_hz` with white torque noise sigma_Nm on each joint (raw torques, no filter): the design's
-/// Cramer-Rao bound. Both equations, 10 parameters; a locked hip: the knee equation's 5.
-Eigen::VectorXd excitationCrb(const core::FourierSeries& t, const ident::LegConstants& c, double duration_s,
-                              double rate_hz, double sigma_Nm);
+/// Cramer-Rao bound. The moving joints' equations, over the parameters they determine
+/// (ident::excitationParameters: the APAL leg's 10, or the knee's 5 with the hip locked).
+Eigen::VectorXd excitationCrb(const core::FourierSeries& t, const ident::Robot& robot, double duration_s, double rate_hz,
+                              double sigma_Nm);
 
 }  // namespace exoid::experiments

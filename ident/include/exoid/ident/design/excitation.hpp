@@ -61,8 +61,11 @@ struct ExcitationScore {
 };
 
 /// The parameters a trajectory's rows determine: those the moving joints' equations touch
-/// (robot.joint_columns), all of them when no joint is locked.
-std::vector<int> excitationParameters(const Robot& robot, int locked_joints);
+/// (robot.joint_columns), all of them when no joint is locked. With the first locked_joints held
+/// (at locked_at_rad, one each; 0 when empty), a touched column that is a combination of earlier
+/// ones in the moving equations is left out (a held hip: a knee armature's column is its link
+/// inertia's), so the design is for what such a record can identify.
+std::vector<int> excitationParameters(const Robot& robot, int locked_joints, const Eigen::VectorXd& locked_at_rad = {});
 
 /// Scores a trajectory for nominal parameters theta_nominal (the robot's; torques). A locked
 /// joint's range is checked (where its lock holds it), not its rates or torque.
