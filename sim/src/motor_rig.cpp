@@ -308,8 +308,13 @@ class ChainRig {
     sensors_.angles(q_, q_read_);
   }
 
-  // 2. controller: inverse dynamics at the reference, Coulomb, PD on the readings
+  // 2. controller: inverse dynamics at the reference and Coulomb (the feedforward), PID on the readings
   void control() {
+    if (!config_.feedforward) {
+      command_.setZero();
+      pid_->update(q_ref_, qd_ref_, q_read_, qd_, command_);
+      return;
+    }
     for (int i = 0; i < dof_; ++i) {
       dr_->qpos[joints_.qposAdr(i)] = q_ref_[i];
       dr_->qvel[joints_.dofAdr(i)] = qd_ref_[i];
@@ -479,7 +484,7 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
                       {"controller_kp_Nm_per_rad", list(r.kp_Nm_per_rad)},
                       {"controller_kd_Nms_per_rad", list(r.kd_Nms_per_rad)},
                       {"controller_law", config.integral_hz > 0.0 ? "pid_measured_velocity" : "pd_measured_velocity"},
-                      {"feedforward", "true"},
+                      {"feedforward", config.feedforward ? "true" : "false"},
                       {"actuator_bandwidth_Hz", bw},
                       {"vibration_level", std::to_string(config.vibration_level)}};
   if (config.integral_hz > 0.0) {

@@ -1,5 +1,6 @@
 // `exoid simulate` and `exoid truth`.
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
 #include "exoid/experiments/protocol/excitation_io.hpp"
 #include "exoid/experiments/commands/commands.hpp"
@@ -25,11 +26,23 @@ struct SimulateArgs {
   std::string out;
   bool record_derivatives = false;  ///< chain models: exact qd_, qdd_ columns
   double coulomb_v0_radps = -1.0;   ///< chain models: Coulomb smoothing (< 0: the model's)
-  std::vector<std::string> lock;    ///< chain models: joints locked (segmental records)
   double bandwidth_hz = 4.0;        ///< chain models: PD bandwidth
-  double integral_hz = 0.0;         ///< chain models: the feedback's integral (0 = PD)
+  // Every leg's rig, one spelling (the APAL leg's own options stay its aliases):
+  std::vector<std::string> lock;    ///< joints locked (segmental records); the APAL leg: hip (--lock-hip)
+  double integral_hz = 0.0;         ///< the feedback's integral, ki = kp 2 pi f (0 = PD); given or not: cmd->count
+  std::vector<double> tau_bias_Nm;  ///< torque sensor bias per joint (the APAL leg: --tau-bias-hip, --tau-bias-knee)
+  double actuator_bandwidth_hz = 0.0;  ///< every joint's (the APAL leg: --hip/--knee-actuator-bandwidth)
   CLI::App* cmd = nullptr;
+  bool given(const char* option) const { return cmd->count(option) > 0; }
 };
+
+// --tau-bias: one value per joint of the robot.
+std::vector<double> tauBias(const SimulateArgs& a, std::size_t joints) {
+  if (a.tau_bias_Nm.size() != joints) {
+    throw CLI::ValidationError("--tau-bias", "expected one bias per joint (" + core::toText(joints) + "), got " + core::toText(a.tau_bias_Nm.size()));
+  }
+  return a.tau_bias_Nm;
+}
 
 // --excitation's design for a robot with these joints (in order); refused naming the option.
 sim::NamedTrajectory excitationFor(const SimulateArgs& a, const std::vector<std::string>& joints) {
@@ -46,14 +59,16 @@ void runChainSimulate(const SimulateArgs& a) {
   for (const char* apal_only :
        {"--trajectory", "--fourier-hip", "--fourier-knee", "--fourier-f0", "--lock-hip", "--ramp", "--tau-bias-hip", "--tau-bias-knee",
         "--floor-force", "--floor-force-z", "--floor-frequency", "--floor-random", "--cylinder-mass-scale", "--fc-hip", "--fv-hip",
-        "--fc-knee", "--fv-knee", "--knee-armature", "--feedforward", "--no-feedforward", "--hip-actuator-bandwidth",
-        "--knee-actuator-bandwidth", "--no-exact"}) {
+        "--fc-knee", "--fv-knee", "--knee-armature", "--hip-actuator-bandwidth", "--knee-actuator-bandwidth", "--no-exact"}) {
     if (a.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, std::string("is an option of the APAL leg's rig; '") + a.config.model_path +
-                                                "' runs on the serial-chain simulator (see exoid simulate --help, group 'Chain models')");
+                                                "' runs on the serial-chain simulator (see exoid simulate --help, groups 'Rig (every "
+                                                "leg)' and 'Chain models')");
     }
   }
   sim::ChainSimConfig c = chainSimConfig(a.config);
+  if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, sim::serialChainFromFile(c.model_path).links.size());
+  if (a.given("--actuator-bandwidth")) c.actuator_bandwidth_hz = a.actuator_bandwidth_hz;
   if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sensors.tau_bandwidth_Hz = a.config.sensors.tau_bandwidth_Hz;
   c.coulomb_v0_radps = a.coulomb_v0_radps;
   c.bandwidth_hz = a.bandwidth_hz;
@@ -73,18 +88,46 @@ void runChainSimulate(const SimulateArgs& a) {
   simulateChainToFiles(c, a.out);
 }
 
+// The APAL leg's settings with every leg's rig options applied (its own spellings are aliases).
+sim::SimConfig apalRigOptions(const SimulateArgs& a) {
+  sim::SimConfig c = a.config;
+  const auto alias = [&a](const char* generic, std::initializer_list<const char*> own) {
+    for (const char* o : own) {
+      if (a.given(generic) && a.given(o)) throw CLI::ValidationError(generic, std::string("and ") + o + " set the same; give one");
+    }
+  };
+  alias("--tau-bias", {"--tau-bias-hip", "--tau-bias-knee"});
+  alias("--actuator-bandwidth", {"--hip-actuator-bandwidth", "--knee-actuator-bandwidth"});
+  alias("--lock", {"--lock-hip"});
+  if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, kLegJoints.size());
+  if (a.given("--actuator-bandwidth")) c.actuators.hip_bandwidth_Hz = c.actuators.knee_bandwidth_Hz = a.actuator_bandwidth_hz;
+  if (a.given("--integral-hz")) c.gains.ki_Nm_per_rad_s = c.gains.kp_Nm_per_rad * (2.0 * M_PI * a.integral_hz);
+  if (a.given("--lock")) {
+    if (a.lock != std::vector<std::string>{"hip"}) {
+      throw CLI::ValidationError("--lock", "the APAL leg's rig locks its hip alone (--lock hip), for the knee-only record");
+    }
+    if (c.trajectory != 0) {
+      throw CLI::ValidationError("--lock", "holds a Fourier trajectory's or a design's hip at its offset (--fourier-hip/--fourier-knee "
+                                           "or --excitation); the paper's knee-only record is --trajectory 1");
+    }
+    c.fourier.locked_joints = 1;
+  }
+  return c;
+}
+
 void runSimulate(const SimulateArgs& a) {
   if (!sim::isApalLegModel(a.config.model_path)) return runChainSimulate(a);
-  for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--lock", "--bandwidth", "--integral-hz"}) {
+  for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--bandwidth"}) {
     if (a.cmd->count(chain_only) > 0) {
-      throw CLI::ValidationError(chain_only, "is an option of the motor rig (--model leg3|FILE); the APAL leg's rig takes --lock-hip, "
-                                             "--ramp and its gains from a sweep's [simulation]");
+      throw CLI::ValidationError(chain_only, "is an option of the motor rig (--model leg3|FILE); the APAL leg's rig takes its PD "
+                                             "gains from a sweep's [simulation] and writes its exact derivatives unless --no-exact");
     }
   }
+  sim::SimConfig config = apalRigOptions(a);
   if (a.cmd->count("--excitation") > 0) excitationFor(a, kLegJoints);  // the design's joints must be the leg's
   core::checkOutputWritable(a.out);  // before the simulation, not after it
   core::checkOutputWritable(sim::sidecarPathOf(a.out));
-  const sim::SimResult r = sim::simulate(a.config);
+  const sim::SimResult r = sim::simulate(config);
   const ident::Dataset d = toDataset(r);
   const nlohmann::json side = simulationSidecar(r, d);
   sim::writeCsv(r, a.out);
@@ -164,17 +207,25 @@ void addSimulateCommand(CLI::App& app) {
                   "Chain models: Coulomb friction -fc tanh(qd / v0), rad/s; 0 = -fc sgn(qd), the regressor's own shape "
                   "(default: the model's exoid_coulomb_v0)")
       ->check(CLI::NonNegativeNumber)->group("Chain models");
-  cmd->add_option("--lock", args->lock,
-                  "Chain models: joints locked at the trajectory's offset, e.g. --lock hip,knee for the segmental "
-                  "strategy's ankle record (their recorded torque is the motor's holding command; identify --stage "
-                  "leaves it out)")
-      ->delimiter(',')->group("Chain models");
   cmd->add_option("--bandwidth", args->bandwidth_hz, "Chain models: PD tracking bandwidth per joint, Hz")
       ->check(positiveNumber())->capture_default_str()->group("Chain models");
+  const char* rig = "Rig (every leg)";
+  cmd->add_option("--lock", args->lock,
+                  "Joints locked at the trajectory's offset, e.g. --lock hip,knee for a chain's ankle record (their recorded\n"
+                  "torque is the motor's holding command; identify --stage leaves it out); the APAL leg: hip (= --lock-hip)")
+      ->delimiter(',')->group(rig);
   cmd->add_option("--integral-hz", args->integral_hz,
-                  "Chain models: the feedback's integral, ki = kp 2 pi f per joint (the APAL rig's PID; 0 = PD); written to\n"
-                  "the record's controller metadata, which IDIM-IV reads")
-      ->check(CLI::NonNegativeNumber)->capture_default_str()->group("Chain models");
+                  "The feedback's integral, ki = kp 2 pi f per joint (0 = PD; the APAL leg: replaces its gains' ki); written\n"
+                  "to the record's controller metadata, which IDIM-IV reads")
+      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(rig);
+  cmd->add_option("--tau-bias", args->tau_bias_Nm,
+                  "Torque sensor bias, N m, one per joint (comma-separated; the APAL leg: = --tau-bias-hip, --tau-bias-knee)")
+      ->delimiter(',')->group(rig);
+  cmd->add_option("--actuator-bandwidth", args->actuator_bandwidth_hz,
+                  "Every joint's actuator: the torque follows the command through a first-order lag of this bandwidth, Hz (0 =\n"
+                  "ideal; default: the APAL leg's motor and hydraulics, 100 Hz on a chain); --feedforward/--no-feedforward, in\n"
+                  "'Simulation', apply to every leg too")
+      ->check(CLI::NonNegativeNumber)->group(rig);
   args->cmd = cmd;
   cmd->callback([args] { runSimulate(*args); });
 }

@@ -74,6 +74,7 @@ sim::ChainSimConfig chainSimConfig(const sim::SimConfig& s) {
   c.sensors.tau_bandwidth_Hz = 0.0;  // the chain rig's torque sensor: ideal unless --torque-sensor-bandwidth
   c.sensors.tau_bias_Nm.clear();     // the APAL leg's hip and knee biases
   c.vibration_level = s.variant.vibration_level;
+  c.feedforward = s.feedforward;
   c.seed = s.seed;
   return c;
 }
@@ -100,6 +101,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"quantisation_deg", c.sensors.quantisation_deg},
                  {"encoder_backlash_deg", c.sensors.encoder_backlash_deg},
                  {"torque_noise_Nm", c.sensors.noise_tau_Nm},
+                 {"torque_bias_Nm", c.sensors.tau_bias_Nm},
                  {"torque_sensor_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},
                  {"imu_acc_noise_mps2", c.sensors.imu_acc_noise_mps2},
                  {"imu_gyro_noise_radps", c.sensors.imu_gyro_noise_radps},
@@ -107,6 +109,8 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"coulomb_v0_radps", c.coulomb_v0_radps},
                  {"bandwidth_hz", c.bandwidth_hz},
                  {"integral_hz", c.integral_hz},
+                 {"feedforward", c.feedforward},
+                 {"actuator_bandwidth_hz", c.actuator_bandwidth_hz},
                  {"record_derivatives", c.record_derivatives},
                  {"locked", c.locked},
                  {"trajectory", sim::trajectoryJson(c.trajectory, model.jointNames())}};
@@ -116,7 +120,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   j["controller"] = {{"kp", toVector(r.kp_Nm_per_rad)},
                      {"kd", toVector(r.kd_Nms_per_rad)},
                      {"derivative", "measured_velocity"},
-                     {"feedforward", "model"},
+                     {"feedforward", c.feedforward ? "model" : "none"},
                      {"actuator_bandwidth_hz", c.actuator_bandwidth_hz}};
   if (c.integral_hz > 0.0) {
     j["controller"]["ki"] = toVector(r.ki_Nm_per_rad_s);

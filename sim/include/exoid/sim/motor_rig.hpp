@@ -71,6 +71,10 @@ struct ChainSimConfig {
   /// sample (then angle-differentiated accelerations lag the recorded torque by about half a
   /// sample: measured, -12 % on leg3's hip.fv). >= 0. Default 100.
   double actuator_bandwidth_hz = 100.0;
+  /// The model's inverse dynamics and Coulomb friction at the reference as the command's
+  /// feedforward (a rig's computed torque); false = the feedback alone, as the APAL rig's
+  /// --no-feedforward (its gains assume the feedforward: tracking is then poorer).
+  bool feedforward = true;
   /// Also write qd_<joint>, qdd_<joint>: the exact derivatives, as a rig that logs them.
   bool record_derivatives = false;
   /// Joints locked at the trajectory's offset (the segmental strategy's proximal joints, as the

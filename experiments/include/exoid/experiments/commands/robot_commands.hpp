@@ -26,7 +26,7 @@ namespace exoid::experiments {
 
 
 /// The chain simulator's settings from `exoid simulate`'s (model, duration, dt, encoder noise and
-/// resolution, torque noise, seed); the chain-only ones keep their defaults.
+/// resolution, torque noise, vibration, feedforward, seed); the chain-only ones keep their defaults.
 sim::ChainSimConfig chainSimConfig(const sim::SimConfig& c);
 
 /// A chain simulation's table as a dataset of the chain's joints.
