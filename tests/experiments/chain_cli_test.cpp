@@ -13,7 +13,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 namespace exoid::experiments {
 namespace {
@@ -757,6 +759,57 @@ TEST(ChainCli, ExciteDesignsAStageRecordOfAChain) {
             std::string::npos);
   EXPECT_NE(stderrOf({"excite", "--armature", "knee", "--out", dir + "/x.json"}, 105).find("--armature"), std::string::npos);
   EXPECT_FALSE(std::filesystem::exists(dir + "/x.json"));
+}
+
+// identify --plot on every leg: the figure, and its series, whose predicted - measured RMS per joint
+// is the validation's in the JSON (computed apart, from the same rows).
+TEST(ChainCli, TheFitsFigureIsDrawnOnEveryLeg) {
+  const std::string dir = ::testing::TempDir() + "/plot_";
+  struct Leg {
+    std::string model;
+    std::vector<std::string> joints, fit, check;
+  };
+  const Leg legs[] = {{"apal", {"hip", "knee"}, {"--trajectory", "3"}, {"--trajectory", "4", "--seed", "2"}},
+                      {"leg3", {"hip", "knee", "ankle"}, {"--seed", "1"}, {"--seed", "2"}}};
+  for (const Leg& leg : legs) {
+    const std::string fit = dir + leg.model + "_fit.csv", check = dir + leg.model + "_check.csv", png = dir + leg.model + ".png",
+                      json = dir + leg.model + ".json";
+    std::vector<std::string> a = {"simulate", "--model", leg.model, "--duration", "4", "--out", fit}, b = {"simulate", "--model", leg.model, "--duration", "4", "--out", check};
+    a.insert(a.end(), leg.fit.begin(), leg.fit.end());
+    b.insert(b.end(), leg.check.begin(), leg.check.end());
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(runExoid(a), 0);
+    ASSERT_EQ(runExoid(b), 0);
+    const int code = runExoid({"identify", "--model", leg.model, "--data", fit, "--validate", check, "--plot", png, "--json", json});
+    testing::internal::GetCapturedStdout();
+    ASSERT_TRUE(code == 0 || code == 3) << leg.model;
+    ASSERT_TRUE(std::filesystem::exists(png)) << leg.model;
+    std::ifstream in(dir + leg.model + "_series.csv");
+    std::string line;
+    std::getline(in, line);
+    std::vector<double> sum(leg.joints.size(), 0.0);
+    std::size_t n = 0;
+    while (std::getline(in, line)) {
+      std::stringstream cells(line);
+      std::string cell;
+      std::getline(cells, cell, ',');  // t_s
+      for (std::size_t j = 0; j < leg.joints.size(); ++j) {
+        std::getline(cells, cell, ',');
+        const double measured = std::stod(cell);
+        std::getline(cells, cell, ',');
+        sum[j] += (std::stod(cell) - measured) * (std::stod(cell) - measured);
+      }
+      ++n;
+    }
+    ASSERT_GT(n, 50u) << leg.model;  // the rows as fitted: decimated in the band chosen from the record
+    const nlohmann::json r = readJson(json);
+    for (std::size_t j = 0; j < leg.joints.size(); ++j) {
+      const double json_rms = leg.model == "apal" ? r["methods"]["ls"]["validation"][check][leg.joints[j]]["rms_Nm"].get<double>()
+                                                  : r["validation"][0]["joints"][j]["rms_error_Nm"].get<double>();
+      // The series holds 9 significant digits of torques of tens of N m.
+      EXPECT_NEAR(std::sqrt(sum[j] / static_cast<double>(n)), json_rms, 1e-6 * (1.0 + json_rms)) << leg.model << " " << leg.joints[j];
+    }
+  }
 }
 
 TEST(ChainCli, WhatTheChainPathDoesNotTakeIsRefusedByName) {

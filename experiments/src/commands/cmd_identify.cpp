@@ -3,6 +3,7 @@
 #include "exoid/experiments/commands/commands.hpp"
 #ifdef EXOID_WITH_MUJOCO
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/report/plots.hpp"
 #include "exoid/sim/model.hpp"
 #endif
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
@@ -55,7 +56,7 @@ struct IdentifyArgs {
   bool timing = false;      ///< wall times in the table and the JSON (they differ run to run)
   ident::ConsistencyOptions consistency_options;
   std::string model;  ///< --model: a robot other than the APAL leg goes to the chain path
-  std::string plot;   ///< --plot (chain models): measured against predicted torques
+  std::string plot;   ///< --plot: measured against predicted torques
   std::vector<std::string> armature;  ///< --armature (chain models)
   core::ChainSelection selection;     ///< --base, --tip, --lock (chain models)
   bool moving_base_parameters = false;  ///< --moving-base-parameters (chain models)
@@ -482,7 +483,6 @@ IdentifyArgs legArguments(IdentifyArgs a) {
 void checkLegArguments([[maybe_unused]] const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (a.moving_base_parameters) throw CLI::ValidationError("--moving-base-parameters", "is for a chain model (--model leg3|FILE); the APAL leg's X is the paper's");
-  if (!a.plot.empty()) throw CLI::ValidationError("--plot", "draws a chain model's torques (--model leg3|FILE); the APAL leg's figures come from exoid reproduce");
 #endif
 }
 
@@ -628,6 +628,22 @@ SegmentalCheck againstOneFit(const IdentifyArgs& a, const LegRecords& r, const i
   return out;
 }
 
+#ifdef EXOID_WITH_MUJOCO
+// --plot: the first method's estimate on the first --validate record (else the first fit record),
+// as a chain's identify draws LS's.
+void plotLegFit(const IdentifyArgs& a, const LogInput& log, const LegRecords& r, const MethodOutcome& m) {
+  const bool validation = !a.validate.empty();
+  const ident::RecordRows shown =
+      ident::processRecord(validation ? readLog(a.validate.front(), log) : r.primary.data.front(), r.robot, r.primary.signals.front());
+  Eigen::VectorXd theta(r.robot.parameters());
+  theta.head(ident::kNumParams) = m.x;
+  if (theta.size() > ident::kNumParams) theta[ident::kKneeArmature] = m.knee_armature.value_or(0.0);
+  plotTorqueFit(a.plot, r.robot.jointNames(), shown, theta,
+                "APAL leg, " + std::string(ident::toString(m.method)) + ": " +
+                    (validation ? "validation record " + a.validate.front() : "fit record " + r.primary.files.front()));
+}
+#endif
+
 void run(const IdentifyArgs& given) {
 #ifdef EXOID_WITH_MUJOCO
   if (runChainModel(given)) return;
@@ -637,6 +653,7 @@ void run(const IdentifyArgs& given) {
   const std::vector<ident::Method> methods = resolveMethods(a.methods);
   checkArguments(a, methods);
   if (!a.json_out.empty()) core::checkOutputWritable(a.json_out);  // before the work, not after it
+  if (!a.plot.empty()) core::prepareOutputFile(a.plot);
   const bool single = !a.data.empty(), segmental = !single;
   const bool iv = std::find(methods.begin(), methods.end(), ident::Method::kIdimIv) != methods.end();
   std::map<std::string, ident::ParamVector> truths;
@@ -671,6 +688,9 @@ void run(const IdentifyArgs& given) {
   }
   if (armature && !armature->joints.empty()) std::cout << "implausible: " << armature->hint() << '\n';
   const SegmentalCheck against = segmental ? againstOneFit(a, r, mo, outcomes) : SegmentalCheck{};
+#ifdef EXOID_WITH_MUJOCO
+  if (!a.plot.empty()) plotLegFit(a, log, r, outcomes.front());
+#endif
   if (!a.json_out.empty()) {
     nlohmann::json reports = nlohmann::json::object();
     if (!against.json.is_null()) reports["against_one_fit"] = against.json;
@@ -774,8 +794,8 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
                  "URDF file. The records then have q_<joint>, tau_<joint> for its joints; its base parameters are fitted")
       ->group("Input");
   cmd.add_option("--plot", args.plot,
-                 "Chain models (--model): a figure of each joint's measured and predicted torque on the first --validate\n"
-                 "record (else the first --data record), and its data as <plot>_series.csv")
+                 "A figure of each joint's measured and predicted torque (a chain's LS estimate, the APAL leg's first\n"
+                 "--method's) on the first --validate record (else the first --data record), and its data as <plot>_series.csv")
       ->group("Output");
   addChainSelectionOptions(cmd, args.selection);
   cmd.add_option("--armature", args.armature,

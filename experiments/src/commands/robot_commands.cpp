@@ -332,37 +332,10 @@ ChainValidation validateChain(const ChainIdentifyArgs& a, const LoadedChain& loa
   return out;
 }
 
-// t_s and each joint's measured and predicted torque, %.9g.
-void writeTorqueSeries(const std::string& path, const ident::ChainModel& model, const ident::RecordRows& shown,
-                       const Eigen::VectorXd& predicted) {
-  core::writeFileAtomically(path, [&](std::ostream& out) {
-    out << "t_s";
-    for (const std::string& j : model.jointNames()) out << ",tau_" << j << ",tau_" << j << "_predicted";
-    out << "\n";
-    char buf[32];
-    for (Eigen::Index k = 0; k < shown.samples(); ++k) {
-      std::snprintf(buf, sizeof buf, "%.9g", shown.states.t_s[k]);
-      out << buf;
-      for (int j = 0; j < model.dof(); ++j) {
-        const Eigen::Index row = k * model.dof() + j;
-        std::snprintf(buf, sizeof buf, ",%.9g", shown.y[row]);
-        out << buf;
-        std::snprintf(buf, sizeof buf, ",%.9g", predicted[row]);
-        out << buf;
-      }
-      out << "\n";
-    }
-  });
-}
-
 // --plot: the measured and LS-predicted torques of `shown`, and their series beside the figure.
 void plotChainFit(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::VectorXd& ls, const ident::RecordRows& shown) {
-  const std::string series = a.plot.substr(0, a.plot.rfind('.')) + "_series.csv";
-  writeTorqueSeries(series, loaded.model, shown, shown.W * ls);
-  runPlotScript("torque_fit_plot.py", {series, a.plot,
-                                             loaded.chain.name + ": " +
-                                                 (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front())});
-  std::cout << "wrote " << a.plot << " and " << series << "\n";
+  plotTorqueFit(a.plot, loaded.model.jointNames(), shown, ls,
+                loaded.chain.name + ": " + (a.validate.empty() ? "fit record " + a.data.front() : "validation record " + a.validate.front()));
 }
 
 // (ls - CAD) / standard error per base parameter; null where the standard error is not positive.

@@ -1,10 +1,12 @@
 #include "exoid/experiments/report/plots.hpp"
 
+#include "exoid/core/atomic_file.hpp"
 #include "exoid/sim/data_dir.hpp"
 
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <iostream>
 #include <memory>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -35,6 +37,32 @@ void runPlotScript(const std::string& script, const std::vector<std::string>& ar
     throw std::runtime_error("plotting with " + script + " failed (is python3-matplotlib installed? "
                              "scripts/deps.sh installs it; --no-plots skips figures):\n" + output);
   }
+}
+
+void plotTorqueFit(const std::string& png, const std::vector<std::string>& joints, const ident::RecordRows& shown,
+                   const Eigen::VectorXd& theta, const std::string& title) {
+  const std::string series = png.substr(0, png.rfind('.')) + "_series.csv";
+  const Eigen::VectorXd predicted = shown.W * theta;
+  const auto dof = static_cast<Eigen::Index>(joints.size());
+  core::writeFileAtomically(series, [&](std::ostream& out) {
+    out << "t_s";
+    for (const std::string& j : joints) out << ",tau_" << j << ",tau_" << j << "_predicted";
+    out << "\n";
+    char buf[32];
+    for (Eigen::Index k = 0; k < shown.samples(); ++k) {
+      std::snprintf(buf, sizeof buf, "%.9g", shown.states.t_s[k]);
+      out << buf;
+      for (Eigen::Index j = 0; j < dof; ++j) {
+        std::snprintf(buf, sizeof buf, ",%.9g,", shown.y[k * dof + j]);
+        out << buf;
+        std::snprintf(buf, sizeof buf, "%.9g", predicted[k * dof + j]);
+        out << buf;
+      }
+      out << "\n";
+    }
+  });
+  runPlotScript("torque_fit_plot.py", {series, png, title});
+  std::cout << "wrote " << png << " and " << series << "\n";
 }
 
 }  // namespace exoid::experiments
