@@ -3,6 +3,7 @@
 nominal torque per joint) with the limits it was designed under, and (the APAL leg) the paper's
 trajectory on the same axes. Usage: excitation_plot.py SERIES_CSV DESIGN_JSON OUT_PNG"""
 import json
+import math
 import sys
 
 import matplotlib
@@ -33,18 +34,21 @@ def main(series_path, design_path, out_png):
                 ax.plot(t, [scale * v for v in cols[f"paper_{name}_{joint}"]], color="#999999", lw=0.8,
                         label=f"paper's trajectory {paper}")
             ax.plot(t, [scale * v for v in cols[f"design_{name}_{joint}"]], color="#1f77b4", lw=1.4, label="design")
-            hi = scale * lim[high_key][j]
-            lo = scale * lim[low_key][j] if low_key else -hi
-            for v in (lo, hi):
-                ax.axhline(v, color="#d62728", ls="--", lw=0.9)
+            # A limit the model leaves open is written as null (infinite): no line.
+            high = lim[high_key][j]
+            low = (lim[low_key][j] if low_key else (-high if high is not None else None))
+            for v in (low, high):
+                if v is not None and math.isfinite(v):
+                    ax.axhline(scale * v, color="#d62728", ls="--", lw=0.9)
             ax.set_ylabel(label)
             ax.grid(alpha=0.3)
             if r == 0:
                 ax.set_title(joint)
         axes[-1][j].set_xlabel("time (s)")
     axes[0][0].legend(fontsize=8, loc="best")
+    model = design["model"]["name"] if isinstance(design["model"], dict) else design["model"]  # before 7549e6e: its path
     fig.suptitle("exoid excite: %s, design (seed %s, criterion %s) and limits (%s), red dashed"
-                 % (design["model"]["name"], design["seed"], design["options"]["criterion"], lim["source"]), fontsize=9)
+                 % (model, design["seed"], design["options"]["criterion"], lim["source"]), fontsize=9)
     fig.tight_layout()
     save_figure(fig, out_png)
 

@@ -276,7 +276,9 @@ class ChainRig {
     config_.trajectory.at(t, q_ref_, qd_ref_, qdd_ref_);
     read();
     control();
-    if (k == 0 || config_.actuator_bandwidth_hz <= 0.0) motor_ = command_;  // at rest on the reference at t = 0: no start transient
+    // At rest on the reference at t = 0 with the feedforward's holding torque: no start transient
+    // (without the feedforward the feedback starts from zero torque and sags at first).
+    if (k == 0 || config_.actuator_bandwidth_hz <= 0.0) motor_ = command_;
     if (k == 0) sensors_.resetTorqueFilters(motor_);  // the torque sensors read the holding torque from the start
     // 3.-4. the row: state, acceleration and joint torque at t_k
     applyTorque();

@@ -36,6 +36,7 @@ void runExcite(ExciteArgs a) {
   }
   if (a.hip_locked_at_deg) {
     if (!r.held_at_deg.empty()) throw CLI::ValidationError("--hip-locked-at-deg", "give it once (or --held-at-deg)");
+    if (r.first_moving != "knee") throw CLI::ValidationError("--hip-locked-at-deg", "holds the hip of a knee-only design: give --knee-only too");
     r.held_at_deg = {*a.hip_locked_at_deg};
   }
   excite(r);
@@ -67,7 +68,7 @@ void addExciteCommand(CLI::App& app) {
                   "does; identify --stage JOINT=FILE fits it). Default: every joint moves");
   cmd->add_option("--held-at-deg", r.held_at_deg,
                   "Where each held joint is held, deg, comma-separated (default: the APAL leg's hip at the paper's -10; a\n"
-                  "chain's joint at 0, or its range's middle when 0 is outside it)")
+                  "chain's joint at 0, or its range's middle when 0 is outside the range's middle 80 %)")
       ->delimiter(',');
   cmd->add_flag("--knee-only", a->knee_only, "The APAL leg: the knee-only record (hip locked), the segmental strategy's first stage (= --first-moving knee)");
   cmd->add_option_function<double>(

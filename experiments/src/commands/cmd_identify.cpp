@@ -1,5 +1,6 @@
 // `exoid identify`: identify the 10 parameters from CSV logs with one or more methods.
 #include "exoid/core/atomic_file.hpp"
+#include "exoid/core/format.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #ifdef EXOID_WITH_MUJOCO
 #include "exoid/experiments/commands/robot_commands.hpp"
@@ -11,6 +12,7 @@
 #include "exoid/experiments/protocol/excitation_report.hpp"
 #include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/identify_report.hpp"
 #include "exoid/experiments/protocol/stages_check.hpp"
 #include "exoid/experiments/protocol/log_input.hpp"
 #include "exoid/experiments/protocol/options.hpp"
@@ -285,13 +287,6 @@ std::vector<std::string> problemsOf(const MethodOutcome& m) {
   return out;
 }
 
-std::string problemsOf(const std::vector<MethodOutcome>& outcomes) {
-  std::string problems;
-  for (const MethodOutcome& m : outcomes) {
-    for (const std::string& p : problemsOf(m)) problems += (problems.empty() ? "" : "; ") + p;
-  }
-  return problems;
-}
 
 
 // The band sensitivity of LS over --data (its unconstrained estimate, its reported errors).
@@ -370,24 +365,16 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
                        const std::vector<std::pair<std::string, std::vector<Validation>>>& validations,
                        const std::map<std::string, ident::ParamVector>& truths,
                        const std::optional<BandSensitivity>& sensitivity, const ident::Robot& robot,
-                       const ident::Determination& determination, const nlohmann::json& reports, bool more_problems) {
-  const bool single = !a.data.empty();
-  nlohmann::json j;
-  j["tool"] = toolJson();
-  j["command"] = "identify";
-  j["strategy"] = single ? "all_parameters_one_record" : "segmental";
-  j["inputs"] = single ? nlohmann::json{{"data", a.data}}
-                       : nlohmann::json{{"knee_data", a.knee_data}, {"both_data", a.both_data}};
-  if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
-  j["inputs"]["sampling"] = rolesSamplingJson(primary, knee);
+                       const ident::Determination& determination, const nlohmann::json& reports, const std::vector<std::string>& problems) {
+  IdentifyEnvelope envelope{{{"name", "apal_leg"}, {"joints", robot.jointNames()}, {"parameters", "X, the paper's 10 (the 2-link leg of the constants)"}},
+                            primary.files, {}, a.validate, rolesSamplingJson(primary, knee), log.profile, a.signals, mo, problems};
+  for (const std::string& file : knee.files) envelope.stages.emplace_back("knee", file);
+  nlohmann::json j = toJson(envelope);
   j["processing_per_record"] = knee.processing;
   j["processing_per_record"].update(primary.processing);
   // Whether the base-motion terms were in the first record's rows (processing_per_record: each record's, and why).
   j["base_terms_used"] = usesBaseMotion(primary.data.front(), primary.signals.front());
   j["constants"] = {{"thigh_length_m", c.thigh_length_m}, {"gravity_mps2", c.gravity_mps2}, {"origin", constants_origin}};
-  j["signal_options"] = toJson(a.signals);
-  j["method_options"] = toJson(mo);
-  j["seed"] = a.methods_options.rls_pso.pso.seed;
   j["methods"] = methodsJson(a, outcomes, validations, truths);
   // The first method's estimate at top level, for tools that expect one answer.
   j["method"] = ident::toString(outcomes.front().method);
@@ -396,7 +383,6 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
   files.insert(files.end(), primary.files.begin(), primary.files.end());
   j["determination"] = determinationJson(robot, determination, files);
   for (const auto& [name, report] : reports.items()) j[name] = report;  // optional_terms, against_one_fit
-  j["status"] = problemsOf(outcomes.front()).empty() && determination.undetermined.empty() && !more_problems ? "usable" : "not_usable";
   if (sensitivity) j["band_sensitivity"] = toJson(*sensitivity);
   if (!a.timing) j = withoutWallTimes(j);  // same input, same bytes
   if (!truths.empty()) {
@@ -691,18 +677,22 @@ void run(const IdentifyArgs& given) {
 #ifdef EXOID_WITH_MUJOCO
   if (!a.plot.empty()) plotLegFit(a, log, r, outcomes.front());
 #endif
+  // Why the result must not be used (exit code 3), each reason named.
+  std::vector<std::string> problems;
+  if (const std::string p = undeterminedProblem(r.robot, r.determination); !p.empty()) problems.push_back(p);
+  for (const MethodOutcome& m : outcomes) {
+    for (const std::string& p : problemsOf(m)) problems.push_back(p);
+  }
+  if (armature && !armature->joints.empty()) problems.push_back(armature->hint());
+  if (!against.problem.empty()) problems.push_back(against.problem);
   if (!a.json_out.empty()) {
     nlohmann::json reports = nlohmann::json::object();
     if (!against.json.is_null()) reports["against_one_fit"] = against.json;
     if (armature) reports["optional_terms"] = {{"armature", armature->json}, {"hint", armature->hint()}};
     writeIdentifyJson(a, log, r.c, r.constants_origin, r.primary, r.knee, mo, outcomes, validations, truths, sensitivity, r.robot, r.determination,
-                      reports, !against.problem.empty());
+                      reports, problems);
   }
-  std::string problems = undeterminedProblem(r.robot, r.determination);
-  if (const std::string p = problemsOf(outcomes); !p.empty()) problems += (problems.empty() ? "" : "; ") + p;
-  if (armature && !armature->joints.empty()) problems += "; " + armature->hint();
-  if (!against.problem.empty()) problems += (problems.empty() ? "" : "; ") + against.problem;
-  if (!problems.empty()) throw UnusableResult(problems);
+  if (!problems.empty()) throw UnusableResult(core::joined(problems, "; "));
 }
 
 }  // namespace

@@ -36,6 +36,15 @@ struct SimulateArgs {
   bool given(const char* option) const { return cmd->count(option) > 0; }
 };
 
+// --lock names each joint once.
+void checkLockedOnce(const SimulateArgs& a) {
+  for (std::size_t k = 0; k < a.lock.size(); ++k) {
+    if (std::find(a.lock.begin(), a.lock.begin() + static_cast<std::ptrdiff_t>(k), a.lock[k]) != a.lock.begin() + static_cast<std::ptrdiff_t>(k)) {
+      throw CLI::ValidationError("--lock", "names " + a.lock[k] + " twice");
+    }
+  }
+}
+
 // --tau-bias: one value per joint of the robot.
 std::vector<double> tauBias(const SimulateArgs& a, std::size_t joints) {
   if (a.tau_bias_Nm.size() != joints) {
@@ -74,6 +83,9 @@ void runChainSimulate(const SimulateArgs& a) {
   c.bandwidth_hz = a.bandwidth_hz;
   c.integral_hz = a.integral_hz;
   c.record_derivatives = a.record_derivatives;
+  if (a.integral_hz >= a.bandwidth_hz) {
+    throw CLI::ValidationError("--integral-hz", "must lie below the position loop's bandwidth (--bandwidth " + fmt(a.bandwidth_hz) + " Hz)");
+  }
   c.locked = a.lock;
   c.seed = a.config.seed;
   if (a.cmd->count("--excitation") > 0) {
@@ -102,20 +114,21 @@ sim::SimConfig apalRigOptions(const SimulateArgs& a) {
   if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, kLegJoints.size());
   if (a.given("--actuator-bandwidth")) c.actuators.hip_bandwidth_Hz = c.actuators.knee_bandwidth_Hz = a.actuator_bandwidth_hz;
   if (a.given("--integral-hz")) c.gains.ki_Nm_per_rad_s = c.gains.kp_Nm_per_rad * (2.0 * M_PI * a.integral_hz);
-  if (a.given("--lock")) {
-    if (a.lock != std::vector<std::string>{"hip"}) {
-      throw CLI::ValidationError("--lock", "the APAL leg's rig locks its hip alone (--lock hip), for the knee-only record");
-    }
-    if (c.trajectory != 0) {
-      throw CLI::ValidationError("--lock", "holds a Fourier trajectory's or a design's hip at its offset (--fourier-hip/--fourier-knee "
-                                           "or --excitation); the paper's knee-only record is --trajectory 1");
-    }
-    c.fourier.locked_joints = 1;
+  if (a.given("--lock") && a.lock != std::vector<std::string>{"hip"}) {
+    throw CLI::ValidationError("--lock", "the APAL leg's rig locks its hip alone (--lock hip), for the knee-only record");
   }
+  for (const char* lock : {"--lock", "--lock-hip"}) {
+    if (a.given(lock) && c.trajectory != 0) {
+      throw CLI::ValidationError(lock, "holds a Fourier trajectory's or a design's hip at its offset (--fourier-hip/--fourier-knee "
+                                       "or --excitation); the paper's knee-only record is --trajectory 1");
+    }
+  }
+  if (a.given("--lock")) c.fourier.locked_joints = 1;
   return c;
 }
 
 void runSimulate(const SimulateArgs& a) {
+  checkLockedOnce(a);
   if (!sim::isApalLegModel(a.config.model_path)) return runChainSimulate(a);
   for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--bandwidth"}) {
     if (a.cmd->count(chain_only) > 0) {
@@ -215,9 +228,10 @@ void addSimulateCommand(CLI::App& app) {
                   "torque is the motor's holding command; identify --stage leaves it out); the APAL leg: hip (= --lock-hip)")
       ->delimiter(',')->group(rig);
   cmd->add_option("--integral-hz", args->integral_hz,
-                  "The feedback's integral, ki = kp 2 pi f per joint (0 = PD; the APAL leg: replaces its gains' ki); written\n"
-                  "to the record's controller metadata, which IDIM-IV reads")
-      ->check(CLI::NonNegativeNumber)->capture_default_str()->group(rig);
+                  "The feedback's integral, ki = kp 2 pi f per joint (0 = PD), written to the record's controller metadata,\n"
+                  "which IDIM-IV reads. Default: a chain's 0, below its --bandwidth; the APAL leg's gains' own ki (about\n"
+                  "0.5 Hz), which this replaces")
+      ->check(CLI::NonNegativeNumber)->group(rig);
   cmd->add_option("--tau-bias", args->tau_bias_Nm,
                   "Torque sensor bias, N m, one per joint (comma-separated; the APAL leg: = --tau-bias-hip, --tau-bias-knee)")
       ->delimiter(',')->group(rig);

@@ -235,7 +235,6 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
                           const std::vector<ident::SegmentalResult>& results, const std::optional<ident::ReportedErrors>& errors,
                           const std::optional<NearestConsistent>& consistent) {
   nlohmann::json j;
-  j["strategy"] = "segmental_down_the_chain";
   j["stages"] = stages_json;
   j["base_parameters"] = nlohmann::json::object();
   if (errors) j["base_parameters"].update(baseErrorsJson(errors->reported, *errors, kSegmentalErrorsAre));

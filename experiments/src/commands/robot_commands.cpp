@@ -9,6 +9,7 @@
 #include "exoid/experiments/protocol/fit_records.hpp"
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/identification.hpp"
+#include "exoid/experiments/protocol/identify_report.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
@@ -101,7 +102,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
                  {"quantisation_deg", c.sensors.quantisation_deg},
                  {"encoder_backlash_deg", c.sensors.encoder_backlash_deg},
                  {"torque_noise_Nm", c.sensors.noise_tau_Nm},
-                 {"torque_bias_Nm", c.sensors.tau_bias_Nm},
+                 {"torque_bias_Nm", c.sensors.tau_bias_Nm.empty() ? std::vector<double>(r.chain.links.size(), 0.0) : c.sensors.tau_bias_Nm},
                  {"torque_sensor_bandwidth_Hz", c.sensors.tau_bandwidth_Hz},
                  {"imu_acc_noise_mps2", c.sensors.imu_acc_noise_mps2},
                  {"imu_gyro_noise_radps", c.sensors.imu_gyro_noise_radps},
@@ -571,10 +572,9 @@ int identifyChain(const ChainIdentifyArgs& given) {
   if (!a.plot.empty()) plotChainFit(a, loaded, fit.ls, validation.first ? *validation.first : *fit.shown);
   if (!a.json_out.empty()) {
     nlohmann::json j = fit.json;
-    j["tool"] = toolJson();
-    j["command"] = "identify";
-    if (a.stages.empty()) j["strategy"] = "all_parameters_one_record";  // the APAL leg's name for one fit of every record
-    j["model"] = {{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}, {"left_out", loaded.chain.left_out}};
+    IdentifyEnvelope envelope{{{"name", loaded.chain.name}, {"path", loaded.path}, {"joints", loaded.model.jointNames()}, {"left_out", loaded.chain.left_out}},
+                              a.data, a.stages, a.validate, sampling, log.profile, a.signals, fit.method_options, fit.problems};
+    j.update(toJson(envelope));
     nlohmann::json& b = j["base_parameters"];
     b["names"] = base.names;
     b["combinations"] = base.combinations;
@@ -589,15 +589,7 @@ int identifyChain(const ChainIdentifyArgs& given) {
         for (Eigen::Index i = 0; i < x.size(); ++i) rel.push_back((*truth)[i] != 0.0 ? nlohmann::json((x[i] - (*truth)[i]) / std::abs((*truth)[i])) : nlohmann::json());
       }
     }
-    j["inputs"] = {{"data", a.data}, {"sampling", sampling}};
-    for (const auto& [joint, file] : a.stages) j["inputs"]["stages"].push_back({{"joint", joint}, {"file", file}});
-    if (!log.profile.empty()) j["inputs"]["profile"] = log.profile;
-    j["signal_options"] = toJson(a.signals);
-    j["method_options"] = toJson(fit.method_options);
-    j["seed"] = fit.method_options.rls_pso.pso.seed;
     j["validation"] = validation.json;
-    j["problems"] = fit.problems;
-    j["status"] = fit.problems.empty() ? "usable" : "not_usable";
     writeJsonFile(a.json_out, a.timing ? j : withoutWallTimes(j));  // without: same input, same bytes
   }
   if (!fit.problems.empty()) {

@@ -53,6 +53,7 @@ DesignTarget apalTarget(const ExciteRequest& r, const std::string& path) {
     throw CLI::ValidationError("--armature", "designs a chain's armature parameters; the APAL leg's design is in the paper's X (its "
                                              "knee armature's column is Js's on a knee-only record)");
   }
+  if (!r.urdf.empty() && r.limits != "urdf") throw CLI::ValidationError("--urdf", "gives the limits of --limits urdf; give that too");
   const sim::Truth truth = sim::truthFromModel(path);
   DesignTarget t{"APAL leg", path, kLegJoints, {}, {}, {}, {}, constantsOf(truth)};
   t.robot = ident::twoLinkLeg(*t.apal);
@@ -112,6 +113,9 @@ void holdJoints(const ExciteRequest& r, const DesignTarget& t, ident::Excitation
     throw CLI::ValidationError("--first-moving", "'" + r.first_moving + "' is not a joint of " + t.name + " (" + core::joined(t.joints) + ")");
   }
   o.locked_joints = static_cast<int>(it - t.joints.begin());
+  if (o.locked_joints == 0) {
+    throw CLI::ValidationError("--first-moving", r.first_moving + " is " + t.name + "'s first joint: every joint moves (leave the option out)");
+  }
   if (!r.held_at_deg.empty() && static_cast<int>(r.held_at_deg.size()) != o.locked_joints) {
     throw CLI::ValidationError("--held-at-deg", "expected one angle per held joint (" + core::toText(o.locked_joints) + ")");
   }
@@ -123,8 +127,8 @@ void holdJoints(const ExciteRequest& r, const DesignTarget& t, ident::Excitation
       at = r.held_at_deg[static_cast<std::size_t>(j)] * M_PI / 180.0;
     } else if (t.apal) {
       at = -10.0 * M_PI / 180.0;  // the paper's knee-only record holds its hip there
-    } else if (lo > 0.0 || hi < 0.0) {
-      at = 0.5 * (lo + hi);
+    } else if (!(lo + 0.1 * (hi - lo) < 0.0 && 0.0 < hi - 0.1 * (hi - lo))) {
+      at = 0.5 * (lo + hi);  // 0 would sit on (or next to) a stop
     }
     if (at < lo || at > hi) {
       throw CLI::ValidationError("--held-at-deg", t.joints[static_cast<std::size_t>(j)] + " held at " + fmt(at * 180.0 / M_PI, 4) +

@@ -193,7 +193,10 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
   if (!notes.one_fit_note.empty()) md << "One fit, not usable (exit 3 of identify): " << notes.one_fit_note << "\n\n";
   if (!notes.segmental_note.empty()) md << "Segmental strategy, not usable (exit 3 of identify): " << notes.segmental_note << "\n\n";
   md << "Files: `identify.json`, `segmental.json` (every estimate, status and condition number)"
-     << (a.plots ? ", `fit.png` (measured and predicted torques of the validation record)" : "") << ".\n";
+     << (a.plots ? ", `fit.png` (measured and predicted torques of the validation record), `design.png` and `design_series.csv` (the "
+                   "design against the limits)"
+                 : "")
+     << ".\n";
   core::writeFileAtomically(dir + "report.md", [&](std::ostream& o) { o << md.str(); });
   std::cout << "\n";
   t.print(std::cout);

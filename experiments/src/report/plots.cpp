@@ -35,7 +35,7 @@ void runPlotScript(const std::string& script, const std::vector<std::string>& ar
   const int status = pclose(pipe.release());
   if (status != 0) {
     throw std::runtime_error("plotting with " + script + " failed (is python3-matplotlib installed? "
-                             "scripts/deps.sh installs it; --no-plots skips figures):\n" + output);
+                             "scripts/deps.sh installs it; reproduce --no-plots and excite --no-plot skip figures):\n" + output);
   }
 }
 

@@ -77,6 +77,10 @@ std::vector<int> excitationParameters(const Robot& robot, int locked_joints, con
   RobotWorkspace work;
   const ChainBaseMotion still = ChainBaseMotion::still(robot.chain);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(dof), qd = Eigen::VectorXd::Zero(dof), qdd = Eigen::VectorXd::Zero(dof);
+  if (locked_at_rad.size() != 0 && locked_at_rad.size() != locked) {
+    throw std::invalid_argument("excitation: locked_at_rad has " + core::toText(locked_at_rad.size()) + " angles for " + core::toText(locked) +
+                                " locked joints");
+  }
   if (locked_at_rad.size() == locked) q.head(locked) = locked_at_rad;
   for (int k = 0; k < states; ++k) {
     for (int j = locked; j < dof; ++j) {
@@ -96,6 +100,8 @@ std::vector<int> excitationParameters(const Robot& robot, int locked_joints, con
     if (!(norm > 0.0)) continue;
     Eigen::VectorXd v = H.col(static_cast<Eigen::Index>(c)) / norm;
     for (int pass = 0; pass < 2; ++pass) v -= basis * (basis.transpose() * v);  // Gram-Schmidt, twice
+    // About sqrt(machine epsilon): a dependent unit column leaves rounding (~1e-15) after two
+    // passes, an independent one over these spread states a residual of order 0.1.
     if (v.norm() < 1e-8) continue;
     basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
     basis.col(basis.cols() - 1) = v.normalized();

@@ -80,7 +80,8 @@ struct ChainSimConfig {
   /// Joints locked at the trajectory's offset (the segmental strategy's proximal joints, as the
   /// APAL rig's hip lock): their excitation is removed and their rotor inertia raised by
   /// kLockInertia_kgm2, so the lock, not the motor, carries their load; they move < 1e-5 rad. Their
-  /// recorded torque is the motor's holding command, which no identification should use.
+  /// recorded torque is the motor's command (the feedforward's holding torque, about 0 without
+  /// the feedforward), which no identification should use.
   std::vector<std::string> locked;
   std::uint64_t seed = 1;        ///< the sensors' noise (and the default trajectory)
   void validate() const;         ///< throws std::invalid_argument naming the field

@@ -32,7 +32,8 @@ struct ExciteRequest {
   /// design holds them). Empty: every joint moves.
   std::string first_moving;
   /// Where each held joint is held, deg, one per held joint. Empty: the APAL leg's hip at the
-  /// paper's -10 deg; a chain's joint at 0, or at its range's middle when 0 is outside it.
+  /// paper's -10 deg; a chain's joint at 0, or at its range's middle when 0 is not inside the
+  /// range's middle 80 % (0 on a stop would put the lock against it).
   std::vector<double> held_at_deg;
   LimitOverrides overrides;
   /// The APAL leg's limits: "paper" (the envelope of the paper's trajectories) or "urdf" (the
