@@ -393,16 +393,36 @@ void writeIdentifyJson(const IdentifyArgs& a, const LogInput& log, const ident::
 }
 
 #ifdef EXOID_WITH_MUJOCO
+// A chain's arguments, the APAL leg's spelling read as every leg's (as legArguments reads a chain's
+// for the APAL leg): --knee-data FILE --both-data FILE is --stage knee=FILE --data FILE;
+// --knee-armature is --armature knee.
+IdentifyArgs chainArguments(IdentifyArgs a) {
+  if (!a.knee_data.empty() || !a.both_data.empty()) {
+    if (!a.data.empty() || !a.stages.empty()) {
+      throw CLI::ValidationError(a.knee_data.empty() ? "--both-data" : "--knee-data",
+                                 "give the stages once: --stage knee=FILE with --data, or --knee-data with --both-data");
+    }
+    if (a.knee_data.empty() || a.both_data.empty()) throw CLI::ValidationError("identify", "the segmental strategy needs both --knee-data and --both-data");
+    for (const std::string& file : a.knee_data) a.stages.push_back("knee=" + file);
+    a.data = a.both_data;
+    a.knee_data.clear();
+    a.both_data.clear();
+  }
+  if (a.knee_armature && std::find(a.armature.begin(), a.armature.end(), "knee") == a.armature.end()) a.armature.push_back("knee");
+  return a;
+}
+
 // --model naming a robot other than the APAL leg: its base parameters by least squares (and the
-// consistent estimate). What that path does not do yet is refused by name, never ignored.
-bool runChainModel(const IdentifyArgs& a) {
-  if (a.model.empty() && !a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
-  if (a.model.empty() || (sim::isApalLegModel(sim::modelPathFor(a.model)) && a.selection.empty())) return false;
-  for (const char* apal_only : {"--knee-data", "--both-data", "--knee-armature", "--thigh-length", "--gravity"}) {
-    if (a.cmd->count(apal_only) > 0) {
-      throw CLI::ValidationError(apal_only, "is not available for a chain model yet (--model " + a.model + "): the chain path fits --data by least squares");
+// consistent estimate). The APAL leg's constants are the model's own: refused by name, never ignored.
+bool runChainModel(const IdentifyArgs& given) {
+  if (given.model.empty() && !given.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
+  if (given.model.empty() || (sim::isApalLegModel(sim::modelPathFor(given.model)) && given.selection.empty())) return false;
+  for (const char* apal_only : {"--thigh-length", "--gravity"}) {
+    if (given.cmd->count(apal_only) > 0) {
+      throw CLI::ValidationError(apal_only, "is the APAL leg's constant; a chain model's (--model " + given.model + ") come from its file");
     }
   }
+  const IdentifyArgs a = chainArguments(given);
   std::vector<ident::Method> methods;
   for (ident::Method m : resolveMethods(a.methods)) {
     if ((m == ident::Method::kIvBand || m == ident::Method::kIdimIv) && (!a.stages.empty() || a.signals.processing != ident::Processing::kParallel)) {
