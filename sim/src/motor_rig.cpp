@@ -2,9 +2,11 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/pid.hpp"
+#include "exoid/sim/chain_mjcf.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
 #include "exoid/sim/random.hpp"
+#include "exoid/sim/serial_chain.hpp"
 
 #include <mujoco/mujoco.h>
 
@@ -84,6 +86,10 @@ namespace {
 // The rig's model: on a rigid stand (the file's mount joints removed from its text, so the base is
 // exactly still) at vibration level 0, else the file as it is.
 ModelPtr loadChainRig(const ChainSimConfig& config) {
+  if (isUrdfPath(config.model_path)) {
+    // A URDF has no motors and no stand: its chain as an MJCF with both (chain_mjcf.hpp).
+    return compileMjcf(chainMjcf(serialChainFromUrdf(config.model_path), config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
+  }
   if (config.vibration_level == 0.0) {
     const std::string xml = readFileBytes(config.model_path);
     if (xml.find("class=\"mount\"") != std::string::npos) {
@@ -415,6 +421,7 @@ class ChainRig {
 }  // namespace
 
 bool hasCompliantMount(const std::string& model_path) {
+  if (isUrdfPath(model_path)) return true;  // simulated on the stand (chain_mjcf.hpp)
   const ModelPtr model = loadMjcfFile(model_path);
   return !drivenJoints(model.get(), model_path).mount.empty();
 }

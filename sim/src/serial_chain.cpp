@@ -327,9 +327,10 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
   return chain;
 }
 
+bool isUrdfPath(const std::string& path) { return path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0; }
+
 SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection) {
-  const bool urdf = path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0;
-  return urdf ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
+  return isUrdfPath(path) ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
 }
 
 SerialChain serialChain(const LegModel& leg) {

@@ -479,6 +479,47 @@ TEST(ChainCli, AVibratingStandIsFittedWithItsBaseMotion) {
             std::string::npos);
 }
 
+// A chain from its URDF alone (no motors, no stand in the file) is simulated on the stand and
+// identified exactly from the record with its base motion; the stand moves it.
+TEST(ChainCli, AUrdfIsSimulatedOnAVibratingStandAndIdentifiedExactly) {
+  const std::string dir = ::testing::TempDir(), urdf = std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf";
+  const std::string csv = dir + "/urdf_vibrating.csv", side = dir + "/urdf_vibrating.json", out = dir + "/urdf_vibrating_fit.json";
+  testing::internal::CaptureStdout();
+  ASSERT_EQ(runExoid({"simulate", "--model", urdf, "--duration", "10", "--vibration", "1", "--coulomb-v0", "0", "--record-derivatives",
+                      "--imu-acc-noise", "0", "--imu-gyro-noise", "0", "--out", csv}),
+            0);
+  ASSERT_EQ(runExoid({"identify", "--model", urdf, "--data", csv, "--truth", side, "--json", out}), 0);
+  testing::internal::GetCapturedStdout();
+  std::ifstream in(csv);
+  std::string line, header;
+  double base_x_max = 0.0;
+  std::size_t column = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::stringstream cells(line);
+    std::string cell;
+    if (header.empty()) {
+      header = line;
+      for (std::size_t k = 0; std::getline(cells, cell, ','); ++k) {
+        if (cell == "base_x") column = k;
+      }
+      ASSERT_GT(column, 0u) << header;
+      continue;
+    }
+    for (std::size_t k = 0; std::getline(cells, cell, ','); ++k) {
+      if (k == column) base_x_max = std::max(base_x_max, std::abs(std::stod(cell)));
+    }
+  }
+  EXPECT_GT(base_x_max, 1e-6);  // the stand sways (a rigid one stays at 0)
+  const nlohmann::json r = readJson(out);
+  const nlohmann::json& b = r["base_parameters"];
+  ASSERT_FALSE(b["names"].empty());
+  for (std::size_t i = 0; i < b["names"].size(); ++i) {
+    const double truth = b["truth"][i].get<double>(), ls = b["ls"][i].get<double>();
+    EXPECT_NEAR(ls, truth, 1e-6 * std::max(1.0, std::abs(truth))) << b["names"][i].get<std::string>();
+  }
+}
+
 // The motor rig's feedback is the APAL rig's PID (core/pid.hpp): with an integral, the
 // record carries ki and the PID law in its metadata, and IDIM-IV, whose instruments simulate that
 // loop, stays exact on exact data. The APAL rig refuses the motor rig's options by name.

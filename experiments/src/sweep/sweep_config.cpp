@@ -116,10 +116,6 @@ void SweepConfig::setModel(const std::string& name_or_path, const std::string& o
   chain_model_path.clear();
   if (name_or_path.empty() || name_or_path == "apal") return;
   const std::string path = sim::modelPathFor(name_or_path);
-  if (endsWith(path, ".urdf")) {
-    throw SweepConfigError(where(*this, "sweep.model") + ": '" + path + "' is a URDF; a sweep simulates the robot, give its MJCF " +
-                           "(motors on its hinge joints, as models/leg3.xml)");
-  }
   try {
     if (sim::isApalLegModel(path)) return;
   } catch (const std::exception& e) {

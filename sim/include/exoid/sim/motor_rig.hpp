@@ -39,7 +39,8 @@ core::FourierSeries defaultChainTrajectory(const SerialChain& chain, std::uint64
 SensorOptions idealTorqueSensing();
 
 /// True when the model at `model_path` stands on a compliant mount (joints between the world and
-/// the chain: what vibration_level > 0 needs). Throws std::invalid_argument as simulateChain does.
+/// the chain: what vibration_level > 0 needs); a URDF's chain always does (chain_mjcf.hpp).
+/// Throws std::invalid_argument as simulateChain does.
 bool hasCompliantMount(const std::string& model_path);
 
 /// A locked joint's added rotor inertia: 1e9 kg m^2 against a leg's ~1 kg m^2, so the reaction of
