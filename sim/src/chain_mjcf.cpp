@@ -1,9 +1,10 @@
 #include "exoid/sim/chain_mjcf.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -11,10 +12,53 @@ namespace exoid::sim {
 
 namespace {
 
+// Round-trip digits, whatever the process's locale (a host may set a comma decimal point).
 std::string num(double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17);
+  return std::string(buf, r.ptr);
+}
+
+// A name as an XML attribute value.
+std::string xmlName(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+// What MuJoCo needs of a moving body, checked here to name the URDF's link, not a line of the
+// generated text: a positive mass and a positive definite inertia satisfying the triangle
+// inequality of principal moments (a point mass, a rod or a plate does not).
+void checkSimulable(const SerialChain& chain, const ChainLinkBody& l) {
+  const std::string where = "'" + chain.source + "': link '" + l.link + "' (joint '" + l.joint + "') ";
+  if (!(l.mass_kg > 0.0)) throw std::invalid_argument(where + "has no mass: MuJoCo simulates no massless moving body");
+  const Eigen::Vector3d I = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(l.inertia_com_kgm2).eigenvalues();  // ascending
+  if (!(I[0] > 0.0) || I[2] > (I[0] + I[1]) * (1.0 + 1e-12)) {  // a plate's sum, to rounding, is allowed
+    throw std::invalid_argument(where + "has principal moments of inertia " + num(I[0]) + ", " + num(I[1]) + ", " + num(I[2]) +
+                                " kg m^2 about its COM: MuJoCo simulates a body only with every moment positive and none above the sum "
+                                "of the other two (identification takes it as it is)");
+  }
+}
+
+void checkNames(const SerialChain& chain) {
+  for (const ChainLinkBody& l : chain.links) {
+    for (const std::string& name : {l.link, l.joint}) {
+      for (const char* reserved : {"world", "exoid_stand", "exoid_base", "mount_x", "mount_z", "mount_pitch"}) {
+        if (name == reserved) {
+          throw std::invalid_argument("'" + chain.source + "': '" + name + "' is a name the simulated rig uses itself; rename the link or joint");
+        }
+      }
+    }
+  }
 }
 
 std::string vec(const Eigen::Vector3d& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
@@ -23,14 +67,11 @@ std::string vec(const Eigen::Vector3d& v) { return num(v.x()) + " " + num(v.y())
 void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& indent) {
   std::string pad = indent;
   for (const ChainLinkBody& l : chain.links) {
-    if (!(l.mass_kg > 0.0)) {
-      throw std::invalid_argument("'" + chain.source + "': link '" + l.link + "' (joint '" + l.joint + "') has no mass: MuJoCo simulates "
-                                  "no massless moving body");
-    }
+    checkSimulable(chain, l);
     const Eigen::Quaterniond q(l.parent_R_joint);
-    x << pad << "<body name=\"" << l.link << "\" pos=\"" << vec(l.parent_p_joint_m) << "\" quat=\"" << num(q.w()) << " " << num(q.x()) << " "
+    x << pad << "<body name=\"" << xmlName(l.link) << "\" pos=\"" << vec(l.parent_p_joint_m) << "\" quat=\"" << num(q.w()) << " " << num(q.x()) << " "
       << num(q.y()) << " " << num(q.z()) << "\">\n";
-    x << pad << "  <joint name=\"" << l.joint << "\" type=\"hinge\" axis=\"" << vec(l.axis) << "\" damping=\"" << num(l.damping_Nms)
+    x << pad << "  <joint name=\"" << xmlName(l.joint) << "\" type=\"hinge\" axis=\"" << vec(l.axis) << "\" damping=\"" << num(l.damping_Nms)
       << "\" armature=\"" << num(l.armature_kgm2) << "\"";
     if (std::isfinite(l.q_min_rad) && std::isfinite(l.q_max_rad)) x << " range=\"" << num(l.q_min_rad) << " " << num(l.q_max_rad) << "\"";
     x << "/>\n";
@@ -48,12 +89,13 @@ void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& in
 }  // namespace
 
 std::string chainMjcf(const SerialChain& chain, bool with_mount) {
+  checkNames(chain);
   std::ostringstream x;
-  x << "<mujoco model=\"" << chain.name << "\">\n"
+  x << "<mujoco model=\"" << xmlName(chain.name) << "\">\n"
     << "  <compiler autolimits=\"true\" angle=\"radian\"/>\n"
     << "  <option timestep=\"0.001\" integrator=\"RK4\" gravity=\"" << vec(chain.gravity_mps2) << "\">\n"
     << "    <flag contact=\"disable\"/>\n  </option>\n  <custom>\n";
-  for (const ChainLinkBody& l : chain.links) x << "    <numeric name=\"exoid_fc_" << l.joint << "\" data=\"" << num(l.coulomb_Nm) << "\"/>\n";
+  for (const ChainLinkBody& l : chain.links) x << "    <numeric name=\"exoid_fc_" << xmlName(l.joint) << "\" data=\"" << num(l.coulomb_Nm) << "\"/>\n";
   x << "  </custom>\n  <default>\n    <default class=\"mount\">\n      <joint armature=\"0\"/>\n    </default>\n  </default>\n  <worldbody>\n";
   if (with_mount) {
     // models/leg3.xml's stand at vibration level 1, its mount at the chain's base frame: the base
@@ -72,7 +114,7 @@ std::string chainMjcf(const SerialChain& chain, bool with_mount) {
   }
   x << "  </worldbody>\n  <actuator>\n";
   for (const ChainLinkBody& l : chain.links) {
-    x << "    <motor name=\"" << l.joint << "_motor\" joint=\"" << l.joint << "\" gear=\"1\"";
+    x << "    <motor name=\"" << xmlName(l.joint) << "_motor\" joint=\"" << xmlName(l.joint) << "\" gear=\"1\"";
     if (std::isfinite(l.tau_max_Nm)) x << " forcerange=\"" << num(-l.tau_max_Nm) << " " << num(l.tau_max_Nm) << "\"";
     x << "/>\n";
   }

@@ -88,7 +88,17 @@ namespace {
 ModelPtr loadChainRig(const ChainSimConfig& config) {
   if (isUrdfPath(config.model_path)) {
     // A URDF has no motors and no stand: its chain as an MJCF with both (chain_mjcf.hpp).
-    return compileMjcf(chainMjcf(serialChainFromUrdf(config.model_path), config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
+    SerialChain chain;
+    try {
+      chain = serialChainFromUrdf(config.model_path);
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      if (what.find("a tree, not a serial chain") == std::string::npos) throw;
+      throw std::invalid_argument(what + ". The rig simulates a serial chain's URDF whole: choosing a chain out of a tree (--base, --tip, "
+                                         "--lock) is identify's, identifiability's, excite's and truth's; give the simulation a URDF of "
+                                         "that chain alone");
+    }
+    return compileMjcf(chainMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
   }
   if (config.vibration_level == 0.0) {
     const std::string xml = readFileBytes(config.model_path);

@@ -206,9 +206,11 @@ void addSimulateCommand(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
   CLI::App* cmd = app.add_subcommand(
       "simulate",
-      "Simulate the APAL leg in MuJoCo at 1 kHz (PID tracking, sensor noise, pedestal vibration) and\n"
-      "write the dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed,\n"
-      "versions and the truths (rigid links, lumped four-bar band, best fit of the record).");
+      "Simulate a leg in MuJoCo at 1 kHz (PID tracking, sensor noise, a vibrating stand) and write the\n"
+      "dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed, versions and\n"
+      "the truths. The APAL leg (default): its four-bar and pedestal, the truths of its rigid links,\n"
+      "lumped four-bar band and best fit. Any other chain (--model leg3|FILE, an MJCF with motors or a\n"
+      "serial chain's URDF): the motor rig, its standard and base parameters.");
   addSimOptions(*cmd, args->config);
   cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->check(seedValidator())->capture_default_str();
   cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");

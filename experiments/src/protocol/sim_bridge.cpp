@@ -203,7 +203,7 @@ void addSimOptions(CLI::App& app, sim::SimConfig& c, bool choose_trajectory) {
   c.sensors.tau_bias_Nm.resize(2, 0.0);  // hip, knee: the options below write into them
   app.add_option("--tau-bias-hip", c.sensors.tau_bias_Nm[0], "Torque sensor bias, hip, N m")->capture_default_str()->group(g);
   app.add_option("--tau-bias-knee", c.sensors.tau_bias_Nm[1], "Torque sensor bias, knee, N m")->capture_default_str()->group(g);
-  app.add_option("--vibration", c.variant.vibration_level, "Pedestal mount compliance level (0 = welded, 1 = nominal)")
+  app.add_option("--vibration", c.variant.vibration_level, "The stand's mount compliance level (0 = rigid, 1 = nominal; the APAL leg's pedestal, a chain's stand)")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);
   app.add_option("--floor-force", c.floor.force_x_amplitude_N, "Floor disturbance: fore-aft sinusoidal force amplitude on the pedestal, N")
       ->check(CLI::NonNegativeNumber)->capture_default_str()->group(g);

@@ -199,7 +199,7 @@ void validateChain(const SweepConfig& c) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
   if (c.chain_design) {
-    const std::vector<std::string> joints = sim::serialChainFromMjcfFile(c.chain_model_path).jointNames();
+    const std::vector<std::string> joints = sim::serialChainFromFile(c.chain_model_path).jointNames();
     if (c.chain_design->joints != joints) {
       throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->joints.size()) +
                              " joints (" + core::joined(c.chain_design->joints) + "); " + model + " has " + core::joined(joints) +

@@ -17,7 +17,7 @@ struct IdentifyEnvelope {
   /// {"name", "joints", ...}: a chain's model file, or the APAL leg's 2-link model of its constants.
   nlohmann::json model;
   std::vector<std::string> data;  ///< the fit's records (with stages: the last stage's, every joint moving)
-  /// The segmental strategy's earlier stages, distal first: (first moving joint, record). Empty: one fit.
+  /// The segmental strategy's earlier stages as given: (first moving joint, record). Empty: one fit.
   std::vector<std::pair<std::string, std::string>> stages;
   std::vector<std::string> validate;
   nlohmann::json sampling = nlohmann::json::object();  ///< each record's sampling as read and used, by file
