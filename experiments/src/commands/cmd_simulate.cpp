@@ -76,7 +76,10 @@ void runChainSimulate(const SimulateArgs& a) {
     }
   }
   sim::ChainSimConfig c = chainSimConfig(a.config);
-  if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, sim::serialChainFromFile(c.model_path).links.size());
+  // The chain's joints, read from the file once when an option is checked against them.
+  std::vector<std::string> joints;
+  if (a.given("--tau-bias") || a.given("--excitation")) joints = sim::serialChainFromFile(c.model_path).jointNames();
+  if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, joints.size());
   if (a.given("--actuator-bandwidth")) c.actuator_bandwidth_hz = a.actuator_bandwidth_hz;
   if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sensors.tau_bandwidth_Hz = a.config.sensors.tau_bandwidth_Hz;
   c.coulomb_v0_radps = a.coulomb_v0_radps;
@@ -88,9 +91,8 @@ void runChainSimulate(const SimulateArgs& a) {
   }
   c.locked = a.lock;
   c.seed = a.config.seed;
-  if (a.cmd->count("--excitation") > 0) {
+  if (a.given("--excitation")) {
     // The design's joints must be the chain's, in order; the joints it holds are the rig's locks.
-    const std::vector<std::string> joints = sim::serialChainFromFile(c.model_path).jointNames();
     const sim::NamedTrajectory design = excitationFor(a, joints);
     c.trajectory = design.series;
     for (std::size_t k = 0; k < static_cast<std::size_t>(design.series.locked_joints); ++k) {

@@ -69,43 +69,21 @@ std::vector<int> excitationParameters(const Robot& robot, int locked_joints, con
   if (locked == 0) return touched;
   // With joints held still, a column the moving equations touch can be a combination of the
   // others (a held hip leaves the knee's armature column equal to its link inertia's): kept in
-  // column order when it adds a direction over fixed, well-spread states of the moving joints.
-  const int states = 3 * static_cast<int>(touched.size()) + 10;
-  const int moving = dof - locked;
-  Eigen::MatrixXd H(static_cast<Eigen::Index>(states) * moving, static_cast<Eigen::Index>(touched.size()));
-  Eigen::MatrixXd rows(dof, robot.parameters());
-  RobotWorkspace work;
-  const ChainBaseMotion still = ChainBaseMotion::still(robot.chain);
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(dof), qd = Eigen::VectorXd::Zero(dof), qdd = Eigen::VectorXd::Zero(dof);
-  if (locked_at_rad.size() != 0 && locked_at_rad.size() != locked) {
-    throw std::invalid_argument("excitation: locked_at_rad has " + core::toText(locked_at_rad.size()) + " angles for " + core::toText(locked) +
-                                " locked joints");
-  }
-  if (locked_at_rad.size() == locked) q.head(locked) = locked_at_rad;
-  for (int k = 0; k < states; ++k) {
-    for (int j = locked; j < dof; ++j) {
-      q[j] = 1.7 * std::sin(0.61 * k + 1.3 * j + 0.4);
-      qd[j] = 1.1 * std::sin(0.37 * k + 2.1 * j + 1.0);
-      qdd[j] = 2.3 * std::sin(0.83 * k + 0.9 * j + 2.0);
-    }
-    robotRowsInto(robot, q, qd, qdd, still, work, rows);
-    for (std::size_t c = 0; c < touched.size(); ++c) {
-      H.block(static_cast<Eigen::Index>(k) * moving, static_cast<Eigen::Index>(c), moving, 1) = rows.col(touched[c]).tail(moving);
-    }
-  }
+  // column order when it adds a direction, judged as base parameters are (base_parameters.hpp).
+  const BaseParameterOptions structure;
+  const Eigen::MatrixXd rows = heldJointRows(robot, locked, structure, locked_at_rad);
   std::vector<int> kept;
-  Eigen::MatrixXd basis(H.rows(), 0);
-  for (std::size_t c = 0; c < touched.size(); ++c) {
-    const double norm = H.col(static_cast<Eigen::Index>(c)).norm();
+  Eigen::MatrixXd basis(rows.rows(), 0);
+  for (int c : touched) {
+    const double norm = rows.col(c).norm();
     if (!(norm > 0.0)) continue;
-    Eigen::VectorXd v = H.col(static_cast<Eigen::Index>(c)) / norm;
+    Eigen::VectorXd v = rows.col(c) / norm;
     for (int pass = 0; pass < 2; ++pass) v -= basis * (basis.transpose() * v);  // Gram-Schmidt, twice
-    // About sqrt(machine epsilon): a dependent unit column leaves rounding (~1e-15) after two
-    // passes, an independent one over these spread states a residual of order 0.1.
-    if (v.norm() < 1e-8) continue;
+    // A unit column's residual is its pivot in a QR of the unit columns: the base parameters' rule.
+    if (v.norm() <= structure.tolerance) continue;
     basis.conservativeResize(Eigen::NoChange, basis.cols() + 1);
     basis.col(basis.cols() - 1) = v.normalized();
-    kept.push_back(touched[c]);
+    kept.push_back(c);
   }
   return kept;
 }

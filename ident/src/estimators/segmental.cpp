@@ -15,27 +15,6 @@
 namespace exoid::ident {
 namespace {
 
-// The stage's rows at random states, the locked joints still (the structure, not data).
-Eigen::MatrixXd lockedRows(const Robot& robot, Eigen::Index first, const BaseParameterOptions& o) {
-  const int n = robot.dof();
-  const Eigen::Index moving = n - first;
-  Eigen::MatrixXd W(static_cast<Eigen::Index>(o.samples) * moving, robot.parameters());
-  core::Rng rng(core::deriveSeed(o.seed, static_cast<std::uint64_t>(first)));
-  RobotWorkspace work;
-  Eigen::MatrixXd Y(n, robot.parameters());
-  Eigen::VectorXd q(n), qd(n), qdd(n);
-  for (int s = 0; s < o.samples; ++s) {
-    for (int i = 0; i < n; ++i) {
-      q[i] = rng.uniform(-M_PI, M_PI);
-      qd[i] = i < first ? 0.0 : rng.uniform(-3.0, 3.0);
-      qdd[i] = i < first ? 0.0 : rng.uniform(-30.0, 30.0);
-    }
-    robotRowsInto(robot, q, qd, qdd, ChainBaseMotion::still(robot.chain), work, Y);
-    W.middleRows(static_cast<Eigen::Index>(s) * moving, moving) = Y.bottomRows(moving);
-  }
-  return W;
-}
-
 // An orthonormal basis of the complement of span(V) in R^r (V: r x k, k <= r).
 Eigen::MatrixXd complementOf(const Eigen::MatrixXd& V, Eigen::Index r) {
   if (V.cols() == 0) return Eigen::MatrixXd::Identity(r, r);
@@ -112,7 +91,7 @@ SegmentalPlan::SegmentalPlan(const Robot& robot, const std::vector<Eigen::Index>
   for (std::size_t s = 0; s < first_.size(); ++s) {
     // What this stage determines: its locked-joint rows' directions outside span(V).
     const Eigen::MatrixXd N = complementOf(V, r);
-    const Eigen::MatrixXd A = lockedRows(robot, first_[s], structure) * N;
+    const Eigen::MatrixXd A = heldJointRows(robot, first_[s], structure) * N;
     const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinV);
     const Eigen::VectorXd& sv = svd.singularValues();
     Eigen::Index k = 0;

@@ -312,4 +312,29 @@ Eigen::MatrixXd predictTorques(const Robot& robot, const JointSignals& s, const 
   return tau;
 }
 
+Eigen::MatrixXd heldJointRows(const Robot& robot, Eigen::Index first_moving, const BaseParameterOptions& o, const Eigen::VectorXd& held_at_rad) {
+  const int n = robot.dof();
+  if (first_moving < 0 || first_moving >= n) throw std::invalid_argument("heldJointRows: first_moving " + core::toText(first_moving) + " is not a joint");
+  if (held_at_rad.size() != 0 && held_at_rad.size() != first_moving) {
+    throw std::invalid_argument("heldJointRows: " + core::toText(held_at_rad.size()) + " held angles for " + core::toText(first_moving) + " held joints");
+  }
+  const Eigen::Index moving = n - first_moving;
+  Eigen::MatrixXd W(static_cast<Eigen::Index>(o.samples) * moving, robot.parameters());
+  core::Rng rng(core::deriveSeed(o.seed, static_cast<std::uint64_t>(first_moving)));
+  RobotWorkspace work;
+  Eigen::MatrixXd Y(n, robot.parameters());
+  Eigen::VectorXd q(n), qd(n), qdd(n);
+  for (int s = 0; s < o.samples; ++s) {
+    for (int i = 0; i < n; ++i) {
+      const bool held = i < first_moving;
+      q[i] = held && held_at_rad.size() != 0 ? held_at_rad[i] : rng.uniform(-M_PI, M_PI);
+      qd[i] = held ? 0.0 : rng.uniform(-3.0, 3.0);
+      qdd[i] = held ? 0.0 : rng.uniform(-30.0, 30.0);
+    }
+    robotRowsInto(robot, q, qd, qdd, ChainBaseMotion::still(robot.chain), work, Y);
+    W.middleRows(static_cast<Eigen::Index>(s) * moving, moving) = Y.bottomRows(moving);
+  }
+  return W;
+}
+
 }  // namespace exoid::ident

@@ -62,9 +62,10 @@ struct ExcitationScore {
 
 /// The parameters a trajectory's rows determine: those the moving joints' equations touch
 /// (robot.joint_columns), all of them when no joint is locked. With the first locked_joints held
-/// (at locked_at_rad, one each; 0 when empty), a touched column that is a combination of earlier
-/// ones in the moving equations is left out (a held hip: a knee armature's column is its link
-/// inertia's), so the design is for what such a record can identify.
+/// (at locked_at_rad, one each; at any angle when empty), a touched column that is a combination of
+/// earlier ones in the moving equations (robot.hpp's heldJointRows, judged by the base parameters'
+/// tolerance) is left out (a held hip: a knee armature's column is its link inertia's), so the
+/// design is for what such a record can identify. Throws std::invalid_argument on a wrong count.
 std::vector<int> excitationParameters(const Robot& robot, int locked_joints, const Eigen::VectorXd& locked_at_rad = {});
 
 /// Scores a trajectory for nominal parameters theta_nominal (the robot's; torques). A locked

@@ -73,6 +73,13 @@ void robotRowsInto(const Robot& robot, const Eigen::Ref<const Eigen::VectorXd>& 
                    const Eigen::Ref<const Eigen::VectorXd>& qdd, const ChainBaseMotion& base, RobotWorkspace& work,
                    Eigen::Ref<Eigen::MatrixXd> out);
 
+/// The rows of the joints from `first_moving` down at o.samples random states (q uniform in
+/// [-pi, pi], qd in [-3, 3] rad/s, qdd in [-30, 30] rad/s^2, from o.seed and first_moving), the
+/// joints above it still: at held_at_rad (one angle each) when given, else at random angles. What
+/// a stage's record can determine is what these rows determine: the structure, not data.
+Eigen::MatrixXd heldJointRows(const Robot& robot, Eigen::Index first_moving, const BaseParameterOptions& o,
+                              const Eigen::VectorXd& held_at_rad = {});
+
 /// tau = Y(q, qd, qdd) theta at one state on a still base under the chain's gravity (a model's
 /// inverse dynamics: its closed loop, its feedforward). The 2-link leg's from its hand-written rows.
 Eigen::VectorXd robotTorque(const Robot& robot, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
