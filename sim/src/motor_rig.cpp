@@ -2,7 +2,7 @@
 
 #include "exoid/core/format.hpp"
 #include "exoid/core/pid.hpp"
-#include "exoid/sim/chain_mjcf.hpp"
+#include "exoid/sim/urdf_rig.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/mujoco_hooks.hpp"
 #include "exoid/sim/random.hpp"
@@ -87,7 +87,7 @@ namespace {
 // exactly still) at vibration level 0, else the file as it is.
 ModelPtr loadChainRig(const ChainSimConfig& config) {
   if (isUrdfPath(config.model_path)) {
-    // A URDF has no motors and no stand: its chain as an MJCF with both (chain_mjcf.hpp).
+    // A URDF has no motors and no stand: its chain as an MJCF with both (urdf_rig.hpp).
     SerialChain chain;
     try {
       chain = serialChainFromUrdf(config.model_path);
@@ -98,7 +98,7 @@ ModelPtr loadChainRig(const ChainSimConfig& config) {
                                          "--lock) is identify's, identifiability's, excite's and truth's; give the simulation a URDF of "
                                          "that chain alone");
     }
-    return compileMjcf(chainMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
+    return compileMjcf(urdfRigMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
   }
   if (config.vibration_level == 0.0) {
     const std::string xml = readFileBytes(config.model_path);
@@ -431,7 +431,7 @@ class ChainRig {
 }  // namespace
 
 bool hasCompliantMount(const std::string& model_path) {
-  if (isUrdfPath(model_path)) return true;  // simulated on the stand (chain_mjcf.hpp)
+  if (isUrdfPath(model_path)) return true;  // simulated on the stand (urdf_rig.hpp)
   const ModelPtr model = loadMjcfFile(model_path);
   return !drivenJoints(model.get(), model_path).mount.empty();
 }

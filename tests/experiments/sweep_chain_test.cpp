@@ -84,7 +84,7 @@ TEST(ChainSweepConfig, RefusesWhatTheChainRigLacksNamingTheKey) {
   EXPECT_NE(e.find("iv-band"), std::string::npos) << e;  // names the chain's methods
   e = chainConfigError(leg3 + "[simulation]\nramp_s = 1.0\n");
   EXPECT_NE(e.find("'simulation.ramp_s'"), std::string::npos) << e;
-  // A URDF's chain is simulated on the stand (sim/chain_mjcf.hpp): vibration is an axis of its sweep.
+  // A URDF's chain is simulated on the stand (sim/urdf_rig.hpp): vibration is an axis of its sweep.
   EXPECT_EQ(chainConfigError("[sweep]\nmodel = \"" + std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf\"\n[grid]\nvibration_level = [0.0, 1.0]\n"),
             "no error");
   e = chainConfigError("[sweep]\nmodel = \"no_such_model.xml\"\n");

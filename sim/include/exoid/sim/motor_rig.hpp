@@ -39,7 +39,7 @@ core::FourierSeries defaultChainTrajectory(const SerialChain& chain, std::uint64
 SensorOptions idealTorqueSensing();
 
 /// True when the model at `model_path` stands on a compliant mount (joints between the world and
-/// the chain: what vibration_level > 0 needs); a URDF's chain always does (chain_mjcf.hpp).
+/// the chain: what vibration_level > 0 needs); a URDF's chain always does (urdf_rig.hpp).
 /// Throws std::invalid_argument as simulateChain does.
 bool hasCompliantMount(const std::string& model_path);
 

@@ -15,6 +15,6 @@ namespace exoid::sim {
 /// chain's source and link when MuJoCo could not simulate a link (no mass; an inertia with a
 /// moment not positive or above the sum of the other two: a point mass, a rod), and naming a
 /// link or joint that takes a name the rig uses (world, exoid_stand, exoid_base, mount_*).
-std::string chainMjcf(const SerialChain& chain, bool with_mount);
+std::string urdfRigMjcf(const SerialChain& chain, bool with_mount);
 
 }  // namespace exoid::sim

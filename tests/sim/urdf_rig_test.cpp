@@ -1,7 +1,7 @@
-// A URDF's chain as the MJCF the chain rig simulates (sim/chain_mjcf.hpp): read back from the
+// A URDF's chain as the MJCF the chain rig simulates (sim/urdf_rig.hpp): read back from the
 // compiled model, every body, joint frame, limit and friction is the URDF's, on a fixed base and
 // on the stand; what MuJoCo cannot simulate or name is refused naming the link.
-#include "exoid/sim/chain_mjcf.hpp"
+#include "exoid/sim/urdf_rig.hpp"
 #include "exoid/sim/model.hpp"
 #include "exoid/sim/serial_chain.hpp"
 
@@ -32,7 +32,7 @@ SerialChain leg3(bool general) {
 }
 
 void expectTheSameChain(const SerialChain& urdf, bool mount) {
-  const ModelPtr m = compileMjcf(chainMjcf(urdf, mount), "the chain as MJCF");
+  const ModelPtr m = compileMjcf(urdfRigMjcf(urdf, mount), "the chain as MJCF");
   std::vector<double> coulomb;
   for (const ChainLinkBody& l : urdf.links) coulomb.push_back(l.coulomb_Nm);
   const SerialChain back = serialChainFromMjcf(m.get(), drivenHinges(m.get(), "the chain as MJCF"), coulomb, "the chain as MJCF");
@@ -65,7 +65,7 @@ void expectTheSameChain(const SerialChain& urdf, bool mount) {
   EXPECT_EQ(m->njnt, static_cast<int>(urdf.links.size()) + (mount ? 3 : 0));
 }
 
-TEST(ChainMjcf, TheCompiledModelIsTheUrdfsChain) {
+TEST(UrdfRig, TheCompiledModelIsTheUrdfsChain) {
   for (const bool general : {false, true}) {
     for (const bool mount : {false, true}) {
       SCOPED_TRACE(std::string(general ? "general" : "leg3") + (mount ? ", on the stand" : ", fixed"));
@@ -75,7 +75,7 @@ TEST(ChainMjcf, TheCompiledModelIsTheUrdfsChain) {
 }
 
 // No mass, a point mass or a rod (a moment 0), a name the rig uses: refused naming the link.
-TEST(ChainMjcf, WhatMujocoCannotSimulateIsRefusedNamingTheLink) {
+TEST(UrdfRig, WhatMujocoCannotSimulateIsRefusedNamingTheLink) {
   const SerialChain urdf = leg3(false);
   SerialChain massless = urdf, point = urdf, rod = urdf, reserved = urdf;
   massless.links[2].mass_kg = 0.0;
@@ -84,7 +84,7 @@ TEST(ChainMjcf, WhatMujocoCannotSimulateIsRefusedNamingTheLink) {
   reserved.links[2].link = "exoid_stand";
   for (const SerialChain* bad : {&massless, &point, &rod, &reserved}) {
     try {
-      chainMjcf(*bad, true);
+      urdfRigMjcf(*bad, true);
       ADD_FAILURE() << "accepted: " << bad->links[2].link;
     } catch (const std::invalid_argument& e) {
       EXPECT_NE(std::string(e.what()).find("'" + bad->links[2].link + "'"), std::string::npos) << e.what();

@@ -1,4 +1,4 @@
-#include "exoid/sim/chain_mjcf.hpp"
+#include "exoid/sim/urdf_rig.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -88,7 +88,7 @@ void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& in
 
 }  // namespace
 
-std::string chainMjcf(const SerialChain& chain, bool with_mount) {
+std::string urdfRigMjcf(const SerialChain& chain, bool with_mount) {
   checkNames(chain);
   std::ostringstream x;
   x << "<mujoco model=\"" << xmlName(chain.name) << "\">\n"
