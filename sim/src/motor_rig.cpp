@@ -68,6 +68,7 @@ void ChainSimConfig::validate() const {
     if (!ok) throw std::invalid_argument(std::string("chain simulation: '") + field + "' must be " + what);
   };
   need(!model_path.empty(), "model_path", "a model file");
+  need(selection.empty() || isUrdfPath(model_path), "selection", "empty for an MJCF (simulated as it is; a chain is chosen out of a URDF's tree)");
   need(duration_s > 0.0 && std::isfinite(duration_s), "duration_s", "> 0");
   need(dt_s > 0.0 && dt_s <= 0.01, "dt_s", "in (0, 0.01]");
   sensors.validate();
@@ -87,17 +88,8 @@ namespace {
 // exactly still) at vibration level 0, else the file as it is.
 ModelPtr loadChainRig(const ChainSimConfig& config) {
   if (isUrdfPath(config.model_path)) {
-    // A URDF has no motors and no stand: its chain as an MJCF with both (urdf_rig.hpp).
-    SerialChain chain;
-    try {
-      chain = serialChainFromUrdf(config.model_path);
-    } catch (const std::invalid_argument& e) {
-      const std::string what = e.what();
-      if (what.find("a tree, not a serial chain") == std::string::npos) throw;
-      throw std::invalid_argument(what + ". The rig simulates a serial chain's URDF whole: choosing a chain out of a tree (--base, --tip, "
-                                         "--lock) is identify's, identifiability's, excite's and truth's; give the simulation a URDF of "
-                                         "that chain alone");
-    }
+    // A URDF has no motors and no stand: its chain (out of a tree by the selection) as an MJCF with both (urdf_rig.hpp).
+    const SerialChain chain = serialChainFromUrdf(config.model_path, config.selection);
     return compileMjcf(urdfRigMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
   }
   if (config.vibration_level == 0.0) {

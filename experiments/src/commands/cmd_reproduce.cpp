@@ -11,6 +11,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/report/table.hpp"
+#include "exoid/sim/serial_chain.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -34,6 +35,7 @@ struct Args {
   bool optimised_arm = true;
   bool keep_edits = false;
   int design_restarts = ident::ExcitationOptions{}.restarts;  ///< a chain's design (the APAL leg's are shipped)
+  core::ChainSelection selection;  ///< a URDF tree's chain: --base, --tip, --lock
   CLI::App* cmd = nullptr;
 };
 
@@ -46,18 +48,25 @@ void runChain(const Args& a) {
                           name == "--methods" || name == "--duration" || name == "--dt" || name == "--noise-q-deg" ||
                           name == "--quantisation-deg" || name == "--noise-tau" || name == "--help" || name == "--no-video" ||
                           name == "--design-restarts" || name == "--vibration" || name == "--encoder-backlash-deg" ||
-                          name == "--torque-sensor-bandwidth" || name == "--imu-acc-noise" || name == "--imu-gyro-noise";
+                          name == "--torque-sensor-bandwidth" || name == "--imu-acc-noise" || name == "--imu-gyro-noise" ||
+                          name == "--base" || name == "--tip" || name == "--lock";
     if (o->count() > 0 && !chain_ok) {
       throw CLI::ValidationError(name, "is not an option of the chain protocol (reproduce --model " + a.config.sim.model_path +
                                            "): it takes --out, --no-plots, --seed, --methods, --duration, --dt, --noise-q-deg, "
                                            "--quantisation-deg, --noise-tau, --encoder-backlash-deg, --vibration (a model with a "
-                                           "mount), --torque-sensor-bandwidth, --imu-acc-noise, --imu-gyro-noise, --design-restarts");
+                                           "mount), --torque-sensor-bandwidth, --imu-acc-noise, --imu-gyro-noise, --design-restarts, "
+                                           "--base, --tip, --lock (a URDF tree's chain)");
     }
+  }
+  if (!a.selection.empty() && !sim::isUrdfPath(a.config.sim.model_path)) {
+    throw CLI::ValidationError("--base/--tip/--lock", "choose a chain out of a URDF's tree; '" + a.config.sim.model_path +
+                                                         "' is an MJCF, simulated as it is");
   }
   ChainReproduceArgs c;
   c.out = a.out.dir;
   c.plots = a.out.plots;
   c.sim = chainSimConfig(a.config.sim);
+  c.sim.selection = a.selection;
   // The chain's rig stands still and senses torque ideally unless asked (the APAL leg's reproduce
   // defaults are its pedestal's nominal vibration and its torque sensor's 200 Hz).
   if (a.cmd->count("--vibration") == 0) c.sim.vibration_level = 0.0;
@@ -76,6 +85,7 @@ void runChain(const Args& a) {
 
 void run(Args a) {
   if (!sim::isApalLegModel(a.config.sim.model_path)) return runChain(a);
+  if (!a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "choose a chain out of a URDF's tree; the APAL leg's protocol is its own");
   if (a.cmd->count("--design-restarts") > 0) {
     throw CLI::ValidationError("--design-restarts", "designs a chain's excitation (--model leg3|FILE); the APAL leg's designs are "
                                "--excitation-knee and --excitation-both");
@@ -169,6 +179,7 @@ void addReproduceCommand(CLI::App& app) {
                   "Optimised arm: the designed record replacing trajectory 3 (exoid excite); validation stays on 2 and 4")
       ->check(CLI::ExistingFile)->capture_default_str();
   addSimOptions(*cmd, args->config.sim, /*choose_trajectory=*/false);  // the protocol runs 1-4
+  addChainSelectionOptions(*cmd, args->selection);
   addSignalOptions(*cmd, args->config.signals);
   addMethodOptions(*cmd, args->config.methods);
   // One protocol seed instead of the PSO seed: sensor noise and PSO streams derive from it.

@@ -29,6 +29,7 @@ struct SimulateArgs {
   double bandwidth_hz = 4.0;        ///< chain models: PD bandwidth
   // Every leg's rig, one spelling (the APAL leg's own options stay its aliases):
   std::vector<std::string> lock;    ///< joints locked (segmental records); the APAL leg: hip (--lock-hip)
+  core::ChainSelection selection;   ///< a URDF tree's chain: --base, --tip, --lock JOINT=VALUE
   double integral_hz = 0.0;         ///< the feedback's integral, ki = kp 2 pi f (0 = PD); given or not: cmd->count
   std::vector<double> tau_bias_Nm;  ///< torque sensor bias per joint (the APAL leg: --tau-bias-hip, --tau-bias-knee)
   double actuator_bandwidth_hz = 0.0;  ///< every joint's (the APAL leg: --hip/--knee-actuator-bandwidth)
@@ -76,9 +77,14 @@ void runChainSimulate(const SimulateArgs& a) {
     }
   }
   sim::ChainSimConfig c = chainSimConfig(a.config);
+  if (!a.selection.empty() && !sim::isUrdfPath(c.model_path)) {
+    throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; '" + c.model_path +
+                                                                   "' is an MJCF, simulated as it is (its motors' joints)");
+  }
+  c.selection = a.selection;
   // The chain's joints, read from the file once when an option is checked against them.
   std::vector<std::string> joints;
-  if (a.given("--tau-bias") || a.given("--excitation")) joints = sim::serialChainFromFile(c.model_path).jointNames();
+  if (a.given("--tau-bias") || a.given("--excitation")) joints = sim::serialChainFromFile(c.model_path, c.selection).jointNames();
   if (a.given("--tau-bias")) c.sensors.tau_bias_Nm = tauBias(a, joints.size());
   if (a.given("--actuator-bandwidth")) c.actuator_bandwidth_hz = a.actuator_bandwidth_hz;
   if (a.cmd->count("--torque-sensor-bandwidth") > 0) c.sensors.tau_bandwidth_Hz = a.config.sensors.tau_bandwidth_Hz;
@@ -132,6 +138,9 @@ sim::SimConfig apalRigOptions(const SimulateArgs& a) {
 void runSimulate(const SimulateArgs& a) {
   checkLockedOnce(a);
   if (!sim::isApalLegModel(a.config.model_path)) return runChainSimulate(a);
+  if (!a.selection.empty()) {
+    throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; the APAL leg's rig is its own");
+  }
   for (const char* chain_only : {"--record-derivatives", "--coulomb-v0", "--bandwidth"}) {
     if (a.cmd->count(chain_only) > 0) {
       throw CLI::ValidationError(chain_only, "is an option of the motor rig (--model leg3|FILE); the APAL leg's rig takes its PD "
@@ -212,7 +221,7 @@ void addSimulateCommand(CLI::App& app) {
       "dataset CSV plus a JSON sidecar (same name, .json) with every setting, the seed, versions and\n"
       "the truths. The APAL leg (default): its four-bar and pedestal, the truths of its rigid links,\n"
       "lumped four-bar band and best fit. Any other chain (--model leg3|FILE, an MJCF with motors or a\n"
-      "serial chain's URDF): the motor rig, its standard and base parameters.");
+      "URDF, a tree's chain by --base/--tip/--lock): the motor rig, its standard and base parameters.");
   addSimOptions(*cmd, args->config);
   cmd->add_option("--seed", args->config.seed, "Seed of the sensor noise and floor disturbance")->check(seedValidator())->capture_default_str();
   cmd->add_flag("!--no-exact", args->config.exact_columns, "Omit the exact (ground-truth) columns");
@@ -227,9 +236,20 @@ void addSimulateCommand(CLI::App& app) {
   cmd->add_option("--bandwidth", args->bandwidth_hz, "Chain models: PD tracking bandwidth per joint, Hz")
       ->check(positiveNumber())->capture_default_str()->group("Chain models");
   const char* rig = "Rig (every leg)";
-  cmd->add_option("--lock", args->lock,
-                  "Joints locked at the trajectory's offset, e.g. --lock hip,knee for a chain's ankle record (their recorded\n"
-                  "torque is the motor's holding command; identify --stage leaves it out); the APAL leg: hip (= --lock-hip)")
+  cmd->add_option_function<std::vector<std::string>>(
+         "--lock",
+         [args](const std::vector<std::string>& locks) {
+           for (const std::string& l : locks) {
+             if (l.find('=') == std::string::npos) {
+               args->lock.push_back(l);
+             } else {
+               addTreeLock(args->selection, l);
+             }
+           }
+         },
+         "Joints locked at the trajectory's offset, e.g. --lock hip,knee for a chain's ankle record (their recorded\n"
+         "torque is the motor's holding command; identify --stage leaves it out); the APAL leg: hip (= --lock-hip).\n"
+         "JOINT=VALUE: a URDF tree's joint held at VALUE (rad), off the chain, as identify's --lock (group 'Robot')")
       ->delimiter(',')->group(rig);
   cmd->add_option("--integral-hz", args->integral_hz,
                   "The feedback's integral, ki = kp 2 pi f per joint (0 = PD), written to the record's controller metadata,\n"
@@ -244,6 +264,7 @@ void addSimulateCommand(CLI::App& app) {
                   "ideal; default: the APAL leg's motor and hydraulics, 100 Hz on a chain); --feedforward/--no-feedforward, in\n"
                   "'Simulation', apply to every leg too")
       ->check(CLI::NonNegativeNumber)->group(rig);
+  addChainSelectionOptions(*cmd, args->selection, false);
   args->cmd = cmd;
   cmd->callback([args] { runSimulate(*args); });
 }

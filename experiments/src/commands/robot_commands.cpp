@@ -95,6 +95,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   j["tool"] = toolJson();
   j["mujoco_version"] = r.mujoco_version;
   j["model"] = {{"name", r.chain.name}, {"path", c.model_path}, {"joints", model.jointNames()}};
+  if (!c.selection.empty()) j["model"]["selection"] = c.selection.options();  // what identify --model needs alike
   j["config"] = {{"duration_s", c.duration_s},
                  {"dt_s", c.dt_s},
                  {"seed", c.seed},

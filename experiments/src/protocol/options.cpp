@@ -315,7 +315,15 @@ nlohmann::json toJson(const ident::MethodOptions& o) {
           {"report_optimality_gap", o.report_optimality_gap}};
 }
 
-void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection) {
+void addTreeLock(core::ChainSelection& selection, const std::string& joint_equals_value) {
+  try {
+    selection.addLock(joint_equals_value);
+  } catch (const std::invalid_argument& e) {
+    throw CLI::ValidationError("--lock", e.what());
+  }
+}
+
+void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection, bool with_lock) {
   cmd.add_option("--base", selection.base,
                  "Robot trees (a humanoid's or an exoskeleton's whole body): the link the chain starts from, held still\n"
                  "(default: the file's root; MJCF: a body, default the world). Moving branches hanging from it are left out")
@@ -323,16 +331,11 @@ void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection) {
   cmd.add_option("--tip", selection.tip,
                  "Robot trees: the link the chain ends at (e.g. a foot); without it a tree is refused with its leaf links")
       ->group("Robot");
+  if (!with_lock) return;
   cmd.add_option_function<std::vector<std::string>>(
          "--lock",
          [&selection](const std::vector<std::string>& locks) {
-           for (const std::string& l : locks) {
-             try {
-               selection.addLock(l);
-             } catch (const std::invalid_argument& e) {
-               throw CLI::ValidationError("--lock", e.what());
-             }
-           }
+           for (const std::string& l : locks) addTreeLock(selection, l);
          },
          "Robot trees: JOINT=VALUE holds a joint at VALUE (rad; m for a prismatic one); a moving branch off the chain\n"
          "is refused unless locked, and is lumped into its link at that posture. Repeatable")

@@ -55,6 +55,7 @@ double medianAbsError(const std::vector<double>& estimate, const std::vector<dou
 std::string designFitRecord(const ChainReproduceArgs& a, const std::string& dir) {
   ExciteRequest ex;
   ex.model = a.sim.model_path;
+  ex.selection = a.sim.selection;
   ex.out = dir + "design.json";
   ex.options.seed = core::deriveSeed(a.seed, 0);
   ex.options.restarts = a.design_restarts;
@@ -102,6 +103,7 @@ struct ChainIdentifications {
 ChainIdentifications identifyRecords(const ChainReproduceArgs& a, const std::string& dir, const ChainRecords& records) {
   ChainIdentifyArgs id;
   id.model = a.sim.model_path;
+  id.selection = a.sim.selection;
   id.data = {dir + "fit.csv"};
   id.validate = {dir + "check.csv"};
   id.truth = dir + "fit.json";
@@ -177,7 +179,8 @@ void writeChainReport(const ChainReproduceArgs& a, const std::string& dir, const
   for (auto it = sg["methods"].begin(); it != sg["methods"].end(); ++it) staged.emplace_back(it.key(), it.value()["beta"].get<std::vector<double>>());
   std::ostringstream md;
   md << "# exoid reproduce --model " << records.fit_sidecar["model"]["name"].get<std::string>() << "\n\n"
-     << "Model `" << std::filesystem::path(a.sim.model_path).filename().string() << "` (" << records.joints.size() << " joints, " << names.size()
+     << "Model `" << std::filesystem::path(a.sim.model_path).filename().string()
+     << (a.sim.selection.empty() ? "" : " " + a.sim.selection.options()) << "` (" << records.joints.size() << " joints, " << names.size()
      << " base parameters), seed " << a.seed << ", " << toolJson().dump() << ".\n\n"
      << "Records (" << fmt(a.sim.duration_s, 4) << " s at " << fmt(1.0 / a.sim.dt_s, 4) << " Hz; encoder noise "
      << fmt(a.sim.sensors.noise_q_deg, 3) << " deg, resolution " << fmt(a.sim.sensors.quantisation_deg, 3) << " deg, torque noise "
@@ -209,7 +212,7 @@ int reproduceChain(const ChainReproduceArgs& a) {
   startFolderRun(a.out, a.keep_edits, std::cout);
   const auto started = std::filesystem::file_time_type::clock::now() - std::chrono::seconds(1);
   const std::string dir = a.out + "/";
-  std::cout << "exoid reproduce --model " << a.sim.model_path << ": design, " << a.sim.duration_s
+  std::cout << "exoid reproduce --model " << a.sim.model_path << (a.sim.selection.empty() ? "" : " " + a.sim.selection.options()) << ": design, " << a.sim.duration_s
             << " s records, identification by every method, one fit and the segmental strategy\n"
             << std::flush;
   const std::string design = designFitRecord(a, dir);

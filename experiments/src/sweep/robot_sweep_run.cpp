@@ -28,6 +28,7 @@ namespace robot_sweep_run {
 sim::ChainSimConfig recordConfig(const SweepConfig& c, const SweepCondition& cond, std::uint64_t seed) {
   sim::ChainSimConfig s;
   s.model_path = c.chain_model_path;
+  s.selection = c.chain_selection;
   s.duration_s = c.base.sim.duration_s;
   s.dt_s = c.base.sim.dt_s;
   s.sensors.noise_q_deg = cond.angle_noise_deg;
@@ -100,7 +101,7 @@ nlohmann::json runChainSweepRun(const SweepConfig& c, const SweepCondition& cond
   const sim::ChainSimResult check = sim::simulateChain(recordConfig(c, cond, core::deriveSeed(seed, 2)));
   const ident::Dataset d = chainDataset(fit);
   const ident::SignalOptions signals = defaultArmSignals(c.base);
-  const LoadedChain loaded = loadChain(c.chain_model_path);
+  const LoadedChain loaded = loadChain(c.chain_model_path, {}, c.chain_selection);
   const ident::ChainModel& model = loaded.model;
   const ident::BaseParameters& base = loaded.base;
   const Eigen::VectorXd truth = base.combination * standardParameters(fit.chain, model);
@@ -172,6 +173,7 @@ SweepConfig withChainDesign(SweepConfig config, const std::string& dir, std::ost
       << config.master_seed << "; give [simulation] excitation to reuse a design)\n";
   ExciteRequest ex;
   ex.model = config.chain_model_path;
+  ex.selection = config.chain_selection;
   ex.out = dir + "/design.json";
   ex.options.seed = core::deriveSeed(config.master_seed, 0);
   ex.plot = false;

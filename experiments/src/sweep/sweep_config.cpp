@@ -198,8 +198,19 @@ void validateChain(const SweepConfig& c) {
   if (std::set<ident::Method>(c.chain_methods.begin(), c.chain_methods.end()).size() != c.chain_methods.size()) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
+  for (const char* key : {"sweep.base", "sweep.tip", "sweep.lock"}) {
+    if (c.origin.count(key) && !sim::isUrdfPath(c.chain_model_path)) {
+      throw SweepConfigError(where(c, key) + ": base, tip and lock choose a chain out of a URDF's tree; '" + c.chain_model_path +
+                             "' is an MJCF, simulated as it is");
+    }
+  }
+  std::vector<std::string> joints;
+  try {
+    joints = sim::serialChainFromFile(c.chain_model_path, c.chain_selection).jointNames();
+  } catch (const std::invalid_argument& e) {
+    throw SweepConfigError(where(c, "sweep.model") + ": " + e.what() + " (a sweep's: [sweep] base, tip, lock)");
+  }
   if (c.chain_design) {
-    const std::vector<std::string> joints = sim::serialChainFromFile(c.chain_model_path).jointNames();
     if (c.chain_design->joints != joints) {
       throw SweepConfigError(where(c, "simulation.excitation") + ": the design moves " + core::toText(c.chain_design->joints.size()) +
                              " joints (" + core::joined(c.chain_design->joints) + "); " + model + " has " + core::joined(joints) +
@@ -208,6 +219,7 @@ void validateChain(const SweepConfig& c) {
   }
   sim::ChainSimConfig s;
   s.model_path = c.chain_model_path;
+  s.selection = c.chain_selection;
   s.duration_s = c.base.sim.duration_s;
   s.dt_s = c.base.sim.dt_s;
   try {
@@ -221,6 +233,11 @@ void validateChain(const SweepConfig& c) {
 }  // namespace
 
 void SweepConfig::validate() const {
+  for (const char* key : {"sweep.base", "sweep.tip", "sweep.lock"}) {
+    if (origin.count(key) && !isChain()) {
+      throw SweepConfigError(where(*this, key) + ": chooses a chain out of a URDF's tree ([sweep] model = a URDF); the APAL leg's rig is its own");
+    }
+  }
   if (origin.count("simulation.excitation") && !isChain()) {
     throw SweepConfigError(where(*this, "simulation.excitation") + ": is a chain model's design ([sweep] model = \"leg3\" or a file); "
                            "the APAL leg's are excitation_knee and excitation_both");
@@ -366,6 +383,7 @@ nlohmann::json SweepConfig::chainJson() const {
                 {"design", "full factorial of the grid lists; torque noise varies fastest; an optimised cell and its default-motion "
                            "twin share seeds; each run: a fit record and a validation record (the default motion of another seed), "
                            "identified as exoid identify --model does, one fit"}};
+  if (!chain_selection.empty()) j["sweep"]["selection"] = chain_selection.options();  // a tree's chain (absent: the file whole)
   nlohmann::json simj = {{"duration_s", base.sim.duration_s}, {"dt_s", base.sim.dt_s}};
   const bool optimised = std::count(trajectories.begin(), trajectories.end(), "optimised") > 0;
   if (optimised && chain_design) {
@@ -432,6 +450,20 @@ void readSweepKey(Reader& r, const std::string& full, const toml::node& v) {
     // A file relative to the config file's folder (as the excitation files); the built-in names as they are.
     const bool builtin = *m == "apal" || *m == "leg3" || m->empty();
     r.model = builtin || fp.is_absolute() ? *m : (std::filesystem::path(r.file).parent_path() / fp).string();
+  } else if (full == "sweep.base" || full == "sweep.tip") {
+    const std::optional<std::string> link = v.value<std::string>();
+    if (!link || !v.is_string() || link->empty()) throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): expected a link of the URDF");
+    (full == "sweep.base" ? c.chain_selection.base : c.chain_selection.tip) = *link;
+    c.origin[full] = r.loc(v);
+  } else if (full == "sweep.lock") {
+    for (const std::string& l : r.strings(v, full)) {
+      try {
+        c.chain_selection.addLock(l);
+      } catch (const std::invalid_argument& e) {
+        throw SweepConfigError("'" + full + "' (" + r.loc(v) + "): " + e.what());
+      }
+    }
+    c.origin[full] = r.loc(v);
   }
 }
 
@@ -544,7 +576,7 @@ struct SectionReader {
 
 const std::map<std::string, SectionReader>& sectionReaders() {
   static const std::map<std::string, SectionReader> kSections = {
-      {"sweep", {{"seeds", "master_seed", "methods", "model"}, readSweepKey}},
+      {"sweep", {{"seeds", "master_seed", "methods", "model", "base", "tip", "lock"}, readSweepKey}},
       {"grid",
        {{"torque_noise_Nm", "angle_noise_deg", "quantisation_deg", "vibration_level", "cylinder_mass_scale", "encoder_backlash_deg", "trajectories"},
         readGridKey}},

@@ -48,7 +48,9 @@ bool hasCompliantMount(const std::string& model_path);
 inline constexpr double kLockInertia_kgm2 = 1e9;
 
 struct ChainSimConfig {
-  std::string model_path;        ///< MJCF (motors on hinge joints)
+  std::string model_path;        ///< MJCF (motors on hinge joints) or URDF (urdf_rig.hpp)
+  /// A URDF tree's chain (base, tip, held joints), as identify reads it; empty: the file whole.
+  ChainSelection selection;
   core::FourierSeries trajectory;  ///< empty (no joints) = defaultChainTrajectory(dof, seed)
   double duration_s = 30.0;      ///< > 0
   double dt_s = 1e-3;            ///< (0, 0.01]; the model's timestep is set to it

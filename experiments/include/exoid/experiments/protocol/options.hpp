@@ -30,7 +30,11 @@ const CLI::Validator& seedValidator();
 const CLI::Validator& positiveNumber();
 /// --base LINK, --tip LINK and --lock JOINT=VALUE (repeatable): the chain of a tree that the
 /// command reads from --model (core::ChainSelection), the same spelling in every command.
-void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection);
+/// Without `with_lock` the command declares --lock itself and passes its JOINT=VALUE entries on
+/// with addTreeLock (simulate: a JOINT alone is its rig's lock).
+void addChainSelectionOptions(CLI::App& cmd, core::ChainSelection& selection, bool with_lock = true);
+/// selection.addLock(joint_equals_value), refused naming --lock.
+void addTreeLock(core::ChainSelection& selection, const std::string& joint_equals_value);
 void addSignalOptions(CLI::App& app, ident::SignalOptions& o);
 /// --seed, PSO, RLS, range and cost flags.
 void addMethodOptions(CLI::App& app, ident::MethodOptions& o);

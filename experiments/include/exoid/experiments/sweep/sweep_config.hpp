@@ -4,6 +4,7 @@
 // a job is (cell, replicate) and its seed derives from (master seed, cell, replicate) only, where
 // the identification trajectories (paper | optimised) do not count as part of the cell: a paper
 // cell and its optimised twin share their seeds (common random numbers), so they pair.
+#include "exoid/core/tree_selection.hpp"
 #include "exoid/experiments/protocol/protocol.hpp"
 #include "exoid/ident/estimators/methods.hpp"
 #include "exoid/sim/motor_rig.hpp"
@@ -69,6 +70,8 @@ struct SweepConfig {
   std::string model;
   /// The chain's file (sim::modelPathFor(model)); empty for the APAL leg.
   std::string chain_model_path;
+  /// [sweep] base, tip, lock: a URDF tree's chain, as identify's --base, --tip, --lock.
+  core::ChainSelection chain_selection;
   /// A chain sweep's methods (methods is the APAL leg's).
   std::vector<ident::Method> chain_methods{ident::Method::kLs, ident::Method::kRls, ident::Method::kPso,
                                            ident::Method::kRlsPso, ident::Method::kLad, ident::Method::kIvBand,
