@@ -4,6 +4,7 @@
 
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/commands/simulate_request.hpp"
 #include "exoid/experiments/protocol/sim_bridge.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
 #include "exoid/sim/model.hpp"
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <map>
+#include <variant>
 
 namespace exoid::python {
 
@@ -43,9 +45,8 @@ void bindSim(py::module_& m) {
   m.def("simulate",
         [](const py::kwargs& kw) {
           CLI::App app{"exoid.simulate"};
-          sim::SimConfig config;
-          experiments::addSimOptions(app, config);
-          app.add_option("--seed", config.seed);
+          experiments::SimulateRequest request;
+          experiments::addSimulateOptions(app, request);
           std::vector<std::string> args;
           for (const auto& [key, value] : kw) {
             const std::size_t first = args.size();
@@ -56,20 +57,22 @@ void bindSim(py::module_& m) {
             }
           }
           std::reverse(args.begin(), args.end());  // CLI11 parses a vector from its back
+          std::variant<sim::SimConfig, sim::ChainSimConfig> rig;
           try {
             app.parse(args);
-          } catch (const CLI::ParseError& e) {
+            rig = experiments::simulationOf(request);
+          } catch (const CLI::Error& e) {
             throw std::invalid_argument(std::string("simulate: ") + e.what() +
                                         " (keywords are `exoid simulate`'s options with '_' for '-')");
           }
-          if (!sim::isApalLegModel(config.model_path)) {
+          if (const auto* chain = std::get_if<sim::ChainSimConfig>(&rig)) {
             // Another robot: the serial-chain simulator (as `exoid simulate --model` runs it).
-            const sim::ChainSimResult r = sim::simulateChain(experiments::chainSimConfig(config));
+            const sim::ChainSimResult r = sim::simulateChain(*chain);
             const nlohmann::json side = experiments::chainSimulationSidecar(r);
             return py::dict(py::arg("dataset") = datasetDict(experiments::chainDataset(r)), py::arg("truth") = jsonToPython(side.at("truth")),
                             py::arg("sidecar") = jsonToPython(side));
           }
-          const sim::SimResult r = sim::simulate(config);
+          const sim::SimResult r = sim::simulate(std::get<sim::SimConfig>(rig));
           const ident::Dataset d = experiments::toDataset(r);
           py::dict truth(py::arg("x") = Eigen::VectorXd(experiments::toParamVector(r.truth.x)),
                          py::arg("thigh_length_m") = r.truth.thigh_length_m, py::arg("gravity_mps2") = r.truth.gravity_mps2,
@@ -84,7 +87,9 @@ void bindSim(py::module_& m) {
         "duration=10, noise_q_deg, noise_tau, vibration, seed, lock_hip=True, feedforward=False, excitation='d.json', "
         "fourier_hip=[...], model='leg.xml', ... (see `exoid simulate --help`); defaults are the command's "
         "(no noise, welded pedestal). model='leg3' (or any model other than the APAL leg) runs the serial-chain "
-        "simulator: dataset has the model's joints, truth its standard_parameters and base_parameters.");
+        "simulator: dataset has the model's joints, truth its standard_parameters and base_parameters; a URDF's "
+        "tree takes base=, tip=, lock=['JOINT=VALUE'] as the command's --base, --tip, --lock. An option that does "
+        "not apply to the robot raises ValueError naming it, as the command refuses it.");
   m.def("load_chain",
         [](const std::string& model, const std::string& base, const std::string& tip, const std::map<std::string, double>& lock) {
           const std::string path = sim::modelPathFor(model);

@@ -70,3 +70,36 @@ def test_chain_idim_iv_gives_the_command_lines_numbers(tmp_path):
         data = exoid.read_dataset(str(csv), joints=leg["joints"])
         data["comments"] = []
         exoid.identify_chain_idim_iv(leg["model"], data)
+
+
+def test_simulate_takes_every_option_of_the_command(tmp_path):
+    """exoid.simulate() is `exoid simulate` (one implementation of its options): a leg out of a
+    whole-body URDF (base, tip, lock), the rig options every leg takes (tau_bias, integral_hz,
+    lock) and the chain's own (record_derivatives) give the command's record, value for value;
+    what does not apply to the robot is refused naming the option."""
+    import os
+    import subprocess
+    binary = exoid_binary()
+    urdf = os.path.join(os.environ.get("EXOID_SOURCE_DIR", "."), "tests", "data", "two_leg_exo.urdf")
+    csv = tmp_path / "leg.csv"
+    done = subprocess.run([binary, "simulate", "--model", urdf, "--base", "pelvis", "--tip", "l_shank", "--lock", "l_ankle_pitch=0.1",
+                           "--lock", "l_ankle_roll=0", "--lock", "l_hip_yaw", "--tau-bias", "0.1,0,0,-0.2", "--integral-hz", "0.5",
+                           "--record-derivatives", "--duration", "2", "--noise-tau", "0.3", "--seed", "4", "--out", str(csv)],
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    assert done.returncode == 0, done.stderr
+    run = exoid.simulate(model=urdf, base="pelvis", tip="l_shank", lock=["l_ankle_pitch=0.1", "l_ankle_roll=0", "l_hip_yaw"],
+                         tau_bias=[0.1, 0, 0, -0.2], integral_hz=0.5, record_derivatives=True, duration=2, noise_tau=0.3, seed=4)
+    assert run["sidecar"]["model"]["selection"] == "--base pelvis --tip l_shank --lock l_ankle_pitch=0.1 --lock l_ankle_roll=0"
+    assert run["sidecar"]["config"]["locked"] == ["l_hip_yaw"]
+    joints = ["l_hip_yaw", "l_hip_roll", "l_hip_pitch", "l_knee"]
+    cli = exoid.read_dataset(str(csv), joints=joints)
+    data = run["dataset"]
+    assert data["joints"] == joints
+    for key in ("t", "q", "tau", "qd", "qdd"):
+        np.testing.assert_array_equal(data[key], cli[key], err_msg=key)
+    with pytest.raises(ValueError, match="--tip"):
+        exoid.simulate(model="leg3", tip="shank", duration=1)
+    with pytest.raises(ValueError, match="--tau-bias: expected one bias per joint"):
+        exoid.simulate(model="leg3", tau_bias=[0.1], duration=1)
+    with pytest.raises(ValueError, match="--bandwidth"):
+        exoid.simulate(trajectory=3, bandwidth=3, duration=1)
