@@ -3,6 +3,7 @@
 // Cramer-Rao std; the APAL leg's design compared with the paper's trajectory on the same footing.
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/excitation_design.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/sim/model.hpp"
 
@@ -22,7 +23,7 @@ struct ExciteArgs {
 
 void runExcite(ExciteArgs a) {
   ExciteRequest& r = a.request;
-  const bool apal = sim::isApalLegModel(sim::modelPathFor(r.model)) && r.selection.empty();
+  const bool apal = isApalLeg(r.model, r.selection);
   for (const auto& [given, name, generic] : {std::tuple{a.knee_only, "--knee-only", "--first-moving knee"},
                                              std::tuple{a.hip_locked_at_deg.has_value(), "--hip-locked-at-deg", "--held-at-deg"}}) {
     if (given && !apal) {

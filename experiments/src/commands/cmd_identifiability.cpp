@@ -8,7 +8,6 @@
 #ifdef EXOID_WITH_MUJOCO
 #include "exoid/experiments/protocol/model_report.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
-#include "exoid/sim/model.hpp"
 #endif
 #include "exoid/experiments/protocol/options.hpp"
 #include "exoid/experiments/report/table.hpp"
@@ -79,7 +78,7 @@ Eigen::MatrixXd pick(const Eigen::MatrixXd& H, const std::vector<int>& cols) {
 // A chain model other than the APAL leg (the APAL leg is the 2-link leg of the record's constants).
 bool chainModel(const Args& a) {
 #ifdef EXOID_WITH_MUJOCO
-  return !a.model.empty() && (!sim::isApalLegModel(sim::modelPathFor(a.model)) || !a.selection.empty());
+  return !a.model.empty() && !isApalLeg(a.model, a.selection);
 #else
   return !a.model.empty();
 #endif

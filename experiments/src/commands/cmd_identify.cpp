@@ -4,8 +4,8 @@
 #include "exoid/experiments/commands/commands.hpp"
 #ifdef EXOID_WITH_MUJOCO
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/experiments/report/plots.hpp"
-#include "exoid/sim/model.hpp"
 #endif
 #include "exoid/experiments/protocol/band_sensitivity.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
@@ -416,7 +416,7 @@ IdentifyArgs chainArguments(IdentifyArgs a) {
 // consistent estimate). The APAL leg's constants are the model's own: refused by name, never ignored.
 bool runChainModel(const IdentifyArgs& given) {
   if (given.model.empty() && !given.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "pick a chain out of --model FILE: give --model");
-  if (given.model.empty() || (sim::isApalLegModel(sim::modelPathFor(given.model)) && given.selection.empty())) return false;
+  if (given.model.empty() || isApalLeg(given.model, given.selection)) return false;
   for (const char* apal_only : {"--thigh-length", "--gravity"}) {
     if (given.cmd->count(apal_only) > 0) {
       throw CLI::ValidationError(apal_only, "is the APAL leg's constant; a chain model's (--model " + given.model + ") come from its file");

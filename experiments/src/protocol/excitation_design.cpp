@@ -298,7 +298,7 @@ void LimitOverrides::applyTo(ident::ExcitationLimits& lim) const {
 void excite(const ExciteRequest& r) {
   if (r.limits != "paper" && r.limits != "urdf") throw CLI::ValidationError("--limits", "expected paper or urdf, got '" + r.limits + "'");
   const std::string path = sim::modelPathFor(r.model);
-  DesignTarget t = sim::isApalLegModel(path) && r.selection.empty() ? apalTarget(r, path) : chainTarget(r);
+  DesignTarget t = isApalLeg(path, r.selection) ? apalTarget(r, path) : chainTarget(r);
   r.overrides.applyTo(t.limits);
   t.limits.validate(t.joints);
   ident::ExcitationOptions o = r.options;

@@ -62,6 +62,10 @@ Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::C
   return phi;
 }
 
+bool isApalLeg(const std::string& name_or_path, const core::ChainSelection& selection) {
+  return selection.empty() && sim::isApalLegModel(sim::modelPathFor(name_or_path));
+}
+
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature, const core::ChainSelection& selection) {
   LoadedChain c;
   c.path = sim::modelPathFor(name_or_path);

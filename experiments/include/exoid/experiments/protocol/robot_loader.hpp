@@ -37,6 +37,10 @@ struct LoadedChain {
   ident::BaseParameters base;
   ident::Robot robot;  ///< model in its base parameters
 };
+/// The APAL leg's own pipeline applies (its X, the paper's protocol and rig): `name_or_path` names
+/// the built-in leg's file, taken whole (no --base, --tip, --lock); any other model is a chain.
+bool isApalLeg(const std::string& name_or_path, const core::ChainSelection& selection);
+
 /// `selection` picks the chain out of a tree (--base, --tip, --lock).
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature = {},
                       const core::ChainSelection& selection = {});
