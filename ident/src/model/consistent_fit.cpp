@@ -351,7 +351,12 @@ ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters&
   fit.phi = coords.toPhi(lm.theta);
   const BarrierSolver barrier(coords, RC, target, scale, options.max_link_mass_kg, options.link_radius_m);
   const bool interior_optimum = fit.status == ConsistentFitStatus::kLeastSquaresConsistent && barrier.feasible(fit.phi);
-  if (!interior_optimum) cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options);
+  if (!interior_optimum) {
+    cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options);
+    // LM stops early on an ill-conditioned A (a step's decrease below the tolerance before the
+    // excess is): when the barrier then meets LS to the tolerance, LS is consistent all the same.
+    if (cost <= options.tolerance * scale) fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
+  }
   fit.beta = base.combination * fit.phi;
   fit.excess_cost = cost;
   for (const JointParameterLayout& l : coords.layout) fit.link_min_eigenvalue.push_back(pseudoInertiaMinEigenvalue(fit.phi.segment<kLinkParams>(l.link)));
