@@ -124,18 +124,26 @@ class BarrierSolver {
     return true;
   }
 
+  struct Solve {
+    int newton_steps = 0;
+    /// nu / t of the last centring completed (0: none): the optimum's excess is within it of
+    /// phi's (in units of scale); rounding that stalls a later centring leaves it there.
+    double gap_bound = 0.0;
+  };
+
   // Newton centring at t, then t x 10, until the gap bound nu / t is below gap times the residual
-  // sum of squares (floor: the unconstrained one, ls_cost in units of scale); returns Newton steps.
-  int solve(Eigen::VectorXd& phi, double gap, double ls_cost, int max_newton) const {
+  // sum of squares (floor: the unconstrained one, ls_cost in units of scale).
+  Solve solve(Eigen::VectorXd& phi, double gap, double ls_cost, int max_newton) const {
     double t = barrier_parameter_ / std::max(objective(phi), 1e-6);
-    int steps = 0;
+    Solve out;  // gap_bound 0 until a centring completes: no claim
     bool stalled = false;
-    while (steps < max_newton && !stalled) {
-      steps += centre(phi, t, max_newton - steps, stalled);
+    while (out.newton_steps < max_newton && !stalled) {
+      out.newton_steps += centre(phi, t, max_newton - out.newton_steps, stalled);
+      if (!stalled) out.gap_bound = barrier_parameter_ / t;
       if (barrier_parameter_ / t <= gap * (objective(phi) + ls_cost)) break;
       t *= 10.0;
     }
-    return steps;
+    return out;
   }
 
   // The barrier's change from a feasible phi to a feasible trial (t q included): q's change from
@@ -305,12 +313,15 @@ LmFit levenbergMarquardt(const Coordinates& coords, const Eigen::MatrixXd& RC, c
 // The optimum on the boundary (or LS needs a link beyond the bounds): the barrier, from the
 // start's (consistent) bodies. Not from LM's point: LM crawls towards the boundary, and a barrier
 // started next to it needs hundreds of damped Newton steps to get away (measured). Sets fit.phi,
-// its status and steps; returns its excess cost over LS.
+// its status and steps; returns its excess cost over LS, and in `resolved` the barrier's gap bound
+// (in the same units): an excess within it does not tell LS from a boundary optimum.
 double fitOnBoundary(ConsistentFit& fit, const Coordinates& coords, const BarrierSolver& barrier, const BaseParameters& base,
-                     const Eigen::MatrixXd& A, const Eigen::VectorXd& phi_start, double scale, const ConsistentFitOptions& options) {
+                     const Eigen::MatrixXd& A, const Eigen::VectorXd& phi_start, double scale, const ConsistentFitOptions& options, double& resolved) {
   Eigen::VectorXd phi = coords.toPhi(coords.start(phi_start));
   if (!barrier.feasible(phi)) phi = coords.toPhi(coords.start(Eigen::VectorXd::Zero(phi.size())));
-  fit.barrier_newton_steps = barrier.solve(phi, options.barrier_gap, fit.ls_cost / scale, options.max_newton_steps);
+  const BarrierSolver::Solve solved = barrier.solve(phi, options.barrier_gap, fit.ls_cost / scale, options.max_newton_steps);
+  fit.barrier_newton_steps = solved.newton_steps;
+  resolved = solved.gap_bound * scale;
   fit.phi = phi;
   fit.status = ConsistentFitStatus::kConstrained;
   const Eigen::VectorXd d = base.combination * fit.phi - fit.beta_ls;
@@ -352,10 +363,13 @@ ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters&
   const BarrierSolver barrier(coords, RC, target, scale, options.max_link_mass_kg, options.link_radius_m);
   const bool interior_optimum = fit.status == ConsistentFitStatus::kLeastSquaresConsistent && barrier.feasible(fit.phi);
   if (!interior_optimum) {
-    cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options);
+    double resolved = 0.0;
+    cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options, resolved);
     // LM stops early on an ill-conditioned A (a step's decrease below the tolerance before the
-    // excess is): when the barrier then meets LS to the tolerance, LS is consistent all the same.
-    if (cost <= options.tolerance * scale) fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
+    // excess is). When the barrier then meets LS to the tolerance, or to less than it can resolve
+    // (rounding stalls it on exact data), nothing tells LS from a consistent optimum: LS is
+    // consistent as far as the search can say.
+    if (cost <= std::max(options.tolerance * scale, resolved)) fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
   }
   fit.beta = base.combination * fit.phi;
   fit.excess_cost = cost;
