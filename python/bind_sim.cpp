@@ -22,12 +22,20 @@ namespace exoid::python {
 namespace {
 
 // A keyword argument as the command line's words: noise_tau=0.5 -> --noise-tau 0.5,
-// lock_hip=True -> --lock-hip, feedforward=False -> --no-feedforward, fourier_hip=[..] -> one word each.
-void appendArgument(std::vector<std::string>& args, const std::string& key, const py::handle& value) {
+// lock_hip=True -> --lock-hip, feedforward=False -> --no-feedforward (a flag without a --no- form:
+// nothing), fourier_hip=[..] -> one word each, lock={'j': 0.1} -> --lock j=0.1.
+void appendArgument(const CLI::App& app, std::vector<std::string>& args, const std::string& key, const py::handle& value) {
   std::string flag = key;
   std::replace(flag.begin(), flag.end(), '_', '-');
   if (py::isinstance<py::bool_>(value)) {
-    args.push_back((value.cast<bool>() ? "--" : "--no-") + flag);
+    if (value.cast<bool>()) {
+      args.push_back("--" + flag);
+    } else if (app.get_option_no_throw("--no-" + flag) != nullptr || app.get_option_no_throw("--" + flag) == nullptr) {
+      args.push_back("--no-" + flag);  // an unknown keyword is named as given, below
+    }
+  } else if (py::isinstance<py::dict>(value)) {
+    args.push_back("--" + flag);
+    for (const auto& [k, v] : value.cast<py::dict>()) args.push_back(py::str(k).cast<std::string>() + "=" + py::str(v).cast<std::string>());
   } else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
     args.push_back("--" + flag);
     for (const py::handle& item : value) args.push_back(py::str(item).cast<std::string>());
@@ -50,8 +58,8 @@ void bindSim(py::module_& m) {
           std::vector<std::string> args;
           for (const auto& [key, value] : kw) {
             const std::size_t first = args.size();
-            appendArgument(args, key.cast<std::string>(), value);
-            if (app.get_option_no_throw(args[first]) == nullptr) {
+            appendArgument(app, args, key.cast<std::string>(), value);
+            if (args.size() > first && app.get_option_no_throw(args[first]) == nullptr) {
               throw py::type_error("simulate() got an unexpected keyword argument '" + key.cast<std::string>() +
                                    "' (keywords are `exoid simulate`'s options with '_' for '-', see its --help)");
             }

@@ -1,10 +1,10 @@
 #include "exoid/core/tree_selection.hpp"
 
-#include "exoid/core/format.hpp"
-
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
+#include <string>
 
 namespace exoid::core {
 
@@ -13,7 +13,11 @@ std::string ChainSelection::options() const {
   const auto add = [&s](const std::string& part) { s += (s.empty() ? "" : " ") + part; };
   if (!base.empty()) add("--base " + base);
   if (!tip.empty()) add("--tip " + tip);
-  for (const auto& [joint, value] : locks) add("--lock " + joint + "=" + toText(value));
+  for (const auto& [joint, value] : locks) {
+    char digits[32];  // the shortest text that reads back as the same double: a lock's posture exactly
+    const std::to_chars_result r = std::to_chars(digits, digits + sizeof digits, value);
+    add("--lock " + joint + "=" + std::string(digits, r.ptr));
+  }
   return s;
 }
 

@@ -830,7 +830,8 @@ TEST(ChainCli, ExciteDesignsAStageRecordOfAChain) {
   }
   EXPECT_TRUE(locked);
   EXPECT_LT(worst, 1e-5);  // the lock holds it within 1e-5 rad (sim/motor_rig.hpp)
-  // What is not a joint, or outside the joint's range, is refused naming the option.
+  // What is not a joint, or outside the joint's range, is refused naming the option (and writes nothing).
+  std::filesystem::remove(dir + "/x.json");
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--first-moving", "toe", "--out", dir + "/x.json"}, 105).find("hip, knee, ankle"),
             std::string::npos);
   EXPECT_NE(stderrOf({"excite", "--model", "leg3", "--first-moving", "knee", "--held-at-deg", "500", "--out", dir + "/x.json"}, 105)

@@ -67,7 +67,7 @@ TEST(TreeChainCli, ALegOutOfAWholeBodyUrdfIsSimulatedAndIdentifiedExactly) {
   std::vector<std::string> elsewhere = identify;
   std::replace(elsewhere.begin(), elsewhere.end(), std::string("l_ankle_pitch=0.1"), std::string("l_ankle_pitch=0.3"));
   std::replace(elsewhere.begin(), elsewhere.end(), fit, other);
-  runExoid(elsewhere);
+  EXPECT_EQ(runExoid(elsewhere), 0);
   testing::internal::GetCapturedStdout();
 
   const nlohmann::json s = readJson(side);

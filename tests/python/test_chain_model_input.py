@@ -80,7 +80,7 @@ def test_simulate_takes_every_option_of_the_command(tmp_path):
     import os
     import subprocess
     binary = exoid_binary()
-    urdf = os.path.join(os.environ.get("EXOID_SOURCE_DIR", "."), "tests", "data", "two_leg_exo.urdf")
+    urdf = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "two_leg_exo.urdf")
     csv = tmp_path / "leg.csv"
     done = subprocess.run([binary, "simulate", "--model", urdf, "--base", "pelvis", "--tip", "l_shank", "--lock", "l_ankle_pitch=0.1",
                            "--lock", "l_ankle_roll=0", "--lock", "l_hip_yaw", "--tau-bias", "0.1,0,0,-0.2", "--integral-hz", "0.5",
@@ -89,8 +89,16 @@ def test_simulate_takes_every_option_of_the_command(tmp_path):
     assert done.returncode == 0, done.stderr
     run = exoid.simulate(model=urdf, base="pelvis", tip="l_shank", lock=["l_ankle_pitch=0.1", "l_ankle_roll=0", "l_hip_yaw"],
                          tau_bias=[0.1, 0, 0, -0.2], integral_hz=0.5, record_derivatives=True, duration=2, noise_tau=0.3, seed=4)
-    assert run["sidecar"]["model"]["selection"] == "--base pelvis --tip l_shank --lock l_ankle_pitch=0.1 --lock l_ankle_roll=0"
-    assert run["sidecar"]["config"]["locked"] == ["l_hip_yaw"]
+    side = run["sidecar"]
+    assert side["model"]["selection"] == "--base pelvis --tip l_shank --lock l_ankle_pitch=0.1 --lock l_ankle_roll=0"
+    assert side["config"]["locked"] == ["l_hip_yaw"]
+    assert side["config"]["torque_bias_Nm"] == [0.1, 0, 0, -0.2]
+    assert side["config"]["integral_hz"] == 0.5 and len(side["controller"]["ki"]) == 4
+    # A tree's locks as load_chain takes them (a dict), and a chain flag given False, are the same run.
+    same = exoid.simulate(model=urdf, base="pelvis", tip="l_shank", lock={"l_ankle_pitch": 0.1, "l_ankle_roll": 0}, duration=1,
+                          record_derivatives=False)
+    assert same["sidecar"]["model"]["selection"] == side["model"]["selection"]
+    assert "qd" not in same["dataset"] or same["dataset"]["qd"] is None
     joints = ["l_hip_yaw", "l_hip_roll", "l_hip_pitch", "l_knee"]
     cli = exoid.read_dataset(str(csv), joints=joints)
     data = run["dataset"]

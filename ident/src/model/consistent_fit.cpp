@@ -126,9 +126,10 @@ class BarrierSolver {
 
   struct Solve {
     int newton_steps = 0;
-    /// nu / t of the last centring completed (0: none): the optimum's excess is within it of
-    /// phi's (in units of scale); rounding that stalls a later centring leaves it there.
+    /// nu / t of the last centring that reached its centre (0: none did): the optimum's excess is
+    /// within it of phi's (in units of scale); rounding that stalls a later centring leaves it there.
     double gap_bound = 0.0;
+    bool converged = false;  ///< the gap bound met the stopping rule (else rounding or the budget stopped it)
   };
 
   // Newton centring at t, then t x 10, until the gap bound nu / t is below gap times the residual
@@ -138,9 +139,13 @@ class BarrierSolver {
     Solve out;  // gap_bound 0 until a centring completes: no claim
     bool stalled = false;
     while (out.newton_steps < max_newton && !stalled) {
-      out.newton_steps += centre(phi, t, max_newton - out.newton_steps, stalled);
-      if (!stalled) out.gap_bound = barrier_parameter_ / t;
-      if (barrier_parameter_ / t <= gap * (objective(phi) + ls_cost)) break;
+      bool centred = false;
+      out.newton_steps += centre(phi, t, max_newton - out.newton_steps, centred, stalled);
+      if (centred) out.gap_bound = barrier_parameter_ / t;
+      if (centred && barrier_parameter_ / t <= gap * (objective(phi) + ls_cost)) {
+        out.converged = true;
+        break;
+      }
       t *= 10.0;
     }
     return out;
@@ -201,11 +206,12 @@ class BarrierSolver {
   }
 
  private:
-  // Newton steps at t until the decrement says the centre is reached; stalled when rounding stops
-  // the line search first (the problem's conditioning at this t: a larger t cannot do better).
+  // Newton steps at t until the decrement says the centre is reached (centred); stalled when
+  // rounding stops the line search first (the problem's conditioning at this t: a larger t cannot
+  // do better); neither when the budget runs out.
   // The search halves the step down to 1e-12: next to the boundary a feasible step can be that
   // short, and stopping at 1e-6 left the last centring (and the gap it promises) undone.
-  int centre(Eigen::VectorXd& phi, double t, int max_newton, bool& stalled) const {
+  int centre(Eigen::VectorXd& phi, double t, int max_newton, bool& centred, bool& stalled) const {
     Eigen::VectorXd g;
     Eigen::MatrixXd H;
     for (int it = 0; it < max_newton; ++it) {
@@ -216,7 +222,10 @@ class BarrierSolver {
       const Eigen::MatrixXd Hs = d.asDiagonal() * H * d.asDiagonal();
       const Eigen::VectorXd step = d.cwiseProduct(Hs.ldlt().solve(-d.cwiseProduct(g)));
       const double decrement = -g.dot(step);  // Newton decrement squared
-      if (!(decrement > 1e-9)) return it + 1;  // within 1e-9 / 2 of the centre: rounding beyond
+      if (!(decrement > 1e-9)) {  // within 1e-9 / 2 of the centre: rounding beyond
+        centred = true;
+        return it + 1;
+      }
       double s = 1.0;
       while (s > 1e-12) {
         const Eigen::VectorXd trial = phi + s * step;
@@ -313,19 +322,23 @@ LmFit levenbergMarquardt(const Coordinates& coords, const Eigen::MatrixXd& RC, c
 // The optimum on the boundary (or LS needs a link beyond the bounds): the barrier, from the
 // start's (consistent) bodies. Not from LM's point: LM crawls towards the boundary, and a barrier
 // started next to it needs hundreds of damped Newton steps to get away (measured). Sets fit.phi,
-// its status and steps; returns its excess cost over LS, and in `resolved` the barrier's gap bound
-// (in the same units): an excess within it does not tell LS from a boundary optimum.
-double fitOnBoundary(ConsistentFit& fit, const Coordinates& coords, const BarrierSolver& barrier, const BaseParameters& base,
-                     const Eigen::MatrixXd& A, const Eigen::VectorXd& phi_start, double scale, const ConsistentFitOptions& options, double& resolved) {
+// its status and steps; returns its excess cost over LS and the barrier's gap bound, in the same
+// units: an excess within it does not tell LS from a boundary optimum.
+struct BoundaryFit {
+  double excess = 0.0, gap_bound = 0.0;
+  bool converged = false;
+};
+
+BoundaryFit fitOnBoundary(ConsistentFit& fit, const Coordinates& coords, const BarrierSolver& barrier, const BaseParameters& base,
+                     const Eigen::MatrixXd& A, const Eigen::VectorXd& phi_start, double scale, const ConsistentFitOptions& options) {
   Eigen::VectorXd phi = coords.toPhi(coords.start(phi_start));
   if (!barrier.feasible(phi)) phi = coords.toPhi(coords.start(Eigen::VectorXd::Zero(phi.size())));
   const BarrierSolver::Solve solved = barrier.solve(phi, options.barrier_gap, fit.ls_cost / scale, options.max_newton_steps);
   fit.barrier_newton_steps = solved.newton_steps;
-  resolved = solved.gap_bound * scale;
   fit.phi = phi;
   fit.status = ConsistentFitStatus::kConstrained;
   const Eigen::VectorXd d = base.combination * fit.phi - fit.beta_ls;
-  return d.dot(A * d);
+  return {d.dot(A * d), solved.gap_bound * scale, solved.converged};
 }
 
 std::string fitMessage(const ConsistentFit& fit) {
@@ -363,13 +376,15 @@ ConsistentFit consistentFitNormal(const ChainModel& model, const BaseParameters&
   const BarrierSolver barrier(coords, RC, target, scale, options.max_link_mass_kg, options.link_radius_m);
   const bool interior_optimum = fit.status == ConsistentFitStatus::kLeastSquaresConsistent && barrier.feasible(fit.phi);
   if (!interior_optimum) {
-    double resolved = 0.0;
-    cost = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options, resolved);
+    const BoundaryFit boundary = fitOnBoundary(fit, coords, barrier, base, A, phi_start, scale, options);
+    cost = boundary.excess;
     // LM stops early on an ill-conditioned A (a step's decrease below the tolerance before the
-    // excess is). When the barrier then meets LS to the tolerance, or to less than it can resolve
-    // (rounding stalls it on exact data), nothing tells LS from a consistent optimum: LS is
-    // consistent as far as the search can say.
-    if (cost <= std::max(options.tolerance * scale, resolved)) fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
+    // excess is). LS is consistent all the same when the barrier meets it to the tolerance, or when
+    // rounding or the budget stopped the barrier (exact data: their standard errors are rounding)
+    // with an excess within the gap bound it proved: nothing then tells LS from the optimum.
+    if (cost <= options.tolerance * scale || (!boundary.converged && cost <= boundary.gap_bound)) {
+      fit.status = ConsistentFitStatus::kLeastSquaresConsistent;
+    }
   }
   fit.beta = base.combination * fit.phi;
   fit.excess_cost = cost;

@@ -50,7 +50,9 @@ struct ConsistentFitOptions {
 };
 
 enum class ConsistentFitStatus {
-  kLeastSquaresConsistent,  ///< beta_ls itself is realised by consistent links (excess cost ~0)
+  /// beta_ls itself is realised by consistent links: the excess cost within `tolerance` of the
+  /// scale, or, when rounding or the budget stopped the barrier, within the gap bound it proved
+  kLeastSquaresConsistent,
   kConstrained,             ///< the optimum lies on the consistent set's boundary
   kMaxIterations,           ///< stopped by max_iterations: the estimate is consistent, maybe not optimal
 };
