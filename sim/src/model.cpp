@@ -2,6 +2,7 @@
 
 #include "exoid/sim/data_dir.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -57,8 +58,15 @@ ModelPtr compileMjcf(const std::string& xml, const std::string& source) {
   return ModelPtr(m);
 }
 
+bool isUrdfPath(const std::string& path) {
+  if (path.size() < 5) return false;
+  std::string ext = path.substr(path.size() - 5);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".urdf";
+}
+
 bool isApalLegModel(const std::string& path) {
-  if (path.size() >= 5 && path.compare(path.size() - 5, 5, ".urdf") == 0) return false;
+  if (isUrdfPath(path)) return false;
   const ModelPtr m = loadMjcfFile(path);
   return m->nnames > 0 && std::string(m->names) == "apal_leg";
 }

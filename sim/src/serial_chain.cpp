@@ -327,13 +327,6 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
   return chain;
 }
 
-bool isUrdfPath(const std::string& path) {
-  if (path.size() < 5) return false;
-  std::string ext = path.substr(path.size() - 5);
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext == ".urdf";
-}
-
 SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection) {
   return isUrdfPath(path) ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
 }

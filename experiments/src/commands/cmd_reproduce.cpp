@@ -1,6 +1,7 @@
 // `exoid reproduce`: the README's main job.
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/commands/simulate_request.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/robot_reproduce.hpp"
 #include "exoid/ident/design/excitation.hpp"
@@ -11,7 +12,6 @@
 #include "exoid/experiments/protocol/identification.hpp"
 #include "exoid/experiments/report/output_manifest.hpp"
 #include "exoid/experiments/report/table.hpp"
-#include "exoid/sim/serial_chain.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -58,10 +58,7 @@ void runChain(const Args& a) {
                                            "--base, --tip, --lock (a URDF tree's chain)");
     }
   }
-  if (!a.selection.empty() && !sim::isUrdfPath(a.config.sim.model_path)) {
-    throw CLI::ValidationError("--base/--tip/--lock", "choose a chain out of a URDF's tree; '" + a.config.sim.model_path +
-                                                         "' is an MJCF, simulated as it is");
-  }
+  checkTreeSelection(a.selection, a.config.sim.model_path);
   ChainReproduceArgs c;
   c.out = a.out.dir;
   c.plots = a.out.plots;
@@ -85,7 +82,7 @@ void runChain(const Args& a) {
 
 void run(Args a) {
   if (!sim::isApalLegModel(a.config.sim.model_path)) return runChain(a);
-  if (!a.selection.empty()) throw CLI::ValidationError("--base/--tip/--lock", "choose a chain out of a URDF's tree; the APAL leg's protocol is its own");
+  checkTreeSelection(a.selection, a.config.sim.model_path);
   if (a.cmd->count("--design-restarts") > 0) {
     throw CLI::ValidationError("--design-restarts", "designs a chain's excitation (--model leg3|FILE); the APAL leg's designs are "
                                "--excitation-knee and --excitation-both");

@@ -56,10 +56,7 @@ sim::ChainSimConfig chainRig(const SimulateRequest& a) {
     }
   }
   sim::ChainSimConfig c = chainSimConfig(a.config);
-  if (!a.selection.empty() && !sim::isUrdfPath(c.model_path)) {
-    throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; '" + c.model_path +
-                                                                   "' is an MJCF, simulated as it is (its motors' joints)");
-  }
+  checkTreeSelection(a.selection, c.model_path);
   c.selection = a.selection;
   // The chain's joints, read from the file once when an option is checked against them.
   std::vector<std::string> joints;
@@ -95,9 +92,7 @@ sim::SimConfig apalRig(const SimulateRequest& a) {
                                              "gains from a sweep's [simulation] and writes its exact derivatives unless --no-exact");
     }
   }
-  if (!a.selection.empty()) {
-    throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; the APAL leg's rig is its own");
-  }
+  checkTreeSelection(a.selection, a.config.model_path);
   sim::SimConfig c = a.config;
   const auto alias = [&a](const char* generic, std::initializer_list<const char*> own) {
     for (const char* o : own) {
@@ -125,6 +120,13 @@ sim::SimConfig apalRig(const SimulateRequest& a) {
 }
 
 }  // namespace
+
+void checkTreeSelection(const core::ChainSelection& selection, const std::string& model_path) {
+  if (selection.empty() || sim::isUrdfPath(model_path)) return;
+  const std::string what = sim::isApalLegModel(model_path) ? "the APAL leg's rig is its own"
+                                                            : "'" + model_path + "' is an MJCF, simulated as it is (its motors' joints)";
+  throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; " + what);
+}
 
 std::variant<sim::SimConfig, sim::ChainSimConfig> simulationOf(const SimulateRequest& a) {
   checkLockedOnce(a);

@@ -198,12 +198,6 @@ void validateChain(const SweepConfig& c) {
   if (std::set<ident::Method>(c.chain_methods.begin(), c.chain_methods.end()).size() != c.chain_methods.size()) {
     throw SweepConfigError(where(c, "sweep.methods") + ": methods must be distinct");
   }
-  for (const char* key : {"sweep.base", "sweep.tip", "sweep.lock"}) {
-    if (c.origin.count(key) && !sim::isUrdfPath(c.chain_model_path)) {
-      throw SweepConfigError(where(c, key) + ": base, tip and lock choose a chain out of a URDF's tree; '" + c.chain_model_path +
-                             "' is an MJCF, simulated as it is");
-    }
-  }
   std::vector<std::string> joints;
   try {
     joints = sim::serialChainFromFile(c.chain_model_path, c.chain_selection).jointNames();
@@ -234,8 +228,13 @@ void validateChain(const SweepConfig& c) {
 
 void SweepConfig::validate() const {
   for (const char* key : {"sweep.base", "sweep.tip", "sweep.lock"}) {
-    if (origin.count(key) && !isChain()) {
+    if (!origin.count(key)) continue;
+    if (!isChain()) {
       throw SweepConfigError(where(*this, key) + ": chooses a chain out of a URDF's tree ([sweep] model = a URDF); the APAL leg's rig is its own");
+    }
+    if (!sim::isUrdfPath(chain_model_path)) {
+      throw SweepConfigError(where(*this, key) + ": base, tip and lock choose a chain out of a URDF's tree; '" + chain_model_path +
+                             "' is an MJCF, simulated as it is");
     }
   }
   if (origin.count("simulation.excitation") && !isChain()) {

@@ -87,8 +87,6 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
 /// is not locked, no revolute joint.
 SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& selection = {});
 
-/// Whether the file is a URDF (by its extension, .urdf); anything else is read as MJCF.
-bool isUrdfPath(const std::string& path);
 /// By the file's extension: .urdf -> serialChainFromUrdf, else serialChainFromMjcfFile.
 SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection = {});
 

@@ -29,6 +29,10 @@ struct SimulateRequest {
   bool given(const char* option) const { return cmd->count(option) > 0; }
 };
 
+/// --base, --tip and --lock JOINT=VALUE choose the simulated chain out of a URDF's tree: refused
+/// (CLI::ValidationError) when given for the APAL leg's rig or an MJCF, which is simulated as it is.
+void checkTreeSelection(const core::ChainSelection& selection, const std::string& model_path);
+
 /// Every option of `exoid simulate` but --out, parsed into `r` (r.cmd = &cmd).
 void addSimulateOptions(CLI::App& cmd, SimulateRequest& r);
 
