@@ -48,6 +48,10 @@ TEST(Launcher, OnlyLogCommandsWithoutAModelStayInTheLightBinary) {
   EXPECT_TRUE(needsFullBinary({"identifiability", "--model", "apal"}));
   EXPECT_TRUE(needsFullBinary({"identify", "--stage", "knee=a.csv", "--data", "b.csv"}));
   EXPECT_TRUE(needsFullBinary({"identify", "--data", "a.csv", "--plot", "p.png"}));
+  // A chain's own options go to the binary that knows them, which refuses them for the APAL leg by name.
+  for (const char* chain_only : {"--moving-base-parameters", "--consistency-draws", "--consistency-seed"}) {
+    EXPECT_TRUE(needsFullBinary({"identify", "--data", "a.csv", chain_only, "50"})) << chain_only;
+  }
   for (const std::string& c : simulatorCommands()) EXPECT_TRUE(needsFullBinary({c})) << c;
 }
 

@@ -63,6 +63,8 @@ struct IdentifyArgs {
   core::ChainSelection selection;     ///< --base, --tip, --lock (chain models)
   bool moving_base_parameters = false;  ///< --moving-base-parameters (chain models)
   std::vector<std::string> stages;    ///< --stage JOINT=FILE (chain models' segmental strategy)
+  int consistency_draws = 199;        ///< --consistency-draws (chain models)
+  std::uint64_t consistency_seed = 1;  ///< --consistency-seed (chain models)
   CLI::App* cmd = nullptr;
 };
 
@@ -446,6 +448,8 @@ bool runChainModel(const IdentifyArgs& given) {
   c.signals = a.signals;
   c.consistency = a.consistency;
   c.significance_sigmas = a.consistency_options.significance_sigmas;
+  c.consistency_draws = a.consistency_draws;
+  c.consistency_seed = a.consistency_seed;
   c.max_condition = a.methods_options.ls.max_condition;
   c.methods = methods;
   c.method_options = a.methods_options;
@@ -489,6 +493,12 @@ IdentifyArgs legArguments(IdentifyArgs a) {
 void checkLegArguments([[maybe_unused]] const IdentifyArgs& a) {
 #ifdef EXOID_WITH_MUJOCO
   if (a.moving_base_parameters) throw CLI::ValidationError("--moving-base-parameters", "is for a chain model (--model leg3|FILE); the APAL leg's X is the paper's");
+  for (const char* chain_only : {"--consistency-draws", "--consistency-seed"}) {
+    if (a.cmd->count(chain_only) > 0) {
+      throw CLI::ValidationError(chain_only, "is a chain model's (--model leg3|FILE); the APAL leg judges each of its four conditions by its "
+                                             "standard errors (--significance)");
+    }
+  }
 #endif
 }
 
@@ -819,6 +829,13 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
                "pitch acceleration; an IMU's noise biases the split (docs/findings.md), hence off by default: the still\n"
                "base's parameters, with the base-motion terms in every column")
       ->group("Identification");
+  cmd.add_option("--consistency-draws", args.consistency_draws,
+                 "Chain models: estimates drawn about the nearest physically consistent one (the consistency verdict): LS is\n"
+                 "inconsistent when fewer than the one-sided normal tail of --significance (2.3 % at 2) lie as far from their\n"
+                 "own nearest consistent estimate; drawn only when LS is further than --significance standard errors")
+      ->check(CLI::Range(19, 1000000))->capture_default_str()->group("Identification");
+  cmd.add_option("--consistency-seed", args.consistency_seed, "Chain models: the seed of the consistency verdict's draws")
+      ->capture_default_str()->group("Identification");
   cmd.add_option("--stage", args.stages,
                  "The segmental strategy down the chain, distal joints first. JOINT=FILE: a record whose joints above JOINT\n"
                  "are locked (exoid simulate --lock); repeatable. Each stage fits what its moving joints' equations determine\n"

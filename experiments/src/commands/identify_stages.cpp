@@ -233,7 +233,7 @@ std::optional<BandSensitivity> stagesBandSensitivity(const ChainIdentifyArgs& a,
 // The stages' own JSON: LS's reported errors, the consistent estimate, the other methods.
 nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<ident::Method>& methods,
                           const std::vector<ident::SegmentalResult>& results, const std::optional<ident::ReportedErrors>& errors,
-                          const std::optional<NearestConsistent>& consistent) {
+                          const std::optional<NearestConsistent>& consistent, std::uint64_t seed) {
   nlohmann::json j;
   j["stages"] = stages_json;
   j["base_parameters"] = nlohmann::json::object();
@@ -244,8 +244,8 @@ nlohmann::json stagesJson(const nlohmann::json& stages_json, const std::vector<i
   }
   if (consistent) {
     j["base_parameters"]["consistent"] = toVector(consistent->fit.beta);
-    j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->distance},
-                       {"metric", "LS's reported covariance"}};
+    j["consistent"] = {{"status", ident::toString(consistent->fit.status)}, {"standard_errors_from_ls", consistent->verdict.distance},
+                       {"verdict", toJson(consistent->verdict, seed)}, {"metric", "LS's reported covariance"}};
   }
   return j;
 }
@@ -280,16 +280,16 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   }
   StagesAgainstOneFit c = compareStagesWithOneFit(theta, std_error, one.beta, one.std_error, a.significance_sigmas);
   c.consistency_judged = a.consistency;
-  if (const double distance = distanceToConsistent(one); distance > a.significance_sigmas) {
-    c.one_fit_inconsistency = "has no physically consistent body: the nearest consistent estimate is " + fmt(distance, 3) +
-                                " standard errors from its least squares (--significance " + fmt(a.significance_sigmas, 3) + ")";
-  }
+  // Judged as its own identify would judge it, the optional-term test included.
+  const LsConsistency consistency = a.consistency ? judgeLeastSquares(a, loaded, log, one, last_input.files, records.signals.back(), "them")
+                                                  : LsConsistency{};
+  if (!consistency.reason.empty()) c.one_fit_inconsistency = "is not explained by the model: " + consistency.reason;
   std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
   out.json = toJson(c, loaded.base.names);
+  if (consistency.verdict.distance > 0.0) out.json["verdict"] = toJson(consistency.verdict, a.consistency_seed);
   if (c.one_fit_inconsistency.empty()) return out;
-  const ArmatureTest armature = armatureTest(a, loaded, log, last_input.files, records.signals.back());
-  out.json["armature"] = armature.json;
-  out.problem = stagesHidProblem(c, armature.hint());
+  if (consistency.armature) out.json["armature"] = consistency.armature->json;
+  out.problem = stagesHidProblem(c, consistency.hint);
   return out;
 }
 
@@ -321,13 +321,13 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   // LS's physically consistent estimate: the stages share no rows, so the nearest in the metric of
   // LS's reported covariance (one fit uses its rows' metric).
   std::optional<NearestConsistent> consistent;
-  if (a.consistency && errors) consistent = nearestConsistent(loaded, results.front().theta, errors->covariance, "LS");
+  if (a.consistency && errors) consistent = nearestConsistent(loaded, results.front().theta, errors->covariance, "LS", verdictOptions(a));
   if (consistent) {
-    std::cout << "consistent estimate (the nearest in LS's reported errors): " << ident::toString(consistent->fit.status) << ", "
-              << fmt(consistent->distance, 3) << " reported standard errors from LS\n";
-    if (consistent->distance > a.significance_sigmas) {
-      out.problems.push_back(inconsistencyProblem(consistent->distance, "reported standard errors", a.significance_sigmas));
-    }
+    const ident::ConsistencyVerdict& v = consistent->verdict;
+    std::cout << wrapped("consistent estimate (the nearest in LS's reported errors): " + std::string(ident::toString(consistent->fit.status)) + ", " +
+                         fmt(v.distance, 3) + " reported standard errors from LS" + (v.distance > 0.0 ? ", " + verdictText(v) : std::string()))
+              << "\n";
+    if (v.significant) out.problems.push_back(inconsistencyProblem(v, "the data", "reported standard errors"));
   }
   std::optional<OneFitCheck> one_fit;
   if (errors) {
@@ -339,7 +339,7 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
   for (std::size_t k = 1; k < methods.size(); ++k) out.others.emplace_back(ident::toString(methods[k]), results[k].theta);
   out.fit_signals = records.fit_signals;
   out.shown = std::move(records.shown);
-  out.json = stagesJson(records.json, methods, results, errors, consistent);
+  out.json = stagesJson(records.json, methods, results, errors, consistent, a.consistency_seed);
   std::vector<std::string> files;  // the records in the stages' order
   for (const ChainStageInput& in : inputs) files.insert(files.end(), in.files.begin(), in.files.end());
   out.json["determination"] = determinationJson(loaded.robot, determination, files);

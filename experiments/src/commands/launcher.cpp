@@ -48,7 +48,7 @@ bool needsFullBinary(const std::vector<std::string>& args) {
     if (a == "--") break;
     if (a == "-h" || a == "--help" || a == "--help-all") return true;  // the help lists every option
     std::string value;
-    for (const char* model_option : {"--model", "--plot", "--armature", "--stage"}) {
+    for (const char* model_option : {"--model", "--plot", "--armature", "--stage", "--moving-base-parameters", "--consistency-draws", "--consistency-seed"}) {
       if (optionValue(args, i, model_option, &value)) return true;
     }
   }

@@ -173,46 +173,66 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
 }
 
 std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,
-                                                  const std::string& whose) {
+                                                  const std::string& whose, const ident::ConsistencyVerdictOptions& options) {
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(covariance);
   if (!covariance.allFinite() || ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all()) return std::nullopt;
   const Eigen::MatrixXd A = ldlt.solve(Eigen::MatrixXd::Identity(theta.size(), theta.size()));
   NearestConsistent c;
   try {
-    c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi);
+    c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi, options.fit);
+    c.verdict = ident::judgeConsistency(loaded.model, loaded.base, theta, c.fit, A, covariance, loaded.phi, options);
   } catch (const std::invalid_argument& e) {
     std::cout << wrapped(whose + "'s physical consistency: not judged (" + std::string(e.what()) + ")") << "\n";
     return std::nullopt;
   }
-  if (c.fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return c;  // theta itself: no distance
-  const Eigen::VectorXd d = c.fit.beta - theta;
-  c.distance = std::sqrt(std::max(0.0, d.dot(A * d)));
   return c;
 }
 
 void judgeOthersConsistency(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Eigen::MatrixXd& covariance, ChainFit& fit) {
   for (const auto& [m, x] : fit.others) {
     if (!x.allFinite()) continue;  // an unusable estimate is named as such already
-    const std::optional<NearestConsistent> c = nearestConsistent(loaded, x, covariance, m);
+    const std::optional<NearestConsistent> c = nearestConsistent(loaded, x, covariance, m, verdictOptions(a));
     if (!c) continue;
     fit.json["methods"][m]["consistent"] = {{"consistent", c->fit.status == ident::ConsistentFitStatus::kLeastSquaresConsistent},
-                                            {"ls_standard_errors_from_estimate", c->distance}};
-    if (c->distance > a.significance_sigmas) {
-      fit.problems.push_back(m + ": no physically consistent body explains its estimate: the nearest consistent estimate is " + fmt(c->distance, 3) +
-                             " of LS's standard errors away (--significance " + fmt(a.significance_sigmas, 3) + ")");
-    }
+                                            {"ls_standard_errors_from_estimate", c->verdict.distance},
+                                            {"verdict", toJson(c->verdict, a.consistency_seed)}};
+    if (c->verdict.significant) fit.problems.push_back(m + ": " + inconsistencyProblem(c->verdict, "its estimate", "of LS's standard errors"));
   }
 }
 
-double distanceToConsistent(const ident::ChainEstimate& est) {
-  if (!est.consistent || est.consistent->status == ident::ConsistentFitStatus::kLeastSquaresConsistent) return 0.0;
-  const Eigen::VectorXd d = est.consistent->beta - est.beta;
-  return std::sqrt(std::max(0.0, d.dot(est.covariance.ldlt().solve(d))));
+ident::ConsistencyVerdictOptions verdictOptions(const ChainIdentifyArgs& a) {
+  ident::ConsistencyVerdictOptions o;
+  o.significance_sigmas = a.significance_sigmas;
+  o.draws = a.consistency_draws;
+  o.seed = a.consistency_seed;
+  o.threads = a.signals.threads;
+  return o;
 }
 
-std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas) {
-  return "no physically consistent body explains the data: the nearest consistent estimate is " + fmt(distance, 3) + " " + errors +
-         " from least squares (--significance " + fmt(significance_sigmas, 3) + ")";
+ident::ConsistencyVerdict consistencyVerdict(const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::ConsistencyVerdictOptions& options) {
+  if (!est.consistent) return {};
+  try {
+    return ident::judgeConsistency(loaded.model, loaded.base, est.beta, *est.consistent, est.normal, est.covariance, loaded.phi, options);
+  } catch (const std::invalid_argument& e) {
+    std::cout << wrapped("LS's physical consistency: not judged (" + std::string(e.what()) + ")") << "\n";
+    return {};
+  }
+}
+
+std::string verdictText(const ident::ConsistencyVerdict& v) {
+  if (v.draws == 0) return "p >= " + fmt(v.p_value, 3) + " (the half-normal bound)";
+  return "as far as or farther than " + core::toText(v.as_far) + " of " + core::toText(v.draws) + " estimates drawn about it (p = " +
+         fmt(v.p_value, 3) + ")";
+}
+
+std::string inconsistencyProblem(const ident::ConsistencyVerdict& v, const std::string& whose, const char* errors) {
+  return "no physically consistent body explains " + whose + ": the nearest consistent estimate is " + fmt(v.distance, 3) + " " + errors + " away, " +
+         verdictText(v) + ", p <= " + fmt(v.level, 3) + " (--significance)";
+}
+
+nlohmann::json toJson(const ident::ConsistencyVerdict& v, std::uint64_t seed) {
+  return {{"standard_errors", v.distance}, {"p_value", v.p_value}, {"draws", v.draws}, {"as_far", v.as_far},
+          {"level", v.level}, {"significant", v.significant}, {"seed", seed}};
 }
 
 namespace {
@@ -350,25 +370,25 @@ nlohmann::json cadDistances(const Eigen::VectorXd& ls, const Eigen::VectorXd& st
 // Why the result must not be used (none: usable), and how far the consistent estimate is from LS.
 struct ChainVerdict {
   std::vector<std::string> problems;
-  double mahalanobis = 0.0;  ///< standard errors from LS to the consistent estimate (0 when LS is consistent)
+  ident::ConsistencyVerdict consistency;  ///< LS against its consistent estimate (distance 0 when LS is consistent)
 };
 
-ChainVerdict verdictOf(const ChainIdentifyArgs& a, const ident::BaseParameters& base, const ident::ChainEstimate& est,
-                       const MethodEstimates& others) {
+// LS of full rank and not ill-conditioned: what its consistency and errors are judged on.
+bool usableLs(const ident::BaseParameters& base, const ident::ChainEstimate& est) {
+  return est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+}
+
+// Why the result must not be used, besides LS's consistency (judgeLeastSquares).
+ChainVerdict verdictOf(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others, const LsConsistency& consistency) {
   ChainVerdict v;
-  const bool usable_ls = est.ls.rank == base.rank && est.ls.summary.status != ident::Status::kIllConditioned;
+  v.consistency = consistency.verdict;
+  const bool usable_ls = usableLs(base, est);
   if (est.ls.rank < base.rank) {
     v.problems.push_back("the records do not identify every base parameter (rank " + core::toText(est.ls.rank) + " of " +
                          core::toText(base.rank) + ")");
   }
   if (est.ls.rank == base.rank && !usable_ls) v.problems.push_back(est.ls.summary.message);
-  if (usable_ls) {
-    // Beyond --significance of the fit's own standard errors, no physical body explains the data.
-    v.mahalanobis = distanceToConsistent(est);
-    if (v.mahalanobis > a.significance_sigmas) {
-      v.problems.push_back(inconsistencyProblem(v.mahalanobis, "standard errors", a.significance_sigmas));
-    }
-  }
+  if (!consistency.reason.empty()) v.problems.push_back(consistency.problem());
   for (const auto& [m, e] : others) {
     if (!ident::usable(e.summary.status)) v.problems.push_back(std::string(ident::toString(m)) + ": " + e.summary.message);
     for (Eigen::Index i : boxBoundIndices(e)) {
@@ -396,10 +416,28 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   return armatureTest(robot, rows, missing, a.significance_sigmas, a.max_condition);
 }
 
+std::string LsConsistency::problem() const { return hint.empty() || reason.empty() ? reason : reason + "; " + hint; }
+
+LsConsistency judgeLeastSquares(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::ChainEstimate& est,
+                                const std::vector<std::string>& files, const std::vector<ident::SignalOptions>& signals, const std::string& whose) {
+  LsConsistency c;
+  c.verdict = consistencyVerdict(loaded, est, verdictOptions(a));
+  if (c.verdict.distance <= a.significance_sigmas) return c;
+  c.armature = armatureTest(a, loaded, log, files, signals);
+  c.hint = c.armature->hint();
+  if (c.verdict.significant) {
+    c.reason = inconsistencyProblem(c.verdict, whose, "standard errors");
+  } else if (!c.hint.empty()) {
+    c.reason = "the nearest physically consistent estimate to " + whose + " is " + fmt(c.verdict.distance, 3) +
+               " standard errors from least squares, " + verdictText(c.verdict) + ": not beyond the noise alone";
+  }
+  return c;
+}
+
 namespace {
 
 void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEstimate& est, const MethodEstimates& others,
-                         const std::optional<Eigen::VectorXd>& truth, double mahalanobis, const Eigen::VectorXd& cad) {
+                         const std::optional<Eigen::VectorXd>& truth, const ident::ConsistencyVerdict& consistency, const Eigen::VectorXd& cad) {
   std::vector<std::string> header = {"base parameter", "ls", "std err"};
   if (est.consistent) header.push_back("consistent");
   for (const auto& [m, e] : others) header.push_back(ident::toString(m));
@@ -425,12 +463,16 @@ void printChainEstimates(const ident::BaseParameters& base, const ident::ChainEs
   std::cout << "CAD: the model file's own parameters; ls-CAD / se: their distance in standard errors\n";
   std::cout << "rows " << est.rows << ", condition number (columns scaled) " << fmt(est.ls.condition_number, 4) << ", residual RMS "
             << fmt(est.ls.residual_rms, 4) << " N m\n";
-  if (est.consistent) std::cout << wrapped("consistent estimate: " + est.consistent->message + " (" + fmt(mahalanobis, 3) + " standard errors from LS)") << "\n";
+  if (est.consistent) {
+    std::cout << wrapped("consistent estimate: " + est.consistent->message + " (" + fmt(consistency.distance, 3) + " standard errors from LS" +
+                         (consistency.distance > 0.0 ? ", " + verdictText(consistency) : std::string()) + ")")
+              << "\n";
+  }
 }
 
 // The one fit's own JSON: its records, LS's errors, the consistent estimate, the other methods.
 nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& processing_per_record, const ident::ChainEstimate& est,
-                          const MethodEstimates& others, const ChainVerdict& verdict, bool with_history) {
+                          const MethodEstimates& others, const ChainVerdict& verdict, bool with_history, std::uint64_t seed) {
   nlohmann::json j;
   j["processing_per_record"] = processing_per_record;
   j["base_parameters"] = {{"condition_number", est.ls.condition_number}, {"residual_rms_Nm", est.ls.residual_rms}, {"rows", est.rows}};
@@ -439,7 +481,8 @@ nlohmann::json oneFitJson(const LoadedChain& loaded, const nlohmann::json& proce
     j["base_parameters"]["consistent"] = toVector(est.consistent->beta);
     j["consistent"] = {{"standard_parameters", namedValues(loaded.model.standardParameterNames(), est.consistent->phi)},
                        {"status", ident::toString(est.consistent->status)},
-                       {"standard_errors_from_ls", verdict.mahalanobis},
+                       {"standard_errors_from_ls", verdict.consistency.distance},
+                       {"verdict", toJson(verdict.consistency, seed)},
                        {"message", est.consistent->message}};
   }
   j["methods"] = nlohmann::json::object();
@@ -487,21 +530,16 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   data.clear();
   const ident::MethodOptions mo = chainMethodOptions(a, est);
   const MethodEstimates others = otherMethods(a, loaded, stacked, fit, mo);
-  ChainVerdict verdict = verdictOf(a, base, est, others);
   // A consistency failure an optional term explains says so, and names the option.
-  std::optional<ArmatureTest> armature;
-  if (verdict.mahalanobis > a.significance_sigmas) {
-    armature = armatureTest(a, loaded, log, a.data, fit.signals);
-    for (std::string& p : verdict.problems) {
-      if (!armature->joints.empty() && p.rfind("no physically consistent body", 0) == 0) p += "; " + armature->hint();
-    }
-    if (!armature->joints.empty()) std::cout << wrapped("implausible: " + armature->hint()) << "\n";
-  }
+  const LsConsistency consistency = usableLs(base, est) ? judgeLeastSquares(a, loaded, log, est, a.data, fit.signals, "the data") : LsConsistency{};
+  ChainVerdict verdict = verdictOf(base, est, others, consistency);
+  if (!consistency.hint.empty()) std::cout << wrapped("implausible: " + consistency.hint) << "\n";
+  const std::optional<ArmatureTest>& armature = consistency.armature;
   if (!undetermined.empty()) verdict.problems.insert(verdict.problems.begin(), undetermined);
   if (std::find(a.methods.begin(), a.methods.end(), ident::Method::kPso) != a.methods.end()) {
     std::cout << "PSO box (pso): +-" << fmt(mo.wide_box_half_width, 3) << " in every base parameter\n";
   }
-  printChainEstimates(base, est, others, truth, verdict.mahalanobis, base.combination * loaded.phi);
+  printChainEstimates(base, est, others, truth, verdict.consistency, base.combination * loaded.phi);
   if (sensitivity) {
     for (const std::string& line : describe(*sensitivity)) std::cout << wrapped(line) << "\n";
   }
@@ -513,7 +551,7 @@ ChainFit fitOnce(const ChainIdentifyArgs& a, const LoadedChain& loaded, const Lo
   out.fit_signals = fit.validationSignals(a.signals);
   if (!a.plot.empty() && a.validate.empty()) out.shown = fit.rows.front();
   out.problems = verdict.problems;
-  out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history);
+  out.json = oneFitJson(loaded, fit.json, est, others, verdict, a.history, a.consistency_seed);
   out.json["base_parameters"]["wall_time_s"] = ls_time_s;  // LS with its errors and consistent estimate
   if (a.consistency) judgeOthersConsistency(a, loaded, est.covariance, out);
   out.json["determination"] = determinationJson(loaded.robot, determination, a.data);

@@ -1,5 +1,7 @@
 #include "exoid/experiments/protocol/identification.hpp"
 
+#include "exoid/experiments/protocol/stages_check.hpp"
+
 #include "exoid/ident/estimators/segmental_errors.hpp"
 #include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/experiments/report/cells.hpp"
@@ -481,13 +483,21 @@ ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::Rec
   t.two_link = with.two_link.has_value();
   if (t.two_link && joints != std::vector<std::string>{"knee"}) throw std::invalid_argument("armatureTest: the 2-link leg's armature is the knee's (Ia2)");
   if (e.ls.rank < with.parameters()) return t;
+  // Each joint's armature by its name; one regrouped into a link's inertia is not a term of its own.
+  std::vector<std::pair<std::string, Eigen::Index>> tested;
   for (const std::string& joint : joints) {
     const std::string name = t.two_link ? std::string(ident::paramName(ident::kKneeArmature)) : joint + ".Ia";
     const auto it = std::find(with.names().begin(), with.names().end(), name);
-    if (it == with.names().end()) continue;  // regrouped into a link's inertia: not a term of its own
-    const double value = e.beta[it - with.names().begin()], se = e.std_error[it - with.names().begin()];
-    const bool significant = se > 0.0 && value > significance_sigmas * se;
-    t.json[joint] = {{"value_kgm2", value}, {"std_error_kgm2", se}, {"significant", significant}};
+    if (it != with.names().end()) tested.emplace_back(joint, it - with.names().begin());
+  }
+  // One test per joint: Bonferroni keeps the chance that any of them fires on a rig without
+  // armatures to --significance's one-sided tail.
+  const double z = bonferroniZ(significance_sigmas, static_cast<int>(tested.size()));
+  for (const auto& [joint, i] : tested) {
+    const std::string name = with.names()[static_cast<std::size_t>(i)];
+    const double value = e.beta[i], se = e.std_error[i];
+    const bool significant = se > 0.0 && value > z * se;
+    t.json[joint] = {{"value_kgm2", value}, {"std_error_kgm2", se}, {"significant", significant}, {"threshold_sigmas", z}};
     if (!significant) continue;
     t.joints.push_back(joint);
     t.shown.push_back(name + " = " + fmt(value, 4) + " +- " + fmt(se, 2) + " kg m^2, " + fmt(value / se, 3) + " standard errors above 0");

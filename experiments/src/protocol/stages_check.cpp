@@ -83,8 +83,8 @@ nlohmann::json toJson(const StagesAgainstOneFit& c, const std::vector<std::strin
           {"one_fit_consistent", c.consistency_judged ? nlohmann::json(c.one_fit_inconsistency.empty()) : nlohmann::json()},
           {"rule", "z = (stages - one fit) / sqrt(se_stages^2 + se_one_fit^2), named beyond the Bonferroni threshold of --significance over "
                    "the parameters (printed, not an exit code); exit 3 when the one fit is not physically consistent, as its own identify "
-                   "judges it (a chain: the nearest consistent body beyond --significance of its standard errors; the APAL leg: a "
-                   "physical condition violated beyond --significance)"}};
+                   "judges it (a chain: its nearest consistent body further than the noise explains, by draws about it, or an armature "
+                   "the records show; the APAL leg: a physical condition violated beyond --significance)"}};
 }
 
 std::string stagesHidProblem(const StagesAgainstOneFit& c, const std::string& hint) {

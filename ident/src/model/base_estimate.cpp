@@ -30,7 +30,8 @@ ChainEstimate estimateChain(const Robot& robot, const RecordRows& record, const 
   out.std_error = Eigen::VectorXd::Constant(base.rank, std::numeric_limits<double>::quiet_NaN());
   const bool full_rank = out.ls.rank == base.rank;
   if (full_rank && out.rows > base.rank) {
-    const Eigen::MatrixXd A = Wb.transpose() * Wb;
+    out.normal = Wb.transpose() * Wb;
+    const Eigen::MatrixXd& A = out.normal;
     // Each record one channel of Newey-West's, and one block of the record jackknife.
     const std::vector<RowBlock> records = wholeRecords(record.record_rows, out.rows);
     std::vector<Channel> channels;

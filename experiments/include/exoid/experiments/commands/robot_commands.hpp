@@ -10,6 +10,7 @@
 #include "exoid/ident/estimators/standard_errors.hpp"
 #include "exoid/ident/model/base_estimate.hpp"
 #include "exoid/ident/model/base_parameters.hpp"
+#include "exoid/ident/model/consistency_verdict.hpp"
 #include "exoid/ident/model/consistent_fit.hpp"
 #include "exoid/ident/signals/preprocess.hpp"
 #include "exoid/sim/motor_rig.hpp"
@@ -17,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -70,6 +72,8 @@ struct ChainIdentifyArgs {
   ident::SignalOptions signals;
   bool consistency = true;
   double significance_sigmas = 2.0;
+  int consistency_draws = 199;          ///< the consistency verdict's draws (ident::judgeConsistency)
+  std::uint64_t consistency_seed = 1;   ///< and their seed
   double max_condition = 1e5;
   /// Besides LS (always): rls, pso, rls-pso, lad over the same base-parameter rows.
   std::vector<ident::Method> methods;
@@ -116,15 +120,16 @@ struct ChainFit {
   nlohmann::json json;                       ///< the strategy's own JSON (records or stages, errors, consistency, methods)
 };
 /// The nearest physically consistent base parameters to `theta` in the metric of a covariance C,
-/// min (b - theta)' C^-1 (b - theta), and their distance from theta in those standard errors (0
-/// when theta is itself consistent); none when C is not positive definite, or when the model's
-/// consistency cannot be judged (said on stdout, naming `whose` estimate it is).
+/// min (b - theta)' C^-1 (b - theta), and the verdict on their distance from theta in those
+/// standard errors (ident::judgeConsistency; 0 when theta is itself consistent); none when C is not
+/// positive definite, or when the model's consistency cannot be judged (said on stdout, naming
+/// `whose` estimate it is).
 struct NearestConsistent {
   ident::ConsistentFit fit;
-  double distance = 0.0;
+  ident::ConsistencyVerdict verdict;
 };
 std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,
-                                                  const std::string& whose);
+                                                  const std::string& whose, const ident::ConsistencyVerdictOptions& options);
 /// Every other method's estimate in `fit` judged as LS's is (the APAL leg's identify judges each
 /// method's plausibility too): when no consistent body lies within --significance of LS's
 /// standard errors (`covariance`) of it, a problem naming the method; in fit.json's
@@ -141,11 +146,34 @@ ChainFit fitStages(const ChainIdentifyArgs& a, const LoadedChain& loaded, const 
 ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const std::vector<std::string>& files,
                           const std::vector<ident::SignalOptions>& signals);
 
-/// The distance from a chain's LS estimate to its physically consistent one, in the metric of the
-/// fit's own covariance (0 when LS is consistent or no consistent estimate was computed).
-double distanceToConsistent(const ident::ChainEstimate& est);
-/// identify's exit-3 reason when the nearest physically consistent estimate lies `distance` of
-/// LS's `errors` ("standard errors", "reported standard errors") away, beyond --significance.
-std::string inconsistencyProblem(double distance, const char* errors, double significance_sigmas);
+/// The verdict on a chain's LS estimate against its physically consistent one (ident::judgeConsistency,
+/// the distance in the fit's own covariance); distance 0 when LS is consistent or no consistent
+/// estimate was computed, and when the covariance is not positive definite (said on stdout).
+ident::ConsistencyVerdict consistencyVerdict(const LoadedChain& loaded, const ident::ChainEstimate& est,
+                                             const ident::ConsistencyVerdictOptions& options);
+/// The verdict's options from identify's: --significance, --consistency-draws, --consistency-seed, --threads.
+ident::ConsistencyVerdictOptions verdictOptions(const ChainIdentifyArgs& a);
+/// LS's physical consistency as identify judges it (one fit, or the stages' one fit of the last
+/// stage's records): the verdict (consistencyVerdict); and, when LS lies beyond --significance
+/// standard errors of a consistent body, the optional-term test of `files` (each processed as
+/// `signals`): a term the records show is a reason of its own, though the noise may explain the
+/// distance, named with its option.
+struct LsConsistency {
+  ident::ConsistencyVerdict verdict;
+  std::optional<ArmatureTest> armature;  ///< when tested
+  std::string reason;                    ///< empty: nothing to say; else why LS must not be used, without the hint
+  std::string hint;                      ///< the optional term's option, when the records show one
+  std::string problem() const;           ///< reason; hint
+};
+LsConsistency judgeLeastSquares(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::ChainEstimate& est,
+                                const std::vector<std::string>& files, const std::vector<ident::SignalOptions>& signals, const std::string& whose);
+/// identify's exit-3 reason when the nearest physically consistent estimate lies further from
+/// `whose` estimate than the noise explains, in `errors` ("standard errors", "reported standard errors").
+std::string inconsistencyProblem(const ident::ConsistencyVerdict& v, const std::string& whose, const char* errors);
+/// How far a verdict's draws put the distance, for the printed line and the problem: "farther than
+/// 198 of 199 estimates drawn about it (p = 0.01)", or the half-normal bound when not drawn.
+std::string verdictText(const ident::ConsistencyVerdict& v);
+/// The verdict as identify's JSON gives it (distance, p_value, draws, as_far, level, significant, seed).
+nlohmann::json toJson(const ident::ConsistencyVerdict& v, std::uint64_t seed);
 
 }  // namespace exoid::experiments

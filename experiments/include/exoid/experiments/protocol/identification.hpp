@@ -73,14 +73,16 @@ struct MethodOutcome {
 /// inertia) and lies more than the significance in reported errors above 0 (a rotor inertia is
 /// positive) is named, with the option that adds it.
 struct ArmatureTest {
-  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value_kgm2, std_error_kgm2, significant
+  nlohmann::json json = nlohmann::json::object();  ///< per joint tested: value_kgm2, std_error_kgm2, significant, threshold_sigmas
   std::vector<std::string> joints, shown;           ///< the significant ones; "knee.Ia = 0.1 +- 0.01 kg m^2, 10 standard errors above 0"
   bool two_link = false;                            ///< the APAL leg: its option is --knee-armature
   std::string hint() const;  ///< "...: rerun with --armature knee,ankle" (--knee-armature); empty: none
 };
 /// `with` is the robot with an armature on each of `joints` (the 2-link leg's is Ia2, a chain's
 /// "<joint>.Ia"; std::invalid_argument for another joint of the 2-link leg); rows its rows of each
-/// record (each processed in its own band). Nothing is tested when that fit is not full rank.
+/// record (each processed in its own band). Nothing is tested when that fit is not full rank. An
+/// armature is significant above the Bonferroni threshold of significance_sigmas (one-sided) over
+/// the joints tested (bonferroniZ: significance_sigmas itself for one).
 ArmatureTest armatureTest(const ident::Robot& with, const std::vector<ident::RecordRows>& rows, const std::vector<std::string>& joints,
                           double significance_sigmas, double max_condition);
 

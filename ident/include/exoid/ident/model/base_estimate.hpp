@@ -34,6 +34,7 @@ struct ChainEstimate {
   Eigen::MatrixXd covariance;  ///< of beta: Newey-West's correlations, std_error's variances
   ReportedErrors errors;       ///< both estimates and which was reported
   LsResult ls;
+  Eigen::MatrixXd normal;  ///< A = Wb' Wb, the consistent fit's metric (when LS is of full rank)
   std::optional<ConsistentFit> consistent;  ///< when asked and LS is usable (full rank)
   Eigen::Index rows = 0;
 };

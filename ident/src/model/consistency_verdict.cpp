@@ -1,0 +1,80 @@
+#include "exoid/ident/model/consistency_verdict.hpp"
+
+#include "exoid/core/format.hpp"
+#include "exoid/core/parallel_for.hpp"
+#include "exoid/core/random.hpp"
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+namespace exoid::ident {
+
+namespace {
+
+double upperTail(double z) { return 0.5 * std::erfc(z / std::sqrt(2.0)); }
+
+// Standard errors from beta to its nearest consistent estimate `fit` (0 when beta is consistent).
+double distanceOf(const ConsistentFit& fit, const Eigen::VectorXd& beta, const Eigen::LLT<Eigen::MatrixXd>& covariance) {
+  if (fit.status == ConsistentFitStatus::kLeastSquaresConsistent) return 0.0;
+  const Eigen::VectorXd d = fit.beta - beta;
+  return std::sqrt(std::max(0.0, d.dot(covariance.solve(d))));
+}
+
+}  // namespace
+
+void ConsistencyVerdictOptions::validate() const {
+  if (!(significance_sigmas > 0.0) || !std::isfinite(significance_sigmas)) {
+    throw std::invalid_argument("consistency verdict: significance_sigmas must be a positive number, got " + core::formatNumber(significance_sigmas));
+  }
+  if (draws < 19) throw std::invalid_argument("consistency verdict: draws must be >= 19, got " + core::toText(draws));
+  if (threads < 0) throw std::invalid_argument("consistency verdict: threads must be >= 0, got " + core::toText(threads));
+  fit.validate();
+}
+
+ConsistencyVerdict judgeConsistency(const ChainModel& model, const BaseParameters& base, const Eigen::VectorXd& theta,
+                                    const ConsistentFit& nearest, const Eigen::MatrixXd& metric, const Eigen::MatrixXd& covariance,
+                                    const Eigen::VectorXd& phi_start, const ConsistencyVerdictOptions& options) {
+  options.validate();
+  const Eigen::Index n = theta.size();
+  if (n != base.rank || metric.rows() != n || metric.cols() != n || covariance.rows() != n || covariance.cols() != n ||
+      nearest.beta.size() != n) {
+    throw std::invalid_argument("consistency verdict: expected " + core::toText(base.rank) + " base parameters, their metric and covariance");
+  }
+  const Eigen::LLT<Eigen::MatrixXd> cov(covariance);
+  if (!covariance.allFinite() || cov.info() != Eigen::Success) {
+    throw std::invalid_argument("consistency verdict: the covariance is not positive definite");
+  }
+  ConsistencyVerdict v;
+  v.level = upperTail(options.significance_sigmas);
+  v.distance = distanceOf(nearest, theta, cov);
+  v.p_value = upperTail(v.distance);
+  if (v.distance <= options.significance_sigmas) return v;
+
+  // Each draw refits as theta was: the same metric, the same residual sum of squares beside it.
+  const Eigen::MatrixXd L = cov.matrixL();
+  std::vector<char> as_far(static_cast<std::size_t>(options.draws), 0);
+  // Each draw goes straight to the barrier (one Levenberg-Marquardt iteration): the problem is
+  // convex, so the optimum is the same, and LM's crawl towards a boundary optimum is most of a
+  // fit's time (docs/findings.md).
+  ConsistentFitOptions fit_options = options.fit;
+  fit_options.max_iterations = 1;
+  core::parallelFor(as_far.size(), options.threads, [&](std::size_t i) {
+    core::Rng rng(core::deriveSeed(options.seed, i));
+    Eigen::VectorXd z(n);
+    for (Eigen::Index k = 0; k < n; ++k) z[k] = rng.normal();
+    const Eigen::VectorXd beta = nearest.beta + L * z;
+    const Eigen::VectorXd b = metric * beta;
+    const ConsistentFit fit = consistentFitNormal(model, base, metric, b, beta.dot(b) + nearest.ls_cost, phi_start, fit_options);
+    as_far[i] = distanceOf(fit, beta, cov) >= v.distance;
+  });
+  v.draws = options.draws;
+  for (char f : as_far) v.as_far += f;
+  v.p_value = (v.as_far + 1.0) / (v.draws + 1.0);
+  v.significant = v.p_value <= v.level;
+  return v;
+}
+
+}  // namespace exoid::ident
