@@ -320,9 +320,10 @@ TEST(ChainCli, SegmentalStrategyDownTheLegRecoversExactRecordsStageByStage) {
 
 // Noisy stage records (5 s, 2 N m torque noise): LS lies outside the physically consistent set, and
 // the distance to it is judged in LS's reported errors, as one fit's is: within --significance it is
-// the bound without a draw; beyond it, estimates drawn about the bound decide (ident::judgeConsistency).
-// Here 59 of 199 draws lie as far (p = 0.3): not beyond the noise at --significance d / 2 (p <= 0.23),
-// beyond it at --significance 0.1 (p <= 0.46): exit 3 naming the distance and the draws.
+// the bound, not drawn; beyond it (--significance d / 2), estimates drawn about a consistent body
+// decide (ident::judgeConsistency), and here as many lie as far (p above the level): exit 0, the
+// same distance. The verdict's exit 3 through nearestConsistent, which the stages use, is
+// ChainCli.EveryMethodsEstimateIsJudgedForPhysicalConsistency's.
 TEST(ChainCli, SegmentalStrategyJudgesConsistencyInItsReportedErrors) {
   const std::string dir = ::testing::TempDir() + "/segmental_noisy";
   std::filesystem::create_directories(dir);
@@ -353,13 +354,6 @@ TEST(ChainCli, SegmentalStrategyJudgesConsistencyInItsReportedErrors) {
   EXPECT_EQ(drawn["draws"].get<int>(), 199);
   EXPECT_EQ(drawn["standard_errors"].get<double>(), d);
   EXPECT_GT(drawn["p_value"].get<double>(), drawn["level"].get<double>());
-  std::vector<std::string> strict = identify;
-  strict.insert(strict.end(), {"--significance", "0.1"});
-  const std::string why = stderrOf(strict, 3);
-  EXPECT_NE(why.find("no physically consistent body explains the data: the nearest consistent estimate is " + fmt(d, 3) +
-                     " reported standard errors away, as far as or farther than " + core::toText(drawn["as_far"].get<int>()) + " of 199"),
-            std::string::npos)
-      << why;
 }
 
 TEST(ChainCli, ReproduceOnTheHipKneeAnkleLegRunsTheProtocolAndReportsEveryBaseParameter) {
@@ -582,8 +576,8 @@ TEST(ChainCli, AnArmatureTheUrdfLeavesOutIsNamedWithItsOption) {
             0);
   testing::internal::GetCapturedStdout();
   const std::string why = stderrOf({"identify", "--model", urdf, "--data", csv, "--json", out}, 3);
-  EXPECT_NE(why.find("the nearest physically consistent estimate to the data is"), std::string::npos) << why;
   EXPECT_NE(why.find("rerun with --armature knee"), std::string::npos) << why;
+  EXPECT_NE(why.find("(the nearest physically consistent estimate to the data is"), std::string::npos) << why;
   const nlohmann::json knee = readJson(out)["optional_terms"]["armature"]["knee"];
   EXPECT_TRUE(knee["significant"].get<bool>());
   // Within 4 of its reported standard errors of the rig's 3 kg m^2.
@@ -626,7 +620,7 @@ TEST(ChainCli, TheStagesNameATermAnEarlierStageAbsorbed) {
       continue;
     }
     // The stages' own consistency passes; what names the rotor is the one fit beside them.
-    EXPECT_EQ(why.find("no physically consistent body explains"), std::string::npos) << why;
+    EXPECT_EQ(why.find("no physically consistent body explains the data"), std::string::npos) << why;
     EXPECT_NE(why.find("one fit of the last stage's records"), std::string::npos) << why;
     EXPECT_NE(why.find("rerun with --armature knee"), std::string::npos) << why;
     EXPECT_FALSE(check["one_fit_consistent"].get<bool>());

@@ -777,7 +777,8 @@ void addIdentificationOptions(CLI::App& cmd, IdentifyArgs& args) {
                "estimate in the metric of its reported covariance)")
       ->group("Identification");
   cmd.add_option("--significance", args.consistency_options.significance_sigmas,
-                 "Standard errors beyond which a violated physical condition is significant (exit code 3)")
+                 "Standard errors beyond which a violated physical condition is significant (exit code 3); a chain model:\n"
+                 "the level 1 - Phi(s) its consistency verdict's draws are judged by (--consistency-draws)")
       ->check(positiveNumber())->capture_default_str()->group("Identification");
 }
 
@@ -831,8 +832,9 @@ void addChainOptions(CLI::App& cmd, IdentifyArgs& args) {
       ->group("Identification");
   cmd.add_option("--consistency-draws", args.consistency_draws,
                  "Chain models: estimates drawn about the nearest physically consistent one (the consistency verdict): LS is\n"
-                 "inconsistent when fewer than the one-sided normal tail of --significance (2.3 % at 2) lie as far from their\n"
-                 "own nearest consistent estimate; drawn only when LS is further than --significance standard errors")
+                 "inconsistent when p = (those as far from their own nearest consistent estimate + 1) / (draws + 1) is at most\n"
+                 "the one-sided normal tail of --significance (2.3 % at 2); drawn only when LS is further than --significance\n"
+                 "standard errors")
       ->check(CLI::Range(19, 1000000))->capture_default_str()->group("Identification");
   cmd.add_option("--consistency-seed", args.consistency_seed, "Chain models: the seed of the consistency verdict's draws")
       ->capture_default_str()->group("Identification");

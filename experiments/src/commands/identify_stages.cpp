@@ -283,7 +283,10 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   // Judged as its own identify would judge it, the optional-term test included.
   const LsConsistency consistency = a.consistency ? judgeLeastSquares(a, loaded, log, one, last_input.files, records.signals.back(), "them")
                                                   : LsConsistency{};
-  if (!consistency.reason.empty()) c.one_fit_inconsistency = "is not explained by the model: " + consistency.reason;
+  if (!consistency.reason.empty()) {
+    c.one_fit_inconsistency = consistency.verdict.significant ? "is not explained by the model: " + consistency.reason
+                                                              : "needs a term the model leaves out (" + consistency.reason + ")";
+  }
   std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
   out.json = toJson(c, loaded.base.names);
   if (consistency.verdict.distance > 0.0) out.json["verdict"] = toJson(consistency.verdict, a.consistency_seed);

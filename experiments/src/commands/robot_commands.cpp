@@ -3,6 +3,7 @@
 
 #include "exoid/core/atomic_file.hpp"
 #include "exoid/core/format.hpp"
+#include "exoid/core/normal_tail.hpp"
 #include "exoid/experiments/commands/commands.hpp"
 #include "exoid/experiments/protocol/controller_io.hpp"
 #include "exoid/experiments/protocol/excitation_report.hpp"
@@ -172,6 +173,33 @@ void simulateChainToFiles(const sim::ChainSimConfig& config, const std::string& 
   std::cout << ") and " << json_path << "\ntracking error RMS " << fmt(r.tracking_rms_rad * 180.0 / M_PI, 3) << " deg (all joints)\n";
 }
 
+namespace {
+
+// The verdict when the draws cannot be made (judgeConsistency refused the covariance): the distance
+// judged as if one bound were active, as before the draws, and said so.
+ident::ConsistencyVerdict verdictOrDistance(const std::function<ident::ConsistencyVerdict()>& judge, const ident::ConsistentFit& fit,
+                                            const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance, double significance_sigmas,
+                                            const std::string& whose) {
+  try {
+    return judge();
+  } catch (const std::invalid_argument& e) {
+    ident::ConsistencyVerdict v;
+    if (fit.status != ident::ConsistentFitStatus::kLeastSquaresConsistent) {
+      const Eigen::VectorXd d = fit.beta - theta;
+      v.distance = std::sqrt(std::max(0.0, d.dot(covariance.ldlt().solve(d))));
+    }
+    v.level = core::normalUpperTail(significance_sigmas);
+    v.p_value = v.distance > 0.0 ? core::normalUpperTail(v.distance) : 1.0;
+    v.significant = v.distance > significance_sigmas;
+    std::cout << wrapped(whose + "'s physical consistency: not judged by draws (" + std::string(e.what()) + "): its distance " +
+                         fmt(v.distance, 3) + " against --significance alone")
+              << "\n";
+    return v;
+  }
+}
+
+}  // namespace
+
 std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, const Eigen::VectorXd& theta, const Eigen::MatrixXd& covariance,
                                                   const std::string& whose, const ident::ConsistencyVerdictOptions& options) {
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(covariance);
@@ -180,11 +208,12 @@ std::optional<NearestConsistent> nearestConsistent(const LoadedChain& loaded, co
   NearestConsistent c;
   try {
     c.fit = ident::consistentFitNormal(loaded.model, loaded.base, A, A * theta, theta.dot(A * theta), loaded.phi, options.fit);
-    c.verdict = ident::judgeConsistency(loaded.model, loaded.base, theta, c.fit, A, covariance, loaded.phi, options);
   } catch (const std::invalid_argument& e) {
     std::cout << wrapped(whose + "'s physical consistency: not judged (" + std::string(e.what()) + ")") << "\n";
     return std::nullopt;
   }
+  c.verdict = verdictOrDistance([&] { return ident::judgeConsistency(loaded.model, loaded.base, theta, c.fit, A, covariance, loaded.phi, options); },
+                                c.fit, theta, covariance, options.significance_sigmas, whose);
   return c;
 }
 
@@ -211,23 +240,19 @@ ident::ConsistencyVerdictOptions verdictOptions(const ChainIdentifyArgs& a) {
 
 ident::ConsistencyVerdict consistencyVerdict(const LoadedChain& loaded, const ident::ChainEstimate& est, const ident::ConsistencyVerdictOptions& options) {
   if (!est.consistent) return {};
-  try {
-    return ident::judgeConsistency(loaded.model, loaded.base, est.beta, *est.consistent, est.normal, est.covariance, loaded.phi, options);
-  } catch (const std::invalid_argument& e) {
-    std::cout << wrapped("LS's physical consistency: not judged (" + std::string(e.what()) + ")") << "\n";
-    return {};
-  }
+  return verdictOrDistance(
+      [&] { return ident::judgeConsistency(loaded.model, loaded.base, est.beta, *est.consistent, est.normal, est.covariance, loaded.phi, options); },
+      *est.consistent, est.beta, est.covariance, options.significance_sigmas, "LS");
 }
 
 std::string verdictText(const ident::ConsistencyVerdict& v) {
-  if (v.draws == 0) return "p >= " + fmt(v.p_value, 3) + " (the half-normal bound)";
-  return "as far as or farther than " + core::toText(v.as_far) + " of " + core::toText(v.draws) + " estimates drawn about it (p = " +
-         fmt(v.p_value, 3) + ")";
+  if (v.draws == 0) return "p >= " + fmt(v.p_value, 3) + " (the half-normal bound, not drawn)";
+  return core::toText(v.as_far) + " of " + core::toText(v.draws) + " estimates drawn about a consistent body lie as far (p = " + fmt(v.p_value, 3) + ")";
 }
 
 std::string inconsistencyProblem(const ident::ConsistencyVerdict& v, const std::string& whose, const char* errors) {
-  return "no physically consistent body explains " + whose + ": the nearest consistent estimate is " + fmt(v.distance, 3) + " " + errors + " away, " +
-         verdictText(v) + ", p <= " + fmt(v.level, 3) + " (--significance)";
+  return "no physically consistent body explains " + whose + ": the nearest consistent estimate is " + fmt(v.distance, 3) + " " + errors + " away; " +
+         verdictText(v) + ", at most " + fmt(v.level, 3) + " (--significance)";
 }
 
 nlohmann::json toJson(const ident::ConsistencyVerdict& v, std::uint64_t seed) {
@@ -416,7 +441,10 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
   return armatureTest(robot, rows, missing, a.significance_sigmas, a.max_condition);
 }
 
-std::string LsConsistency::problem() const { return hint.empty() || reason.empty() ? reason : reason + "; " + hint; }
+std::string LsConsistency::problem() const {
+  if (hint.empty() || reason.empty()) return reason;
+  return verdict.significant ? reason + "; " + hint : hint + " (" + reason + ")";
+}
 
 LsConsistency judgeLeastSquares(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::ChainEstimate& est,
                                 const std::vector<std::string>& files, const std::vector<ident::SignalOptions>& signals, const std::string& whose) {
@@ -428,8 +456,9 @@ LsConsistency judgeLeastSquares(const ChainIdentifyArgs& a, const LoadedChain& l
   if (c.verdict.significant) {
     c.reason = inconsistencyProblem(c.verdict, whose, "standard errors");
   } else if (!c.hint.empty()) {
-    c.reason = "the nearest physically consistent estimate to " + whose + " is " + fmt(c.verdict.distance, 3) +
-               " standard errors from least squares, " + verdictText(c.verdict) + ": not beyond the noise alone";
+    // The armature leads (problem()); the distance is its context, not a reason of its own.
+    c.reason = "the nearest physically consistent estimate to " + whose + " is " + fmt(c.verdict.distance, 3) + " standard errors away; " +
+               verdictText(c.verdict) + ", more than " + fmt(c.verdict.level, 3) + " (--significance)";
   }
   return c;
 }

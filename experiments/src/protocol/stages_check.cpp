@@ -1,6 +1,7 @@
 #include "exoid/experiments/protocol/stages_check.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/core/normal_tail.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +13,7 @@
 namespace exoid::experiments {
 
 double bonferroniZ(double significance_sigmas, int tests) {
-  const auto tail = [](double z) { return std::erfc(z / std::sqrt(2.0)); };
+  const auto tail = core::normalUpperTail;
   const double target = tail(significance_sigmas) / std::max(tests, 1);
   // Never below one test's z; sqrt(2 ln tests) more is enough for any count an int holds.
   double lo = significance_sigmas, hi = significance_sigmas + 10.0;

@@ -1,6 +1,7 @@
 #include "exoid/experiments/report/stats.hpp"
 
 #include "exoid/core/format.hpp"
+#include "exoid/core/normal_tail.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -44,7 +45,7 @@ double betaContinuedFraction(double a, double b, double x) {
   return h;
 }
 
-double normalCdf(double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); }
+double normalCdf(double z) { return core::normalUpperTail(-z); }
 }  // namespace
 
 double mean(const std::vector<double>& x) {
