@@ -285,7 +285,7 @@ OneFitCheck againstOneFit(const ChainIdentifyArgs& a, const LoadedChain& loaded,
                                                   : LsConsistency{};
   if (!consistency.reason.empty()) {
     c.one_fit_inconsistency = consistency.verdict.significant ? "is not explained by the model: " + consistency.reason
-                                                              : "needs a term the model leaves out (" + consistency.reason + ")";
+                                                              : "shows a term by the armature test (" + consistency.reason + ")";
   }
   std::cout << wrapped(describe(c, loaded.base.names)) << "\n";
   out.json = toJson(c, loaded.base.names);

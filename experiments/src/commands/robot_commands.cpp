@@ -246,13 +246,14 @@ ident::ConsistencyVerdict consistencyVerdict(const LoadedChain& loaded, const id
 }
 
 std::string verdictText(const ident::ConsistencyVerdict& v) {
+  if (v.draws == 0 && v.significant) return "judged by the distance against --significance alone (the draws could not be made)";
   if (v.draws == 0) return "p >= " + fmt(v.p_value, 3) + " (the half-normal bound, not drawn)";
   return core::toText(v.as_far) + " of " + core::toText(v.draws) + " estimates drawn about a consistent body lie as far (p = " + fmt(v.p_value, 3) + ")";
 }
 
 std::string inconsistencyProblem(const ident::ConsistencyVerdict& v, const std::string& whose, const char* errors) {
   return "no physically consistent body explains " + whose + ": the nearest consistent estimate is " + fmt(v.distance, 3) + " " + errors + " away; " +
-         verdictText(v) + ", at most " + fmt(v.level, 3) + " (--significance)";
+         verdictText(v) + (v.draws > 0 ? ", at most " + fmt(v.level, 3) + " (--significance)" : std::string());
 }
 
 nlohmann::json toJson(const ident::ConsistencyVerdict& v, std::uint64_t seed) {

@@ -148,7 +148,8 @@ ArmatureTest armatureTest(const ChainIdentifyArgs& a, const LoadedChain& loaded,
 
 /// The verdict on a chain's LS estimate against its physically consistent one (ident::judgeConsistency,
 /// the distance in the fit's own covariance); distance 0 when LS is consistent or no consistent
-/// estimate was computed, and when the covariance is not positive definite (said on stdout).
+/// estimate was computed. When the draws cannot be made (the covariance is not positive definite),
+/// the distance against --significance alone, said on stdout (draws 0 beyond --significance).
 ident::ConsistencyVerdict consistencyVerdict(const LoadedChain& loaded, const ident::ChainEstimate& est,
                                              const ident::ConsistencyVerdictOptions& options);
 /// The verdict's options from identify's: --significance, --consistency-draws, --consistency-seed, --threads.
@@ -163,15 +164,18 @@ struct LsConsistency {
   std::optional<ArmatureTest> armature;  ///< when tested
   std::string reason;                    ///< empty: nothing to say; else why LS must not be used, without the hint
   std::string hint;                      ///< the optional term's option, when the records show one
-  std::string problem() const;           ///< reason; hint
+  /// "reason; hint" when the verdict is significant, else "hint (reason)": the armature leads and
+  /// the distance, within the noise, is its context
+  std::string problem() const;
 };
 LsConsistency judgeLeastSquares(const ChainIdentifyArgs& a, const LoadedChain& loaded, const LogInput& log, const ident::ChainEstimate& est,
                                 const std::vector<std::string>& files, const std::vector<ident::SignalOptions>& signals, const std::string& whose);
 /// identify's exit-3 reason when the nearest physically consistent estimate lies further from
 /// `whose` estimate than the noise explains, in `errors` ("standard errors", "reported standard errors").
 std::string inconsistencyProblem(const ident::ConsistencyVerdict& v, const std::string& whose, const char* errors);
-/// How far a verdict's draws put the distance, for the printed line and the problem: "farther than
-/// 198 of 199 estimates drawn about it (p = 0.01)", or the half-normal bound when not drawn.
+/// How far a verdict's draws put the distance, for the printed line and the problem: "3 of 199
+/// estimates drawn about a consistent body lie as far (p = 0.02)"; when not drawn, the half-normal
+/// bound, or (beyond --significance: the draws could not be made) the distance alone.
 std::string verdictText(const ident::ConsistencyVerdict& v);
 /// The verdict as identify's JSON gives it (distance, p_value, draws, as_far, level, significant, seed).
 nlohmann::json toJson(const ident::ConsistencyVerdict& v, std::uint64_t seed);

@@ -10,8 +10,9 @@
 // covariance's (least squares with Newey-West errors) stretches D by a factor of its own. The draws
 // measure both, whatever k and the set's shape.
 //
-// The centre is the nearest consistent estimate with each friction or armature coefficient it
-// holds within bound_selection_sigmas of 0 put on 0: where the truth sits on such a bound and noise
+// The centre is the nearest consistent estimate with each friction or armature coefficient that is
+// a base parameter of its own (not one regrouped with a link's inertia) and that it holds within
+// bound_selection_sigmas of 0 put on 0: where the truth sits on such a bound and noise
 // stepped the estimate off it, draws about the estimate would see that bound active half as often
 // as the truth's records do (the bootstrap at a boundary; Andrews and Soares' moment selection).
 //
@@ -34,9 +35,10 @@ struct ConsistencyVerdictOptions {
   double significance_sigmas = 2.0;
   /// Draws about the centre. Range >= 19. Default 199 (p in steps of 0.005).
   int draws = 199;
-  /// A friction or armature coefficient the nearest consistent estimate holds within this many
-  /// standard errors of 0 is put on 0 in the centre. Range >= 0 (0: the nearest consistent estimate
-  /// itself). Default 3, Andrews and Soares' sqrt(ln n) for records of 8,000 to 100,000 rows.
+  /// A friction or armature coefficient (a base parameter of its own) the nearest consistent
+  /// estimate holds within this many standard errors of 0 is put on 0 in the centre. Range >= 0 (0:
+  /// the nearest consistent estimate itself). Default 3, about Andrews and Soares' sqrt(ln n) (3.0
+  /// to 3.4 for 8,000 to 100,000 rows, though a record's rows are not independent).
   double bound_selection_sigmas = 3.0;
   std::uint64_t seed = 1;  ///< draw i from sub-stream i of this seed (core::deriveSeed)
   int threads = 0;         ///< 0: every core; the verdict is the same bytes whatever the number
