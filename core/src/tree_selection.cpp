@@ -3,6 +3,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -30,6 +31,26 @@ void ChainSelection::addLock(const std::string& s) {
     throw std::invalid_argument("expected JOINT=VALUE (the joint held at VALUE rad, or m for a prismatic joint), got '" + s + "'");
   }
   if (!locks.emplace(s.substr(0, eq), v).second) throw std::invalid_argument("joint '" + s.substr(0, eq) + "' is locked twice");
+}
+
+ChainSelection parseChainSelection(const std::string& text) {
+  ChainSelection s;
+  if (text == "none") return s;
+  std::istringstream in(text);
+  std::string option, value;
+  while (in >> option) {
+    if (!(in >> value)) throw std::invalid_argument("chain selection '" + text + "': " + option + " without a value");
+    if (option == "--base") {
+      s.base = value;
+    } else if (option == "--tip") {
+      s.tip = value;
+    } else if (option == "--lock") {
+      s.addLock(value);
+    } else {
+      throw std::invalid_argument("chain selection '" + text + "': expected --base, --tip or --lock, got '" + option + "'");
+    }
+  }
+  return s;
 }
 
 }  // namespace exoid::core

@@ -58,15 +58,46 @@ ModelPtr compileMjcf(const std::string& xml, const std::string& source) {
   return ModelPtr(m);
 }
 
-bool isUrdfPath(const std::string& path) {
-  if (path.size() < 5) return false;
+namespace {
+
+// The name of an XML file's root element: the first tag after any declaration, comment or DOCTYPE
+// within its first 64 kB ("" when the file cannot be read or none is found there).
+std::string xmlRootElement(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(64 * 1024, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  for (std::size_t at = head.find('<'); at != std::string::npos && at + 1 < head.size(); at = head.find('<', at + 1)) {
+    const char next = head[at + 1];
+    if (next == '?' || next == '!') {  // a declaration, comment or DOCTYPE: skip to its end
+      const std::size_t end = head.find(head.compare(at, 4, "<!--") == 0 ? "-->" : ">", at + 2);
+      if (end == std::string::npos) return "";
+      at = end;
+      continue;
+    }
+    std::size_t stop = at + 1;
+    while (stop < head.size() && (std::isalnum(static_cast<unsigned char>(head[stop])) || head[stop] == '_' || head[stop] == ':' ||
+                                  head[stop] == '-' || head[stop] == '.')) {
+      ++stop;
+    }
+    return head.substr(at + 1, stop - at - 1);
+  }
+  return "";
+}
+
+}  // namespace
+
+bool isUrdfFile(const std::string& path) {
+  const std::string root = xmlRootElement(path);
+  if (!root.empty()) return root == "robot";
+  if (path.size() < 5) return false;  // unreadable: its name says which reader will name the problem
   std::string ext = path.substr(path.size() - 5);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return ext == ".urdf";
 }
 
 bool isApalLegModel(const std::string& path) {
-  if (isUrdfPath(path)) return false;
+  if (isUrdfFile(path)) return false;
   const ModelPtr m = loadMjcfFile(path);
   return m->nnames > 0 && std::string(m->names) == "apal_leg";
 }

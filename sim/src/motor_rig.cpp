@@ -68,7 +68,7 @@ void ChainSimConfig::validate() const {
     if (!ok) throw std::invalid_argument(std::string("chain simulation: '") + field + "' must be " + what);
   };
   need(!model_path.empty(), "model_path", "a model file");
-  need(selection.empty() || isUrdfPath(model_path), "selection", "empty for an MJCF (simulated as it is; a chain is chosen out of a URDF's tree)");
+  need(selection.empty() || isUrdfFile(model_path), "selection", "empty for an MJCF (simulated as it is; a chain is chosen out of a URDF's tree)");
   need(duration_s > 0.0 && std::isfinite(duration_s), "duration_s", "> 0");
   need(dt_s > 0.0 && dt_s <= 0.01, "dt_s", "in (0, 0.01]");
   sensors.validate();
@@ -87,7 +87,7 @@ namespace {
 // The rig's model: on a rigid stand (the file's mount joints removed from its text, so the base is
 // exactly still) at vibration level 0, else the file as it is.
 ModelPtr loadChainRig(const ChainSimConfig& config) {
-  if (isUrdfPath(config.model_path)) {
+  if (isUrdfFile(config.model_path)) {
     // A URDF has no motors and no stand: its chain (out of a tree by the selection) as an MJCF with both (urdf_rig.hpp).
     const SerialChain chain = serialChainFromUrdf(config.model_path, config.selection);
     return compileMjcf(urdfRigMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
@@ -423,7 +423,7 @@ class ChainRig {
 }  // namespace
 
 bool hasCompliantMount(const std::string& model_path) {
-  if (isUrdfPath(model_path)) return true;  // simulated on the stand (urdf_rig.hpp)
+  if (isUrdfFile(model_path)) return true;  // simulated on the stand (urdf_rig.hpp)
   const ModelPtr model = loadMjcfFile(model_path);
   return !drivenJoints(model.get(), model_path).mount.empty();
 }
@@ -490,6 +490,7 @@ ChainSimResult simulateChain(const ChainSimConfig& config_in) {
   r.table.metadata = {{"exoid", "chain simulation"},
                       {"model", r.chain.name},
                       {"model_path", config.model_path},
+                      {"chain_selection", config.selection.label()},
                       {"seed", std::to_string(config.seed)},
                       {"mujoco", r.mujoco_version},
                       {"controller_kp_Nm_per_rad", list(r.kp_Nm_per_rad)},

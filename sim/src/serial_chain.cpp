@@ -328,7 +328,7 @@ SerialChain serialChainFromMjcfFile(const std::string& path, const ChainSelectio
 }
 
 SerialChain serialChainFromFile(const std::string& path, const ChainSelection& selection) {
-  return isUrdfPath(path) ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
+  return isUrdfFile(path) ? serialChainFromUrdf(path, selection) : serialChainFromMjcfFile(path, selection);
 }
 
 SerialChain serialChain(const LegModel& leg) {

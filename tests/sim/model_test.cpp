@@ -1,4 +1,6 @@
 #include "exoid/sim/model.hpp"
+#include "exoid/sim/data_dir.hpp"
+#include "exoid/sim/serial_chain.hpp"
 
 #include "test_support.hpp"
 
@@ -52,6 +54,34 @@ TEST_F(ModelTest, InvalidXmlCarriesMujocosMessage) {
     EXPECT_GT(msg.size(), msg.find(": ", msg.find("model")) + 10) << msg;
   }
   std::remove(path.c_str());
+}
+
+// A file's root element says which reader takes it, not its name: a URDF saved as .xml is read by
+// urdfdom, an MJCF saved as .mjcf or .urdf by MuJoCo, and each gives the robot its proper name gives.
+TEST_F(ModelTest, TheRootElementNotTheNameSaysUrdfOrMjcf) {
+  const std::string urdf = readFileBytes(dataPath("models/leg3.urdf")), mjcf = readFileBytes(dataPath("models/leg3.xml"));
+  const auto saved = [](const std::string& name, const std::string& text) {
+    const std::string path = test::scratchPath(name);
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  };
+  const std::string urdf_as_xml = saved("leg3_urdf.xml", "<?xml version=\"1.0\"?>\n<!-- a <robot> in a comment -->\n" + urdf);
+  const std::string mjcf_as_mjcf = saved("leg3.mjcf", mjcf), mjcf_as_urdf = saved("leg3_mjcf.urdf", mjcf);
+  EXPECT_TRUE(isUrdfFile(dataPath("models/leg3.urdf")));
+  EXPECT_TRUE(isUrdfFile(urdf_as_xml));
+  EXPECT_FALSE(isUrdfFile(dataPath("models/leg3.xml")));
+  EXPECT_FALSE(isUrdfFile(mjcf_as_mjcf));
+  EXPECT_FALSE(isUrdfFile(mjcf_as_urdf));
+  EXPECT_TRUE(isUrdfFile("/nonexistent/leg.URDF"));  // unreadable: its name picks the reader that names the problem
+  EXPECT_FALSE(isUrdfFile("/nonexistent/leg.xml"));
+  const SerialChain from_urdf = serialChainFromFile(urdf_as_xml), from_mjcf = serialChainFromFile(mjcf_as_urdf);
+  ASSERT_EQ(from_urdf.links.size(), 3u);
+  ASSERT_EQ(from_mjcf.links.size(), 3u);
+  for (std::size_t j = 0; j < 3; ++j) {
+    EXPECT_EQ(from_urdf.links[j].joint, serialChainFromFile(dataPath("models/leg3.urdf")).links[j].joint);
+    EXPECT_EQ(from_mjcf.links[j].mass_kg, serialChainFromFile(dataPath("models/leg3.xml")).links[j].mass_kg);
+  }
+  for (const std::string& p : {urdf_as_xml, mjcf_as_mjcf, mjcf_as_urdf}) std::remove(p.c_str());
 }
 
 TEST_F(ModelTest, CompileErrorFromMemoryNamesTheSource) {

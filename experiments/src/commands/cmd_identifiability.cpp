@@ -135,7 +135,10 @@ ProcessedInput processInput(const Args& a) {
 #else
   if (chainModel(a)) throw std::invalid_argument("--model: this exoid was built without MuJoCo and urdfdom, which read robot models");
 #endif
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, joints);
+  LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, joints);
+#ifdef EXOID_WITH_MUJOCO
+  if (loaded) log.check_record = recordOfChain(*loaded);
+#endif
   in.d = readLog(a.data, log);
   if (!chainModel(a)) {
     in.c = resolveConstants(a.constants, in.d, nullptr, log.thigh_length_m, log.gravity_mps2);

@@ -59,7 +59,7 @@ void runTruth(TruthArgs a) {
   }
   // --model names a robot as every command does (MJCF or URDF); --urdf is kept as its alias.
   const std::string path = !a.urdf.empty() ? a.urdf : !a.model.empty() ? a.model : sim::defaultModelPath();
-  const bool urdf = !endsWith(path, ".xml");
+  const bool urdf = sim::isUrdfFile(path);
   // Another robot than the APAL leg: its chain's truth (standard and base parameters). X is the
   // 2-link leg's (hip, knee); any other chain gets its own parameters, never X of two of its joints.
   if (!a.selection.empty() || (!urdf && !sim::isApalLegModel(path))) return truthOfChain(path, a.json_out, a.selection);

@@ -140,7 +140,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
 void truthOfChain(const std::string& model_path, const std::string& json_out, const core::ChainSelection& selection) {
   core::prepareOutputFile(json_out);
   const LoadedChain loaded = loadChain(model_path, {}, selection);
-  const auto& [path, chain, model, phi, base, robot] = loaded;
+  const auto& [path, chain_selection, chain, model, phi, base, robot] = loaded;
   std::cout << "Standard parameters of " << chain.name << " (" << model_path << "), each link's about its joint, in its frame:\n";
   TextTable table({"parameter", "value"});
   const std::vector<std::string> names = model.standardParameterNames();
@@ -607,7 +607,8 @@ int identifyChain(const ChainIdentifyArgs& given) {
   core::prepareOutputFile(a.json_out);
   core::prepareOutputFile(a.plot);
   const LoadedChain still = loadChain(a.model, a.armature, a.selection);
-  const LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
+  LogInput log = resolveLogInput(a.log, a.signals.filter ? a.signals.cutoff_hz : 0.0, still.model.jointNames());
+  log.check_record = recordOfChain(still);
   const std::vector<ChainStageInput> inputs = stageInputs(a, still.model);
   std::vector<std::vector<ident::Dataset>> data;
   nlohmann::json sampling = nlohmann::json::object();

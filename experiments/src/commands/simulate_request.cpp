@@ -122,7 +122,7 @@ sim::SimConfig apalRig(const SimulateRequest& a) {
 }  // namespace
 
 void checkTreeSelection(const core::ChainSelection& selection, const std::string& model_path) {
-  if (selection.empty() || sim::isUrdfPath(model_path)) return;
+  if (selection.empty() || sim::isUrdfFile(model_path)) return;
   const std::string what = sim::isApalLegModel(model_path) ? "the APAL leg's rig is its own"
                                                             : "'" + model_path + "' is an MJCF, simulated as it is (its motors' joints)";
   throw CLI::ValidationError("--base/--tip/--lock JOINT=VALUE", "choose a chain out of a URDF's tree; " + what);

@@ -197,6 +197,7 @@ ident::Dataset readLog(const std::string& path, const LogInput& in) {
     const std::string hint = ident::angleUnitHint(d);
     if (!hint.empty()) throw std::invalid_argument(path + ": " + hint);
   }
+  if (in.check_record) in.check_record(path, d);
   return d;
 }
 

@@ -30,7 +30,7 @@ void reportModel(const std::string& model_name, const std::string& json_out, std
                  const core::ChainSelection& selection) {
   if (!json_out.empty()) core::checkOutputWritable(json_out);
   const LoadedChain loaded = loadChain(model_name, armature, selection);
-  const auto& [path, chain, model, phi, base, robot] = loaded;
+  const auto& [path, chain_selection, chain, model, phi, base, robot] = loaded;
   const ident::BaseParameterOptions options;
   const std::vector<std::string> names = model.standardParameterNames();
 

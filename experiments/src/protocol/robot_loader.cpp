@@ -69,6 +69,7 @@ bool isApalLeg(const std::string& name_or_path, const core::ChainSelection& sele
 LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::string>& armature, const core::ChainSelection& selection) {
   LoadedChain c;
   c.path = sim::modelPathFor(name_or_path);
+  c.selection = selection;
   c.chain = sim::serialChainFromFile(c.path, selection);
   c.model = withArmature(chainModel(c.chain), armature);
   c.phi = standardParameters(c.chain, c.model);
@@ -89,12 +90,49 @@ LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& re
   return loaded;
 }
 
+void checkRecordedChain(const std::string& source, const std::string& recorded, const LoadedChain& loaded) {
+  core::ChainSelection was;
+  sim::SerialChain other;
+  try {
+    was = core::parseChainSelection(recorded);
+    if (was.label() == loaded.selection.label()) return;
+    other = sim::serialChainFromFile(loaded.path, was);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(source + ": not data of a chain of " + loaded.path + ": " + e.what());
+  }
+  std::string differs;
+  if (other.jointNames() != loaded.chain.jointNames()) {
+    differs = "its joints (" + core::joined(other.jointNames(), ", ") + ")";
+  } else if (!other.gravity_mps2.isApprox(loaded.chain.gravity_mps2, 1e-12)) {
+    differs = "gravity in its base frame";
+  }
+  for (std::size_t j = 0; differs.empty() && j < other.links.size(); ++j) {
+    const sim::ChainLinkBody &a = other.links[j], &b = loaded.chain.links[j];
+    if (!a.parent_R_joint.isApprox(b.parent_R_joint, 1e-12) || (a.parent_p_joint_m - b.parent_p_joint_m).norm() > 1e-12 ||
+        !a.axis.isApprox(b.axis, 1e-12)) {
+      differs = "joint " + a.joint + "'s placement or axis";
+    }
+  }
+  if (differs.empty()) return;
+  throw std::invalid_argument(source + ": data of the chain '" + was.label() + "' of " + loaded.path + ", read as '" + loaded.selection.label() +
+                              "', which differ in " + differs + ": give the data's --base, --tip and --lock");
+}
+
+std::function<void(const std::string&, const ident::Dataset&)> recordOfChain(const LoadedChain& loaded) {
+  return [loaded](const std::string& path, const ident::Dataset& d) {
+    if (const auto recorded = d.metadata("chain_selection")) checkRecordedChain(path + " (metadata 'chain_selection')", *recorded, loaded);
+  };
+}
+
 Eigen::VectorXd truthFromSidecar(const std::string& path, const LoadedChain& loaded) {
   std::ifstream in(path);
   const nlohmann::json t = nlohmann::json::parse(in, nullptr, false);
   if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("standard_parameters") || !t["truth"]["standard_parameters"].is_object()) {
     throw std::invalid_argument("--truth '" + path + "': expected a chain simulation's sidecar with truth.standard_parameters");
   }
+  const nlohmann::json recorded = t.contains("model") ? t["model"].value("selection", nlohmann::json("")) : nlohmann::json("");
+  if (!recorded.is_string()) throw std::invalid_argument("--truth '" + path + "': model.selection is not a string");
+  checkRecordedChain("--truth '" + path + "' (model.selection)", recorded.get<std::string>(), loaded);
   const nlohmann::json& given = t["truth"]["standard_parameters"];
   const std::vector<std::string> names = loaded.model.standardParameterNames();
   Eigen::VectorXd phi = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(names.size()));

@@ -232,7 +232,7 @@ void SweepConfig::validate() const {
     if (!isChain()) {
       throw SweepConfigError(where(*this, key) + ": chooses a chain out of a URDF's tree ([sweep] model = a URDF); the APAL leg's rig is its own");
     }
-    if (!sim::isUrdfPath(chain_model_path)) {
+    if (!sim::isUrdfFile(chain_model_path)) {
       throw SweepConfigError(where(*this, key) + ": base, tip and lock choose a chain out of a URDF's tree; '" + chain_model_path +
                              "' is an MJCF, simulated as it is");
     }

@@ -17,8 +17,14 @@ struct ChainSelection {
   bool empty() const { return base.empty() && tip.empty() && locks.empty(); }
   /// The options as given: "--base B --tip T --lock j=0.5" ("" when empty).
   std::string options() const;
+  /// options(), or "none" when empty: a record's metadata 'chain_selection'.
+  std::string label() const { return empty() ? "none" : options(); }
   /// Adds one lock from "JOINT=VALUE". Throws std::invalid_argument saying what was expected.
   void addLock(const std::string& joint_equals_value);
 };
+
+/// The selection of options() or label() text ("--base B --tip T --lock j=0.5", "none", "").
+/// Throws std::invalid_argument naming what it could not read.
+ChainSelection parseChainSelection(const std::string& text);
 
 }  // namespace exoid::core

@@ -40,8 +40,9 @@ ModelPtr loadMjcfFile(const std::string& path);
 /// Whether the file is the APAL leg's MJCF (its model named "apal_leg"), whose plant (the four-bar
 /// cylinder, the pedestal) is simulated and drawn as such; a URDF never is. Throws as loadMjcfFile.
 bool isApalLegModel(const std::string& path);
-/// Whether the file is a URDF (by its extension, .urdf in any case); anything else is read as MJCF.
-bool isUrdfPath(const std::string& path);
+/// Whether the file is a URDF: its root element is <robot> (whatever its name: a URDF saved as .xml
+/// is one); an unreadable file by its extension (.urdf in any case). Anything else is read as MJCF.
+bool isUrdfFile(const std::string& path);
 /// mj_makeData; throws MujocoError on failure.
 DataPtr makeData(const mjModel* m);
 /// One step of the model's integrator from the state mj_forward has evaluated (what mj_step does

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,8 @@ struct LogInput {
   /// The angle unit was said (--angle-unit or the profile's [units] angle): readLog trusts it;
   /// else it refuses angles implausible as radians, naming the likely unit (ident::angleUnitHint).
   bool angle_unit_given = false;
+  /// Run by readLog on each record read (e.g. a chain command's: the record is of its chain).
+  std::function<void(const std::string& path, const ident::Dataset&)> check_record;
 };
 /// Profile first, then the flags over it. `filter_cutoff_hz` > 0 sets the longest gap resampling
 /// bridges to a tenth of the filter's period unless --max-gap-ms says otherwise. Throws

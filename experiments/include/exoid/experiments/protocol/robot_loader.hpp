@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ Eigen::VectorXd standardParameters(const sim::SerialChain& chain, const ident::C
 /// parameters in that model's layout, and its base parameters.
 struct LoadedChain {
   std::string path;
+  core::ChainSelection selection;  ///< the chain of the file (--base, --tip, --lock)
   sim::SerialChain chain;
   ident::ChainModel model;
   Eigen::VectorXd phi;
@@ -51,9 +53,19 @@ LoadedChain loadChain(const std::string& name_or_path, const std::vector<std::st
 /// (docs/findings.md), so this is a choice (identify --moving-base-parameters), not the default.
 /// Throws std::invalid_argument when none of `records` carries base-motion terms.
 LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& records, const ident::SignalOptions& signals);
+/// Refuses data of another chain of loaded's file: `recorded` is the selection the data were
+/// simulated with (a record's metadata 'chain_selection', a sidecar's model.selection). The same
+/// joints held at another posture or hanging from another base move otherwise: fitted as loaded's,
+/// estimates and truth would be silently wrong. A selection that changes only what is lumped into a
+/// link (a branch held at another posture) passes: the fit takes the chain's kinematics alone.
+/// Throws std::invalid_argument naming `source`, both selections and what differs.
+void checkRecordedChain(const std::string& source, const std::string& recorded, const LoadedChain& loaded);
+/// readLog's check_record for loaded's records: checkRecordedChain on their 'chain_selection'.
+std::function<void(const std::string&, const ident::Dataset&)> recordOfChain(const LoadedChain& loaded);
 /// The true base parameters of `loaded` from a chain simulation's sidecar: its standard
 /// parameters, by name, through loaded's combination (a parameter the file lacks, an armature added
-/// by --armature, is 0). Throws std::invalid_argument naming the file and what is missing.
+/// by --armature, is 0). Throws std::invalid_argument naming the file and what is missing, or the
+/// sidecar's chain (its model.selection) when it is not loaded's.
 Eigen::VectorXd truthFromSidecar(const std::string& path, const LoadedChain& loaded);
 
 }  // namespace exoid::experiments
