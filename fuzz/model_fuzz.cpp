@@ -13,7 +13,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace exoid::sim;
   if (size < 1) return 0;
-  // Bit 0 picks the reader (MJCF, else URDF); bits 1-2 a selection the corpus's trees have.
+  // Bit 0 names the file .xml or .urdf (its root element picks the reader; the name only when it
+  // has none); bits 1-2 a selection the corpus's trees have.
   const bool mjcf = data[0] & 1;
   ChainSelection selection;
   switch ((data[0] >> 1) & 3) {

@@ -3,21 +3,34 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace exoid::core {
 
+namespace {
+
+// A name as one word of the options' text: quoted (std::quoted) when it holds a space or a quote.
+std::string word(const std::string& name) {
+  if (name.find_first_of(" \t\n\"\\") == std::string::npos) return name;
+  std::ostringstream out;
+  out << std::quoted(name);
+  return out.str();
+}
+
+}  // namespace
+
 std::string ChainSelection::options() const {
   std::string s;
   const auto add = [&s](const std::string& part) { s += (s.empty() ? "" : " ") + part; };
-  if (!base.empty()) add("--base " + base);
-  if (!tip.empty()) add("--tip " + tip);
+  if (!base.empty()) add("--base " + word(base));
+  if (!tip.empty()) add("--tip " + word(tip));
   for (const auto& [joint, value] : locks) {
     char digits[32];  // the shortest text that reads back as the same double: a lock's posture exactly
     const std::to_chars_result r = std::to_chars(digits, digits + sizeof digits, value);
-    add("--lock " + joint + "=" + std::string(digits, r.ptr));
+    add("--lock " + word(joint + "=" + std::string(digits, r.ptr)));
   }
   return s;
 }
@@ -39,7 +52,7 @@ ChainSelection parseChainSelection(const std::string& text) {
   std::istringstream in(text);
   std::string option, value;
   while (in >> option) {
-    if (!(in >> value)) throw std::invalid_argument("chain selection '" + text + "': " + option + " without a value");
+    if (!(in >> std::quoted(value))) throw std::invalid_argument("chain selection '" + text + "': " + option + " without a value");
     if (option == "--base") {
       s.base = value;
     } else if (option == "--tip") {

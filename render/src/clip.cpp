@@ -28,7 +28,7 @@ const ClipOptions& validated(const ClipOptions& o) {
 // poses the leg at many rows before the first frame).
 ClipOptions framed(const Track& track, const ClipOptions& o) {
   if (!o.auto_frame) return o;
-  const std::unique_ptr<Scene> scene = openScene(o.model_path, track, o.base_motion_gain);
+  const std::unique_ptr<Scene> scene = openScene(o.model_path, track, o.base_motion_gain, o.selection);
   const SweptBox box = sweptBox(*scene, track);
   const bool plots = o.overlay_enabled && o.overlay.plot && track.hasTorque();
   ClipOptions out = o;
@@ -54,7 +54,7 @@ TrackRenderer::TrackRenderer(const Track& track, const ClipOptions& options)
     : track_(validated(track)),
       options_(framed(track_, validated(options))),
       frames_(render::frameCount(track_, options_.fps)),
-      scene_(openScene(options_.model_path, track_, options_.base_motion_gain)),
+      scene_(openScene(options_.model_path, track_, options_.base_motion_gain, options_.selection)),
       renderer_(scene_->model(), options_.render) {
   if (options_.overlay_enabled) overlay_.emplace(track_, options_.overlay);
 }

@@ -70,7 +70,16 @@ std::string xmlRootElement(const std::string& path) {
   for (std::size_t at = head.find('<'); at != std::string::npos && at + 1 < head.size(); at = head.find('<', at + 1)) {
     const char next = head[at + 1];
     if (next == '?' || next == '!') {  // a declaration, comment or DOCTYPE: skip to its end
-      const std::size_t end = head.find(head.compare(at, 4, "<!--") == 0 ? "-->" : ">", at + 2);
+      std::size_t end = std::string::npos;
+      if (next == '?') {
+        end = head.find("?>", at + 2);
+      } else if (head.compare(at, 4, "<!--") == 0) {
+        end = head.find("-->", at + 4);
+      } else {  // <!DOCTYPE ...>, its internal subset [ ... ] included
+        end = head.find_first_of("[>", at + 2);
+        if (end != std::string::npos && head[end] == '[') end = head.find("]", end);
+        if (end != std::string::npos) end = head.find('>', end);
+      }
       if (end == std::string::npos) return "";
       at = end;
       continue;

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <sstream>
@@ -63,10 +64,29 @@ void checkNames(const SerialChain& chain) {
 
 std::string vec(const Eigen::Vector3d& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
 
+// What renders a link: a capsule from its joint to the next joint (the tip's to twice its COM), a
+// sphere at its COM; both sized to the chain's reach, visual only.
+void writeShapes(std::ostream& x, const SerialChain& chain, std::size_t k, double radius_m, const std::string& pad) {
+  const ChainLinkBody& l = chain.links[k];
+  const Eigen::Vector3d end = k + 1 < chain.links.size() ? chain.links[k + 1].parent_p_joint_m : Eigen::Vector3d(2.0 * l.com_m);
+  const char* visual = "contype=\"0\" conaffinity=\"0\" mass=\"0\"";
+  if (end.norm() > 1e-9) {
+    x << pad << "  <geom type=\"capsule\" fromto=\"0 0 0 " << vec(end) << "\" size=\"" << num(radius_m) << "\" " << visual
+      << " rgba=\"0.45 0.55 0.7 1\"/>\n";
+  }
+  x << pad << "  <geom type=\"sphere\" pos=\"" << vec(l.com_m) << "\" size=\"" << num(1.6 * radius_m) << "\" " << visual
+    << " rgba=\"0.85 0.5 0.2 1\"/>\n";
+}
+
 // The bodies base to tip, each nested in the one before.
-void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& indent) {
+void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& indent, bool with_shapes) {
+  double reach_m = 0.0;
+  for (std::size_t k = 1; k < chain.links.size(); ++k) reach_m += chain.links[k].parent_p_joint_m.norm();
+  reach_m += 2.0 * chain.links.back().com_m.norm();
+  const double radius_m = 0.025 * std::max(reach_m, 0.2);
   std::string pad = indent;
-  for (const ChainLinkBody& l : chain.links) {
+  for (std::size_t k = 0; k < chain.links.size(); ++k) {
+    const ChainLinkBody& l = chain.links[k];
     checkSimulable(chain, l);
     const Eigen::Quaterniond q(l.parent_R_joint);
     x << pad << "<body name=\"" << xmlName(l.link) << "\" pos=\"" << vec(l.parent_p_joint_m) << "\" quat=\"" << num(q.w()) << " " << num(q.x()) << " "
@@ -78,6 +98,7 @@ void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& in
     const Eigen::Matrix3d& I = l.inertia_com_kgm2;
     x << pad << "  <inertial pos=\"" << vec(l.com_m) << "\" mass=\"" << num(l.mass_kg) << "\" fullinertia=\"" << num(I(0, 0)) << " "
       << num(I(1, 1)) << " " << num(I(2, 2)) << " " << num(I(0, 1)) << " " << num(I(0, 2)) << " " << num(I(1, 2)) << "\"/>\n";
+    if (with_shapes) writeShapes(x, chain, k, radius_m, pad);
     pad += "  ";
   }
   for (std::size_t k = chain.links.size(); k > 0; --k) {
@@ -88,7 +109,7 @@ void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& in
 
 }  // namespace
 
-std::string urdfRigMjcf(const SerialChain& chain, bool with_mount) {
+std::string urdfRigMjcf(const SerialChain& chain, bool with_mount, bool with_shapes) {
   checkNames(chain);
   std::ostringstream x;
   x << "<mujoco model=\"" << xmlName(chain.name) << "\">\n"
@@ -107,10 +128,10 @@ std::string urdfRigMjcf(const SerialChain& chain, bool with_mount) {
       << "      <inertial pos=\"0.2 0 0.45\" mass=\"40\" diaginertia=\"4.0 4.0 1.5\"/>\n"
       << "      <body name=\"exoid_base\">\n"
       << "        <inertial pos=\"0.05 0 0.2\" mass=\"20\" diaginertia=\"0.6 0.5 0.3\"/>\n";
-    writeLinks(x, chain, "        ");
+    writeLinks(x, chain, "        ", with_shapes);
     x << "      </body>\n    </body>\n";
   } else {
-    writeLinks(x, chain, "    ");
+    writeLinks(x, chain, "    ", with_shapes);
   }
   x << "  </worldbody>\n  <actuator>\n";
   for (const ChainLinkBody& l : chain.links) {

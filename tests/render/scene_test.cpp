@@ -94,19 +94,23 @@ TEST(RobotClip, AJointTheChainLacksIsNamed) {
   EXPECT_THROW(renderStill(jointsTrack({"hip", "knee", "ankle"}, 100, false), 0.05, o, dir + "/x.png"), std::invalid_argument);
 }
 
+// leg3's MJCF, and its URDF (no geometry of its own: drawn as a capsule and a sphere a link).
 TEST(RobotClip, TheChainsFramingHoldsItsMovingBodies) {
   const Track t = jointsTrack({"hip", "knee", "ankle"}, 100, false);
-  ChainScene scene(sim::modelPathFor("leg3"), {"hip", "knee", "ankle"});
-  const SweptBox box = sweptBox(scene, t);
-  scene.pose(t, 0);
-  const mjModel* m = scene.model();
-  for (int b = 1; b < m->nbody; ++b) {
-    if (m->body_jntnum[b] == 0 && m->body_parentid[b] == 0) continue;  // a fixed stand may leave the frame
-    const double* x = scene.data()->xpos + 3 * b;
-    EXPECT_GE(x[0], box.x_min) << mj_id2name(m, mjOBJ_BODY, b);
-    EXPECT_LE(x[0], box.x_max) << mj_id2name(m, mjOBJ_BODY, b);
-    EXPECT_GE(x[2], box.z_min) << mj_id2name(m, mjOBJ_BODY, b);
-    EXPECT_LE(x[2], box.z_max) << mj_id2name(m, mjOBJ_BODY, b);
+  for (const std::string& path : {sim::modelPathFor("leg3"), std::string(EXOID_SOURCE_DIR) + "/models/leg3.urdf"}) {
+    SCOPED_TRACE(path);
+    ChainScene scene(path, {"hip", "knee", "ankle"});
+    const SweptBox box = sweptBox(scene, t);
+    scene.pose(t, 0);
+    const mjModel* m = scene.model();
+    for (int b = 1; b < m->nbody; ++b) {
+      if (m->body_jntnum[b] == 0 && m->body_parentid[b] == 0) continue;  // a fixed stand may leave the frame
+      const double* x = scene.data()->xpos + 3 * b;
+      EXPECT_GE(x[0], box.x_min) << mj_id2name(m, mjOBJ_BODY, b);
+      EXPECT_LE(x[0], box.x_max) << mj_id2name(m, mjOBJ_BODY, b);
+      EXPECT_GE(x[2], box.z_min) << mj_id2name(m, mjOBJ_BODY, b);
+      EXPECT_LE(x[2], box.z_max) << mj_id2name(m, mjOBJ_BODY, b);
+    }
   }
 }
 

@@ -65,8 +65,15 @@ TEST_F(ModelTest, TheRootElementNotTheNameSaysUrdfOrMjcf) {
     std::ofstream(path, std::ios::binary) << text;
     return path;
   };
-  const std::string urdf_as_xml = saved("leg3_urdf.xml", "<?xml version=\"1.0\"?>\n<!-- a <robot> in a comment -->\n" + urdf);
-  const std::string mjcf_as_mjcf = saved("leg3.mjcf", mjcf), mjcf_as_urdf = saved("leg3_mjcf.urdf", mjcf);
+  // Before the root: a byte-order mark, blank space, a declaration and a comment naming the other
+  // root; a DOCTYPE whose internal subset holds a '>' and the other root too (sniffed only: urdfdom
+  // reads no DOCTYPE).
+  const std::string urdf_body = urdf.substr(urdf.find("<robot"));
+  const std::string urdf_as_xml = saved("leg3_urdf.xml", "\xEF\xBB\xBF \n<?xml version=\"1.0\"?>\n<!-- not a <mujoco> -->\n" + urdf_body);
+  const std::string with_doctype = saved("doctype.xml", "<!DOCTYPE robot [ <!ENTITY a \"x > <mujoco>\"> ]>\n" + urdf_body);
+  EXPECT_TRUE(isUrdfFile(with_doctype));
+  std::remove(with_doctype.c_str());
+  const std::string mjcf_as_mjcf = saved("leg3.mjcf", "<!-- a <robot> -->\n" + mjcf), mjcf_as_urdf = saved("leg3_mjcf.urdf", mjcf);
   EXPECT_TRUE(isUrdfFile(dataPath("models/leg3.urdf")));
   EXPECT_TRUE(isUrdfFile(urdf_as_xml));
   EXPECT_FALSE(isUrdfFile(dataPath("models/leg3.xml")));

@@ -31,8 +31,8 @@ SerialChain leg3(bool general) {
   return c;
 }
 
-void expectTheSameChain(const SerialChain& urdf, bool mount) {
-  const ModelPtr m = compileMjcf(urdfRigMjcf(urdf, mount), "the chain as MJCF");
+void expectTheSameChain(const SerialChain& urdf, bool mount, bool shapes) {
+  const ModelPtr m = compileMjcf(urdfRigMjcf(urdf, mount, shapes), "the chain as MJCF");
   std::vector<double> coulomb;
   for (const ChainLinkBody& l : urdf.links) coulomb.push_back(l.coulomb_Nm);
   const SerialChain back = serialChainFromMjcf(m.get(), drivenHinges(m.get(), "the chain as MJCF"), coulomb, "the chain as MJCF");
@@ -63,13 +63,17 @@ void expectTheSameChain(const SerialChain& urdf, bool mount) {
   }
   // The stand's three mount joints and nothing else besides the chain.
   EXPECT_EQ(m->njnt, static_cast<int>(urdf.links.size()) + (mount ? 3 : 0));
+  // Drawn (render's scene), a capsule and a sphere a link, which add no mass (the bodies above).
+  EXPECT_EQ(m->ngeom, shapes ? 2 * static_cast<int>(urdf.links.size()) : 0);
 }
 
 TEST(UrdfRig, TheCompiledModelIsTheUrdfsChain) {
   for (const bool general : {false, true}) {
     for (const bool mount : {false, true}) {
-      SCOPED_TRACE(std::string(general ? "general" : "leg3") + (mount ? ", on the stand" : ", fixed"));
-      expectTheSameChain(leg3(general), mount);
+      for (const bool shapes : {false, true}) {
+        SCOPED_TRACE(std::string(general ? "general" : "leg3") + (mount ? ", on the stand" : ", fixed") + (shapes ? ", drawn" : ""));
+        expectTheSameChain(leg3(general), mount, shapes);
+      }
     }
   }
 }

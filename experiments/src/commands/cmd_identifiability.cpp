@@ -158,6 +158,7 @@ ProcessedInput processInput(const Args& a) {
       if (!sidecar.empty()) in.reference = {truthFromSidecar(sidecar, *loaded), "the parameters in " + sidecar};
     } catch (const std::invalid_argument& e) {
       if (!a.reference.empty()) throw std::invalid_argument(std::string("--reference: ") + e.what());
+      std::cout << "reference: not the sidecar beside the record (" << e.what() << ")\n";
     }
     if (in.reference.origin.empty()) in.reference = {loaded->base.combination * loaded->phi, "the model file's own parameters (" + loaded->path + ")"};
   }

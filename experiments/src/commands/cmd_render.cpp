@@ -14,6 +14,7 @@
 #include "exoid/ident/leg/regressor.hpp"
 #include "exoid/ident/model/robot.hpp"
 #include "exoid/experiments/commands/robot_commands.hpp"
+#include "exoid/experiments/commands/simulate_request.hpp"
 #include "exoid/experiments/protocol/robot_loader.hpp"
 #include "exoid/ident/signals/processing.hpp"
 #include "exoid/render/clip.hpp"
@@ -50,6 +51,7 @@ struct RenderArgs {
   bool antialias = false;
   bool no_overlay = false, no_plot = false;
   ident::SignalOptions signals;
+  core::ChainSelection selection;  ///< a URDF's chain (--base, --tip, --lock JOINT=VALUE)
 };
 
 bool endsWithIgnoringCase(const std::string& s, const std::string& suffix) {
@@ -174,16 +176,20 @@ render::Track legTrack(const RenderArgs& a) {
 // Any other chain's track: its record (--data, read with the model's joints) or a simulation of
 // it (exoid simulate --model's).
 render::Track chainTrack(const RenderArgs& a) {
-  const LoadedChain loaded = loadChain(a.sim.model_path);
+  const LoadedChain loaded = loadChain(a.sim.model_path, {}, a.selection);
   ident::Dataset d;
   std::string title;
   if (!a.data.empty()) {
-    ident::CsvReadOptions o;
-    o.joints = loaded.model.jointNames();
-    d = ident::readDatasetCsv(a.data, o);
+    LogInput in;
+    in.csv.joints = loaded.model.jointNames();
+    in.angle_unit_given = true;  // exoid's own CSV convention, radians
+    in.check_record = recordOfChain(loaded);
+    d = readLog(a.data, in);
     title = "recorded: " + baseName(a.data);
   } else {
-    d = chainDataset(sim::simulateChain(chainSimConfig(a.sim)));
+    sim::ChainSimConfig c = chainSimConfig(a.sim);
+    c.selection = a.selection;
+    d = chainDataset(sim::simulateChain(c));
     title = loaded.chain.name + " simulated (seed " + core::toText(a.sim.seed) + ")";
   }
   render::Track tr = trackOf(d, title);
@@ -219,6 +225,8 @@ void run(RenderArgs& a) {
                                 core::toText(a.clip.render.height + a.clip.render.height % 2));
   }
   // Fail fast, before simulating or rendering: ffmpeg present, output folder writable.
+  checkTreeSelection(a.selection, a.sim.model_path);
+  a.clip.selection = a.selection;
   if (!still) render::requireFfmpeg(a.clip.ffmpeg);
   core::checkOutputWritable(a.out);
   const render::Track track = sim::isApalLegModel(a.sim.model_path) ? legTrack(a) : chainTrack(a);
@@ -257,8 +265,9 @@ void addRenderCommand(CLI::App& app) {
       "columns move the pedestal). The camera looks at the sagittal plane (x anterior to the right).\n"
       "Overlay: time, joint angles, measured torques and scrolling torque plots; with --ident, the\n"
       "identified model's predicted torques and the error (measured - predicted).\n"
-      "--model leg3|FILE.xml: any serial chain, posed along its record or simulation, with the same overlay\n"
-      "per joint (--ident: the JSON of `exoid identify --model ... --json`).\n"
+      "--model leg3|FILE: any serial chain (an MJCF, or a URDF drawn as a capsule per link and a sphere at\n"
+      "its COM; --base/--tip/--lock JOINT=VALUE pick it out of a tree), posed along its record or simulation,\n"
+      "with the same overlay per joint (--ident: the JSON of `exoid identify --model ... --json`).\n"
       "Examples:\n"
       "  exoid render --trajectory 3 --duration 5 --out traj3.mp4\n"
       "  exoid render --data rec.csv --ident result.json --out rec.mp4\n"
@@ -296,6 +305,7 @@ void addRenderCommand(CLI::App& app) {
       ->check(CLI::ExistingFile)->group("Input");
 
   addSimOptions(*cmd, args->sim);
+  addChainSelectionOptions(*cmd, args->selection);
   cmd->add_option("--seed", args->sim.seed, "Seed of the sensor noise and floor disturbance")
       ->check(seedValidator())->capture_default_str()->group("Simulation");
   addSignalOptions(*cmd, args->signals);

@@ -96,7 +96,7 @@ nlohmann::json chainSimulationSidecar(const sim::ChainSimResult& r) {
   j["tool"] = toolJson();
   j["mujoco_version"] = r.mujoco_version;
   j["model"] = {{"name", r.chain.name}, {"path", c.model_path}, {"joints", model.jointNames()}};
-  if (!c.selection.empty()) j["model"]["selection"] = c.selection.options();  // what identify --model needs alike
+  j["model"]["selection"] = c.selection.label();  // which chain of the file (identify --truth checks it)
   j["config"] = {{"duration_s", c.duration_s},
                  {"dt_s", c.dt_s},
                  {"seed", c.seed},
@@ -154,7 +154,7 @@ void truthOfChain(const std::string& model_path, const std::string& json_out, co
   printCombinations(std::cout, base.names, base.combinations);
   if (!json_out.empty()) {
     writeJsonFile(json_out, {{"tool", toolJson()},
-                             {"model", {{"name", chain.name}, {"path", model_path}, {"joints", model.jointNames()}}},
+                             {"model", {{"name", chain.name}, {"path", model_path}, {"joints", model.jointNames()}, {"selection", chain_selection.label()}}},
                              {"truth", {{"standard_parameters", namedValues(names, phi)}, {"base_parameters", namedValues(base.names, beta)}}},
                              {"base_parameter_combinations", namedStrings(base.names, base.combinations)}});
   }

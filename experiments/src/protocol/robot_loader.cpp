@@ -91,6 +91,7 @@ LoadedChain movingBase(LoadedChain loaded, const std::vector<ident::Dataset>& re
 }
 
 void checkRecordedChain(const std::string& source, const std::string& recorded, const LoadedChain& loaded) {
+  if (recorded == loaded.selection.label() || recorded == loaded.selection.options()) return;
   core::ChainSelection was;
   sim::SerialChain other;
   try {
@@ -119,7 +120,7 @@ void checkRecordedChain(const std::string& source, const std::string& recorded, 
 }
 
 std::function<void(const std::string&, const ident::Dataset&)> recordOfChain(const LoadedChain& loaded) {
-  return [loaded](const std::string& path, const ident::Dataset& d) {
+  return [loaded](const std::string& path, const ident::Dataset& d) {  // a copy: the check may outlive the caller's chain
     if (const auto recorded = d.metadata("chain_selection")) checkRecordedChain(path + " (metadata 'chain_selection')", *recorded, loaded);
   };
 }
@@ -130,9 +131,11 @@ Eigen::VectorXd truthFromSidecar(const std::string& path, const LoadedChain& loa
   if (t.is_discarded() || !t.contains("truth") || !t["truth"].contains("standard_parameters") || !t["truth"]["standard_parameters"].is_object()) {
     throw std::invalid_argument("--truth '" + path + "': expected a chain simulation's sidecar with truth.standard_parameters");
   }
-  const nlohmann::json recorded = t.contains("model") ? t["model"].value("selection", nlohmann::json("")) : nlohmann::json("");
-  if (!recorded.is_string()) throw std::invalid_argument("--truth '" + path + "': model.selection is not a string");
-  checkRecordedChain("--truth '" + path + "' (model.selection)", recorded.get<std::string>(), loaded);
+  if (t.contains("model") && t["model"].is_object() && t["model"].contains("selection")) {  // an older sidecar does not say
+    const nlohmann::json& recorded = t["model"]["selection"];
+    if (!recorded.is_string()) throw std::invalid_argument("--truth '" + path + "': model.selection is not a string");
+    checkRecordedChain("--truth '" + path + "' (model.selection)", recorded.get<std::string>(), loaded);
+  }
   const nlohmann::json& given = t["truth"]["standard_parameters"];
   const std::vector<std::string> names = loaded.model.standardParameterNames();
   Eigen::VectorXd phi = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(names.size()));

@@ -20,6 +20,7 @@ struct ClipOptions {
   /// The robot's MJCF: the APAL leg's (posed by the track's hip and knee and its pedestal) or any
   /// chain's (posed by the track's joint names).
   std::string model_path = sim::defaultModelPath();
+  core::ChainSelection selection;  ///< a URDF's chain (--base, --tip, --lock)
   /// Multiplies the APAL pedestal's mount coordinates when drawing (1 = true size); >= 0.
   double base_motion_gain = 1.0;
   /// Fit the camera to the volume the robot sweeps over the track (render/framing.hpp), so it

@@ -2,6 +2,7 @@
 // A robot posed for drawing from a track's rows: the APAL leg (LegScene: its four-bar closed, its
 // pedestal moved) or any serial chain's MJCF (ChainScene: its hinges posed by name). A clip and
 // its framing draw both the same way (clip.hpp, framing.hpp).
+#include "exoid/core/tree_selection.hpp"
 #include "exoid/render/track.hpp"
 #include "exoid/sim/model.hpp"
 
@@ -23,12 +24,13 @@ class Scene {
   virtual bool framed(int g) const = 0;
 };
 
-/// Any serial chain's MJCF, its joints posed by the track's joint names (zero elsewhere); every
-/// geom of a moving body is framed (the world's, e.g. a floor, is not).
+/// Any serial chain's MJCF, or the chain `selection` picks out of a URDF (drawn as sim::urdfRigMjcf's
+/// shapes), its joints posed by the track's joint names (zero elsewhere); every geom of a moving
+/// body is framed (the world's, e.g. a floor, is not).
 class ChainScene final : public Scene {
  public:
   /// Throws sim::MujocoError, or std::invalid_argument naming a joint the model lacks.
-  ChainScene(const std::string& model_path, const std::vector<std::string>& joints);
+  ChainScene(const std::string& model_path, const std::vector<std::string>& joints, const core::ChainSelection& selection = {});
   void pose(const Track& track, std::size_t row) override;
   mjModel* model() override { return model_.get(); }
   mjData* data() override { return data_.get(); }
@@ -42,7 +44,8 @@ class ChainScene final : public Scene {
 
 /// The scene of `model_path` for `track`: the APAL leg's when the file is its MJCF (the mount
 /// kept when the track moves the pedestal, that motion scaled by base_motion_gain), else the
-/// chain's. Throws as the scene's constructor.
-std::unique_ptr<Scene> openScene(const std::string& model_path, const Track& track, double base_motion_gain = 1.0);
+/// chain's (`selection` out of a URDF's tree). Throws as the scene's constructor.
+std::unique_ptr<Scene> openScene(const std::string& model_path, const Track& track, double base_motion_gain = 1.0,
+                                 const core::ChainSelection& selection = {});
 
 }  // namespace exoid::render

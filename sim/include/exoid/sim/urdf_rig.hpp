@@ -15,6 +15,9 @@ namespace exoid::sim {
 /// chain's source and link when MuJoCo could not simulate a link (no mass; an inertia with a
 /// moment not positive or above the sum of the other two: a point mass, a rod), and naming a
 /// link or joint that takes a name the rig uses (world, exoid_stand, exoid_base, mount_*).
-std::string urdfRigMjcf(const SerialChain& chain, bool with_mount);
+/// with_shapes: each link drawn (a URDF's meshes are not read) as a capsule from its joint to the
+/// next one (the tip's: to twice its COM) and a sphere at its COM; they collide with nothing and
+/// carry no mass (every body's inertial is given), so the dynamics are the same.
+std::string urdfRigMjcf(const SerialChain& chain, bool with_mount, bool with_shapes = false);
 
 }  // namespace exoid::sim
