@@ -67,19 +67,38 @@ OverlayBuilder::OverlayBuilder(Track track, const OverlayOptions& options) : tra
 
 namespace {
 
-// The text block's torque lines at `row`: measured, or measured / predicted / error.
-void addTorqueText(const Track& tr, std::size_t row, std::string& l, std::string& r) {
-  if (tr.hasPrediction()) {
-    const std::string cols = tr.torque_name + "/" + tr.prediction_name + "/err";
-    const auto line = [](double meas, double p) {
-      return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas)
-                           : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
-    };
-    for (const TrackJoint& j : tr.joints) l += "\n" + j.name + " torque " + cols;
-    for (const TrackJoint& j : tr.joints) r += "\n" + line(j.tau_Nm[row], j.tau_pred_Nm[row]);
-  } else {
-    for (const TrackJoint& j : tr.joints) l += "\n" + j.name + " torque (" + tr.torque_name + ")";
-    for (const TrackJoint& j : tr.joints) r += "\n" + format("%+.2f N m", j.tau_Nm[row]);
+// What a joint's torque line says (measured, or measured/predicted/err), and its value at `row`.
+std::string torqueLabel(const Track& tr) {
+  return tr.hasPrediction() ? "torque " + tr.torque_name + "/" + tr.prediction_name + "/err" : "torque (" + tr.torque_name + ")";
+}
+
+std::string torqueValue(const Track& tr, const TrackJoint& j, std::size_t row) {
+  if (!tr.hasPrediction()) return format("%+.2f N m", j.tau_Nm[row]);
+  const double meas = j.tau_Nm[row], p = j.tau_pred_Nm[row];
+  return std::isnan(p) ? format("%+.2f / n/a (trimmed edge)", meas) : format("%+.2f", meas) + format(" / %+.2f", p) + format(" / %+.2f N m", meas - p);
+}
+
+// Each joint's angle and torque: two lines a joint up to three joints; from four, one (two would
+// leave the torque panels no room below the text at the default height).
+void addJointText(const Track& tr, std::size_t row, std::string& l, std::string& r) {
+  const auto angle = [&](const TrackJoint& j) { return format("%+.1f deg", j.q_rad[row] * kRadToDeg); };
+  if (tr.joints.size() > 3) {
+    l += "\njoint";
+    r += "\nangle" + (tr.hasTorque() ? ", " + torqueLabel(tr) : std::string());
+    for (const TrackJoint& j : tr.joints) {
+      l += "\n" + j.name;
+      r += "\n" + angle(j) + (tr.hasTorque() ? ", " + torqueValue(tr, j, row) : std::string());
+    }
+    return;
+  }
+  for (const TrackJoint& j : tr.joints) {
+    l += "\n" + j.name + " angle";
+    r += "\n" + angle(j);
+  }
+  if (!tr.hasTorque()) return;
+  for (const TrackJoint& j : tr.joints) {
+    l += "\n" + j.name + " " + torqueLabel(tr);
+    r += "\n" + torqueValue(tr, j, row);
   }
 }
 
@@ -91,11 +110,7 @@ void addText(const Track& tr, const OverlayOptions& options, std::size_t row, Ov
   r = " ";
   l += "\ntime";
   r += "\n" + format("%.3f s", tr.t_s[row]);
-  for (const TrackJoint& j : tr.joints) {
-    l += "\n" + j.name + " angle";
-    r += "\n" + format("%+.1f deg", j.q_rad[row] * kRadToDeg);
-  }
-  if (tr.hasTorque()) addTorqueText(tr, row, l, r);
+  addJointText(tr, row, l, r);
   if (options.plot && tr.hasTorque()) {
     l += "\nplots";
     r += tr.hasPrediction() ? "\nwhite " + tr.torque_name + ", blue " + tr.prediction_name + ", red err" : "\nwhite " + tr.torque_name;

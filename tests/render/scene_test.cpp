@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -144,6 +145,20 @@ TEST(RobotOverlay, ATextLineAndATorquePanelPerJoint) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("ankle predicted torque"), std::string::npos) << e.what();
   }
+}
+
+// From four joints the text gives a line a joint (angle, then torque), so that at the default
+// 560 px the torque panels keep room below it: the title, time, a header, 4 joints and the plots'
+// legend are 8 lines (two lines a joint: 11, which left the panels no plot area).
+TEST(RobotOverlay, FromFourJointsALineAJoint) {
+  const Overlay o = OverlayBuilder(jointsTrack({"yaw", "roll", "pitch", "knee"}, 3000, true), OverlayOptions{}).at(2000);
+  ASSERT_EQ(o.panels.size(), 4u);
+  EXPECT_EQ(std::count(o.text_left.begin(), o.text_left.end(), '\n'), 7) << o.text_left;
+  EXPECT_EQ(std::count(o.text_right.begin(), o.text_right.end(), '\n'), 7) << o.text_right;
+  EXPECT_NE(o.text_left.find("\njoint\nyaw\nroll\npitch\nknee\n"), std::string::npos) << o.text_left;
+  EXPECT_NE(o.text_right.find("\nangle, torque measured/LS/err\n"), std::string::npos) << o.text_right;
+  // The knee's 0.3 rad; its torque 4 sin(2), LS 0.9 of it, the error 0.1 of it.
+  EXPECT_NE(o.text_right.find("\n+17.2 deg, +3.64 / +3.27 / +0.36 N m"), std::string::npos) << o.text_right;
 }
 
 }  // namespace
