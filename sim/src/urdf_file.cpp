@@ -119,8 +119,13 @@ void checkUsedLink(const std::string& path, const urdf::Link& link) {
 void checkChainJoint(const std::string& path, const urdf::Joint& joint) {
   if (!joint.limits) return;
   const std::string at = "'" + path + "': joint '" + joint.name + "' <limit>";
-  if (!(joint.limits->effort > 0.0)) throw std::invalid_argument(at + ": effort " + number(joint.limits->effort) + " N m (expected > 0)");
-  if (!(joint.limits->velocity > 0.0)) throw std::invalid_argument(at + ": velocity " + number(joint.limits->velocity) + " rad/s (expected > 0)");
+  const urdf::JointLimits& l = *joint.limits;
+  const char* zero = "; 0 reads as not given)";
+  if (l.effort < 0.0) throw std::invalid_argument(at + ": effort " + number(l.effort) + " N m (expected > 0" + zero);
+  if (l.velocity < 0.0) throw std::invalid_argument(at + ": velocity " + number(l.velocity) + " rad/s (expected > 0" + zero);
+  if (joint.type == urdf::Joint::REVOLUTE && l.lower > l.upper) {
+    throw std::invalid_argument(at + ": lower " + number(l.lower) + " rad above upper " + number(l.upper) + " rad");
+  }
 }
 
 }  // namespace exoid::sim

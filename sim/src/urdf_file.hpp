@@ -17,8 +17,10 @@ urdf::ModelInterfaceSharedPtr readUrdf(const std::string& path);
 /// Throws std::invalid_argument naming the file, the link and the value.
 void checkUsedLink(const std::string& path, const urdf::Link& link);
 
-/// A joint the chain moves: its effort and velocity limits, when given, positive. Throws
-/// std::invalid_argument naming the file, the joint and the value.
+/// A joint the chain moves: its effort and velocity limits not negative, its lower limit not above
+/// its upper one. A 0 is a limit not given (URDF's own default for lower and upper; what CAD
+/// exporters write for an effort or velocity nobody filled in). Throws std::invalid_argument
+/// naming the file, the joint and the value.
 void checkChainJoint(const std::string& path, const urdf::Joint& joint);
 
 }  // namespace exoid::sim

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <regex>
 #include <sstream>
 
@@ -133,7 +134,7 @@ TEST(StrictUrdf, MalformedFilesAreRefusedNamingTheElement) {
       {mutated("effort.urdf", "effort=\"80\"", "effort=\"-1e308\""), "joint 'ankle' <limit>: effort -1e+308"},
       {mutated("mass.urdf", "<mass value=\"1.09\"/>", "<mass value=\"-1.09\"/>"), "link 'foot' <inertial>: negative mass -1.09"},
       {mutated("inertia.urdf", "ixx=\"0.0012\"", "ixx=\"-0.5\""), "link 'foot' <inertial>: the inertia"},
-      {mutated("velocity.urdf", "velocity=\"8\"/>\n    <dynamics", "velocity=\"0\"/>\n    <dynamics"), "<limit>: velocity 0"},
+      {mutated("velocity.urdf", "velocity=\"8\"/>\n    <dynamics", "velocity=\"-8\"/>\n    <dynamics"), "<limit>: velocity -8"},
   };
   for (const auto& c : cases) {
     const std::string why = refusal(c.file);
@@ -144,6 +145,32 @@ TEST(StrictUrdf, MalformedFilesAreRefusedNamingTheElement) {
 
 // The same selection in an MJCF, by body names; a driven branch off the chain must be locked.
 class MjcfTree : public test::MujocoTest {};
+
+// A CAD exporter's <limit lower="0" upper="0" effort="0" velocity="0"> (example-robot-data's
+// double pendulum, refused before for its effort 0) is no limit: lower = upper is URDF's own
+// default, an effort or velocity of 0 one nobody filled in. A range the wrong way round is refused.
+TEST(StrictUrdf, ALimitOfZerosIsNoLimit) {
+  std::string leg3 = readText(kLeg3);
+  const std::string knee = "<limit lower=\"0\" upper=\"2.0\" effort=\"120\" velocity=\"8\"/>";
+  ASSERT_NE(leg3.find(knee), std::string::npos);
+  std::string zeros = leg3;
+  zeros.replace(zeros.find(knee), knee.size(), "<limit lower=\"0\" upper=\"0\" effort=\"0\" velocity=\"0\"/>");
+  const SerialChain c = serialChainFromUrdf(writeTemp("zeros.urdf", zeros));
+  ASSERT_EQ(c.links.size(), 3u);
+  EXPECT_EQ(c.links[1].q_min_rad, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.links[1].q_max_rad, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.links[1].tau_max_Nm, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.links[1].qd_max_radps, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(c.links[0].tau_max_Nm, 150.0);  // the hip's, given
+  std::string reversed = leg3;
+  reversed.replace(reversed.find(knee), knee.size(), "<limit lower=\"2\" upper=\"0\" effort=\"120\" velocity=\"8\"/>");
+  try {
+    serialChainFromUrdf(writeTemp("reversed.urdf", reversed));
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("joint 'knee' <limit>: lower 2 rad above upper 0 rad"), std::string::npos) << e.what();
+  }
+}
 
 TEST_F(MjcfTree, ChainsOutOfAnMjcfTree) {
   const std::string xml = writeTemp("tree.xml", R"(<mujoco model="twoarm"><worldbody><body name="torso" pos="0 0 1">
