@@ -79,7 +79,7 @@ struct Walk {
   // mass never moves), and lists the moving joints below them in `next`.
   void collect(const urdf::Link& link, const Eigen::Isometry3d& T, Lump* lump, std::vector<Step>& next) {
     if (lump && link.inertial) {
-      checkUsedLink(path, link);
+      checkUsedLink(path, model, link);
       const urdf::Inertial& in = *link.inertial;
       Eigen::Matrix3d I;
       I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;

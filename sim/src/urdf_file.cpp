@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <console_bridge/console.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
@@ -99,7 +100,21 @@ urdf::ModelInterfaceSharedPtr readUrdf(const std::string& path) {
   return model;
 }
 
-void checkUsedLink(const std::string& path, const urdf::Link& link) {
+namespace {
+
+double largestInertiaEntry(const urdf::ModelInterface& model) {
+  double largest = 0.0;
+  for (const auto& [name, l] : model.links_) {
+    if (!l || !l->inertial) continue;
+    const urdf::Inertial& in = *l->inertial;
+    for (const double v : {in.ixx, in.iyy, in.izz, in.ixy, in.ixz, in.iyz}) largest = std::max(largest, std::abs(v));
+  }
+  return largest;
+}
+
+}  // namespace
+
+void checkUsedLink(const std::string& path, const urdf::ModelInterface& model, const urdf::Link& link) {
   if (!link.inertial) return;
   const urdf::Inertial& in = *link.inertial;
   const std::string at = "'" + path + "': link '" + link.name + "' <inertial>";
@@ -107,8 +122,9 @@ void checkUsedLink(const std::string& path, const urdf::Link& link) {
   Eigen::Matrix3d I;
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
-  // Round-off of an inertia written to six digits, not a physical negative moment.
-  const double tol = 1e-6 * I.cwiseAbs().maxCoeff();
+  // Round-off of an inertia written to six digits, not a physical negative moment: on the scale of
+  // the link's own entries, or of the model's (a zero inertia with a 1e-20 residue off its diagonal).
+  const double tol = 1e-6 * std::max(I.cwiseAbs().maxCoeff(), largestInertiaEntry(model));
   if (eig.minCoeff() < -tol) {
     throw std::invalid_argument(at + ": the inertia (ixx " + number(in.ixx) + ", iyy " + number(in.iyy) + ", izz " + number(in.izz) + ", ixy " +
                                 number(in.ixy) + ", ixz " + number(in.ixz) + ", iyz " + number(in.iyz) +

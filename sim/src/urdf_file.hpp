@@ -13,9 +13,11 @@ namespace exoid::sim {
 /// a joint's origin, axis, limits or dynamics.
 urdf::ModelInterfaceSharedPtr readUrdf(const std::string& path);
 
-/// A link whose inertial the chain uses: mass >= 0 and an inertia that is positive semi-definite.
+/// A link whose inertial the chain uses (of `model`): mass >= 0 and an inertia that is positive
+/// semi-definite, a principal moment below zero by less than 1e-6 of the model's largest inertia
+/// entry being round-off (a zero inertia written as 1e-20 off its diagonal: iCub's l_ankle_2).
 /// Throws std::invalid_argument naming the file, the link and the value.
-void checkUsedLink(const std::string& path, const urdf::Link& link);
+void checkUsedLink(const std::string& path, const urdf::ModelInterface& model, const urdf::Link& link);
 
 /// A joint the chain moves: its effort and velocity limits not negative, its lower limit not above
 /// its upper one. A 0 is a limit not given (URDF's own default for lower and upper; what CAD

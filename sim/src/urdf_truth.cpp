@@ -25,7 +25,7 @@ struct LinkSums {
 // Adds `link` (pose R, p in the joint frame) and the links fixed below it.
 void addLink(const std::string& path, const urdf::ModelInterface& model, const urdf::Link& link, const Eigen::Matrix3d& R,
              const Eigen::Vector3d& p, LinkSums& s) {
-  checkUsedLink(path, link);
+  checkUsedLink(path, model, link);
   if (link.inertial) {
     const urdf::Inertial& in = *link.inertial;
     Eigen::Matrix3d I;

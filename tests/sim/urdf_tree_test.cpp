@@ -172,6 +172,26 @@ TEST(StrictUrdf, ALimitOfZerosIsNoLimit) {
   }
 }
 
+// A zero inertia with a round-off residue off its diagonal (iCub's l_ankle_2: ixz 1.35525e-20, the
+// rest 0) is zero on the model's scale: read; a moment negative on that scale is still refused.
+TEST(StrictUrdf, AnInertiasRoundOffIsJudgedOnTheModelsScale) {
+  const std::string leg3 = readText(kLeg3);
+  const std::string foot = "ixx=\"0.0012\"";
+  ASSERT_NE(leg3.find(foot), std::string::npos);
+  const auto withFoot = [&](const std::string& name, const std::string& inertia) {
+    std::string t = leg3;
+    const std::size_t from = t.rfind("<inertia ", t.find(foot)), to = t.find("/>", from);
+    t.replace(from, to - from, "<inertia " + inertia);
+    return writeTemp(name, t);
+  };
+  const SerialChain c = serialChainFromUrdf(withFoot("residue.urdf", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"1.35525e-20\" iyz=\"0\""));
+  // The foot's own inertia gone from the link (the plate fixed below it stays lumped in).
+  const Eigen::Matrix3d gone = serialChainFromUrdf(kLeg3).links[2].inertia_com_kgm2 - c.links[2].inertia_com_kgm2;
+  EXPECT_LT((gone - Eigen::Vector3d(0.0012, 0.0058, 0.0058).asDiagonal().toDenseMatrix()).norm(), 1e-12) << gone;
+  EXPECT_THROW(serialChainFromUrdf(withFoot("negative.urdf", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0.01\" iyz=\"0\"")),
+               std::invalid_argument);
+}
+
 TEST_F(MjcfTree, ChainsOutOfAnMjcfTree) {
   const std::string xml = writeTemp("tree.xml", R"(<mujoco model="twoarm"><worldbody><body name="torso" pos="0 0 1">
       <geom size="0.1" mass="5"/>
