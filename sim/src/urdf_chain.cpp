@@ -191,7 +191,7 @@ SerialChain serialChainFromUrdf(const std::string& path, const ChainSelection& s
       link.damping_Nms = j.dynamics->damping;
     }
     if (j.limits) {
-      if (j.type == urdf::Joint::REVOLUTE && j.limits->lower < j.limits->upper) {  // lower = upper (URDF's 0, 0): not given
+      if (j.type == urdf::Joint::REVOLUTE && j.limits->lower < j.limits->upper) {  // lower = upper = 0 (URDF's default): not given
         link.q_min_rad = j.limits->lower;
         link.q_max_rad = j.limits->upper;
       }

@@ -123,8 +123,9 @@ void checkUsedLink(const std::string& path, const urdf::ModelInterface& model, c
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   const Eigen::Vector3d eig = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I, Eigen::EigenvaluesOnly).eigenvalues();
   // Round-off of an inertia written to six digits, not a physical negative moment: on the scale of
-  // the link's own entries, or of the model's (a zero inertia with a 1e-20 residue off its diagonal).
-  const double tol = 1e-6 * std::max(I.cwiseAbs().maxCoeff(), largestInertiaEntry(model));
+  // the link's own entries, with a floor far below any body of the model (a zero inertia with a
+  // 1e-20 residue off its diagonal) that a link several times its own size off never passes.
+  const double tol = 1e-6 * I.cwiseAbs().maxCoeff() + 1e-12 * largestInertiaEntry(model);
   if (eig.minCoeff() < -tol) {
     throw std::invalid_argument(at + ": the inertia (ixx " + number(in.ixx) + ", iyy " + number(in.iyy) + ", izz " + number(in.izz) + ", ixy " +
                                 number(in.ixy) + ", ixz " + number(in.ixz) + ", iyz " + number(in.iyz) +
@@ -137,10 +138,14 @@ void checkChainJoint(const std::string& path, const urdf::Joint& joint) {
   const std::string at = "'" + path + "': joint '" + joint.name + "' <limit>";
   const urdf::JointLimits& l = *joint.limits;
   const char* zero = "; 0 reads as not given)";
-  if (l.effort < 0.0) throw std::invalid_argument(at + ": effort " + number(l.effort) + " N m (expected > 0" + zero);
-  if (l.velocity < 0.0) throw std::invalid_argument(at + ": velocity " + number(l.velocity) + " rad/s (expected > 0" + zero);
+  if (l.effort < 0.0) throw std::invalid_argument(at + ": effort " + number(l.effort) + " N m (expected >= 0" + zero);
+  if (l.velocity < 0.0) throw std::invalid_argument(at + ": velocity " + number(l.velocity) + " rad/s (expected >= 0" + zero);
   if (joint.type == urdf::Joint::REVOLUTE && l.lower > l.upper) {
     throw std::invalid_argument(at + ": lower " + number(l.lower) + " rad above upper " + number(l.upper) + " rad");
+  }
+  if (joint.type == urdf::Joint::REVOLUTE && l.lower == l.upper && l.lower != 0.0) {
+    throw std::invalid_argument(at + ": lower = upper = " + number(l.lower) + " rad: a joint that cannot move (hold it with --lock " + joint.name + "=" +
+                                number(l.lower) + ", or make it fixed)");
   }
 }
 

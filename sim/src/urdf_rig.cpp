@@ -82,7 +82,7 @@ void writeShapes(std::ostream& x, const SerialChain& chain, std::size_t k, doubl
 void writeLinks(std::ostream& x, const SerialChain& chain, const std::string& indent, bool with_shapes) {
   double reach_m = 0.0;
   for (std::size_t k = 1; k < chain.links.size(); ++k) reach_m += chain.links[k].parent_p_joint_m.norm();
-  reach_m += 2.0 * chain.links.back().com_m.norm();
+  if (!chain.links.empty()) reach_m += 2.0 * chain.links.back().com_m.norm();
   const double radius_m = 0.025 * std::max(reach_m, 0.2);
   std::string pad = indent;
   for (std::size_t k = 0; k < chain.links.size(); ++k) {

@@ -65,6 +65,7 @@ void expectTheSameChain(const SerialChain& urdf, bool mount, bool shapes) {
   EXPECT_EQ(m->njnt, static_cast<int>(urdf.links.size()) + (mount ? 3 : 0));
   // Drawn (render's scene), a capsule and a sphere a link, which add no mass (the bodies above).
   EXPECT_EQ(m->ngeom, shapes ? 2 * static_cast<int>(urdf.links.size()) : 0);
+  for (int g = 0; g < m->ngeom; ++g) EXPECT_EQ(m->geom_contype[g] | m->geom_conaffinity[g], 0) << g;  // touching nothing
 }
 
 TEST(UrdfRig, TheCompiledModelIsTheUrdfsChain) {

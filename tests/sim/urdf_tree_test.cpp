@@ -3,6 +3,7 @@
 // here: which joints and bodies each selection gives, that a lock is the joint made fixed at that
 // angle, and that every malformed file is refused by name.
 #include "exoid/sim/serial_chain.hpp"
+#include "exoid/sim/urdf_rig.hpp"
 
 #include "test_support.hpp"
 
@@ -162,6 +163,22 @@ TEST(StrictUrdf, ALimitOfZerosIsNoLimit) {
   EXPECT_EQ(c.links[1].tau_max_Nm, std::numeric_limits<double>::infinity());
   EXPECT_EQ(c.links[1].qd_max_radps, std::numeric_limits<double>::infinity());
   EXPECT_EQ(c.links[0].tau_max_Nm, 150.0);  // the hip's, given
+  // Simulated without a range or a force range on the knee.
+  const ModelPtr m = compileMjcf(urdfRigMjcf(c, false), "zeros");
+  const int knee_id = mj_name2id(m.get(), mjOBJ_JOINT, "knee"), motor_id = mj_name2id(m.get(), mjOBJ_ACTUATOR, "knee_motor");
+  ASSERT_GE(knee_id, 0);
+  ASSERT_GE(motor_id, 0);
+  EXPECT_EQ(m->jnt_limited[knee_id], 0);
+  EXPECT_EQ(m->actuator_forcelimited[motor_id], 0);
+  // A range of zero width elsewhere than 0 pins the joint: refused, naming --lock.
+  std::string pinned = leg3;
+  pinned.replace(pinned.find(knee), knee.size(), "<limit lower=\"0.5\" upper=\"0.5\" effort=\"120\" velocity=\"8\"/>");
+  try {
+    serialChainFromUrdf(writeTemp("pinned.urdf", pinned));
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lower = upper = 0.5 rad: a joint that cannot move (hold it with --lock knee=0.5"), std::string::npos) << e.what();
+  }
   std::string reversed = leg3;
   reversed.replace(reversed.find(knee), knee.size(), "<limit lower=\"2\" upper=\"0\" effort=\"120\" velocity=\"8\"/>");
   try {
@@ -188,7 +205,8 @@ TEST(StrictUrdf, AnInertiasRoundOffIsJudgedOnTheModelsScale) {
   // The foot's own inertia gone from the link (the plate fixed below it stays lumped in).
   const Eigen::Matrix3d gone = serialChainFromUrdf(kLeg3).links[2].inertia_com_kgm2 - c.links[2].inertia_com_kgm2;
   EXPECT_LT((gone - Eigen::Vector3d(0.0012, 0.0058, 0.0058).asDiagonal().toDenseMatrix()).norm(), 1e-12) << gone;
-  EXPECT_THROW(serialChainFromUrdf(withFoot("negative.urdf", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"0.01\" iyz=\"0\"")),
+  // A moment of -5e-7 kg m^2 on a link of entries 5e-7 is not round-off, whatever the model's scale.
+  EXPECT_THROW(serialChainFromUrdf(withFoot("negative.urdf", "ixx=\"0\" iyy=\"0\" izz=\"0\" ixy=\"0\" ixz=\"5e-7\" iyz=\"0\"")),
                std::invalid_argument);
 }
 

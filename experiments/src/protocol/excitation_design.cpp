@@ -127,7 +127,7 @@ void holdJoints(const ExciteRequest& r, const DesignTarget& t, ident::Excitation
       at = r.held_at_deg[static_cast<std::size_t>(j)] * M_PI / 180.0;
     } else if (t.apal) {
       at = -10.0 * M_PI / 180.0;  // the paper's knee-only record holds its hip there
-    } else if (!(lo + 0.1 * (hi - lo) < 0.0 && 0.0 < hi - 0.1 * (hi - lo))) {
+    } else if (std::isfinite(lo) && std::isfinite(hi) && !(lo + 0.1 * (hi - lo) < 0.0 && 0.0 < hi - 0.1 * (hi - lo))) {
       at = 0.5 * (lo + hi);  // 0 would sit on (or next to) a stop
     }
     if (at < lo || at > hi) {
