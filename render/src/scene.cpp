@@ -7,18 +7,9 @@
 
 namespace exoid::render {
 
-namespace {
-
-sim::ModelPtr chainSceneModel(const std::string& model_path, const core::ChainSelection& selection) {
-  if (!sim::isUrdfFile(model_path)) return sim::loadMjcfFile(model_path);
-  const sim::SerialChain chain = sim::serialChainFromUrdf(model_path, selection);
-  return sim::compileMjcf(sim::urdfRigMjcf(chain, false, true), "'" + model_path + "' (as MJCF)");
-}
-
-}  // namespace
-
 ChainScene::ChainScene(const std::string& model_path, const std::vector<std::string>& joints, const core::ChainSelection& selection)
-    : model_(chainSceneModel(model_path, selection)), data_(sim::makeData(model_.get())) {
+    : model_(sim::isUrdfFile(model_path) ? sim::compileUrdfRig(model_path, selection, false, true) : sim::loadMjcfFile(model_path)),
+      data_(sim::makeData(model_.get())) {
   for (const std::string& name : joints) {
     const int j = mj_name2id(model_.get(), mjOBJ_JOINT, name.c_str());
     if (j < 0) throw std::invalid_argument("'" + model_path + "' has no joint '" + name + "' (the record's joints must be the model's)");

@@ -89,8 +89,7 @@ namespace {
 ModelPtr loadChainRig(const ChainSimConfig& config) {
   if (isUrdfFile(config.model_path)) {
     // A URDF has no motors and no stand: its chain (out of a tree by the selection) as an MJCF with both (urdf_rig.hpp).
-    const SerialChain chain = serialChainFromUrdf(config.model_path, config.selection);
-    return compileMjcf(urdfRigMjcf(chain, config.vibration_level > 0.0), "'" + config.model_path + "' (as MJCF)");
+    return compileUrdfRig(config.model_path, config.selection, config.vibration_level > 0.0);
   }
   if (config.vibration_level == 0.0) {
     const std::string xml = readFileBytes(config.model_path);

@@ -143,4 +143,8 @@ std::string urdfRigMjcf(const SerialChain& chain, bool with_mount, bool with_sha
   return x.str();
 }
 
+ModelPtr compileUrdfRig(const std::string& path, const ChainSelection& selection, bool with_mount, bool with_shapes) {
+  return compileMjcf(urdfRigMjcf(serialChainFromUrdf(path, selection), with_mount, with_shapes), "'" + path + "' (as MJCF)");
+}
+
 }  // namespace exoid::sim

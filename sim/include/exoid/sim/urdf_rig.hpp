@@ -20,4 +20,8 @@ namespace exoid::sim {
 /// carry no mass (every body's inertial is given), so the dynamics are the same.
 std::string urdfRigMjcf(const SerialChain& chain, bool with_mount, bool with_shapes = false);
 
+/// The rig of the chain `selection` picks out of the URDF at `path`: urdfRigMjcf compiled, errors
+/// naming the file. The simulator's model, and render's (with_shapes).
+ModelPtr compileUrdfRig(const std::string& path, const ChainSelection& selection, bool with_mount, bool with_shapes = false);
+
 }  // namespace exoid::sim
